@@ -1,0 +1,113 @@
+"""geomexact: exact, reproducible, replayable mesh refinement.
+
+Coordinates are exact rationals (gmpy2 ``mpq``); predicates are adaptive and exact; a mesh
+is an immutable snapshot; every algorithm is a sequence of pure steps recorded in a trace
+that replays bit for bit.  The documented API is re-exported here (see ``__all__``).
+"""
+
+from __future__ import annotations
+
+__version__ = "0.1.0"
+
+from geomexact.delaunay import is_delaunay, non_delaunay_edges
+from geomexact.errors import (
+    FormatError,
+    GeomexactError,
+    InvalidMeshError,
+    OverwriteError,
+    PreconditionError,
+    RationalParseError,
+    TraceError,
+    TransientSealedError,
+)
+from geomexact.measures import signed_area, total_area, triangle_area
+from geomexact.mesh2d import Mesh2, canonical_triangle, empty_mesh
+from geomexact.numbers import (
+    format_rational,
+    mpq,
+    parse_rational,
+    to_rational,
+)
+from geomexact.ops import (
+    apply,
+    bisect,
+    flip,
+    insert_centroid,
+    insert_in_edge,
+    insert_in_triangle,
+    legalize,
+)
+from geomexact.points import Point2, Point3, point2, point3
+from geomexact.predicates import (
+    CircleLocation,
+    Comparison,
+    Orientation,
+    SphereLocation,
+    incircle,
+    insphere,
+    orient2d,
+    orient3d,
+)
+from geomexact.pslg import PSLG
+from geomexact.step import Step
+from geomexact.summary import mesh_summary
+from geomexact.trace import Trace, first_divergence, read_trace, replay, trace_of, write_trace
+from geomexact.transient import Transient2, mesh_from_triangles
+from geomexact.validate import Violation, check, validate
+
+__all__ = [
+    "PSLG",
+    "CircleLocation",
+    "Comparison",
+    "FormatError",
+    "GeomexactError",
+    "InvalidMeshError",
+    "Mesh2",
+    "Orientation",
+    "OverwriteError",
+    "Point2",
+    "Point3",
+    "PreconditionError",
+    "RationalParseError",
+    "SphereLocation",
+    "Step",
+    "Trace",
+    "TraceError",
+    "Transient2",
+    "TransientSealedError",
+    "Violation",
+    "__version__",
+    "apply",
+    "bisect",
+    "canonical_triangle",
+    "check",
+    "empty_mesh",
+    "first_divergence",
+    "flip",
+    "format_rational",
+    "incircle",
+    "insert_centroid",
+    "insert_in_edge",
+    "insert_in_triangle",
+    "insphere",
+    "is_delaunay",
+    "legalize",
+    "mesh_from_triangles",
+    "mesh_summary",
+    "mpq",
+    "non_delaunay_edges",
+    "orient2d",
+    "orient3d",
+    "parse_rational",
+    "point2",
+    "point3",
+    "read_trace",
+    "replay",
+    "signed_area",
+    "to_rational",
+    "total_area",
+    "trace_of",
+    "triangle_area",
+    "validate",
+    "write_trace",
+]

@@ -1,0 +1,73 @@
+"""Reading and writing files safely: UTF-8 text with clear errors, atomic writes that
+never replace an existing file unless asked."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+from geomexact.errors import FormatError, OverwriteError
+
+
+def read_text(path: str | Path) -> str:
+    """The UTF-8 text of ``path``; :class:`FormatError` for a missing, unreadable or
+    non-UTF-8 file (naming the line of the first bad byte)."""
+    name = str(path)
+    try:
+        data = Path(path).read_bytes()
+    except FileNotFoundError as error:
+        raise FormatError(name, None, "no such file") from error
+    except IsADirectoryError as error:
+        raise FormatError(name, None, "is a directory, not a file") from error
+    except OSError as error:
+        raise FormatError(name, None, f"cannot read: {error.strerror}") from error
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        line = data[: error.start].count(b"\n") + 1
+        raise FormatError(name, line, f"not UTF-8 text (byte {error.start})") from error
+
+
+def write_text_atomic(path: str | Path, text: str, *, overwrite: bool = False) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same directory and an
+    atomic rename.  Raises :class:`OverwriteError` when ``path`` exists and not
+    ``overwrite``; a failed write leaves any existing file untouched."""
+    write_bytes_atomic(path, text.encode("utf-8"), overwrite=overwrite)
+
+
+def write_bytes_atomic(path: str | Path, data: bytes, *, overwrite: bool = False) -> None:
+    """Bytes version of :func:`write_text_atomic`."""
+    target = Path(path)
+    if target.exists() and not overwrite:
+        raise OverwriteError(str(target))
+    directory = target.parent if str(target.parent) else Path(".")
+    descriptor, temporary = tempfile.mkstemp(
+        prefix=f".{target.name}.", suffix=".tmp", dir=directory
+    )
+    try:
+        with os.fdopen(descriptor, "wb") as handle:
+            handle.write(data)
+        os.chmod(temporary, 0o666 & ~_umask())
+        if not overwrite:
+            # link() fails if the target appeared meanwhile: never clobber a file silently
+            try:
+                os.link(temporary, target)
+            except FileExistsError as error:
+                raise OverwriteError(str(target)) from error
+            except OSError:
+                os.replace(temporary, target)
+                return
+            os.unlink(temporary)
+        else:
+            os.replace(temporary, target)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
+
+
+def _umask() -> int:
+    current = os.umask(0o022)
+    os.umask(current)
+    return current

@@ -1,0 +1,383 @@
+"""Pure steps on 2D meshes: flip, bisect, insert_in_triangle, insert_in_edge,
+insert_centroid, legalize — and :func:`apply`, the only way a :class:`Step` changes a mesh.
+
+Each op is written once, against a :class:`~geomexact.transient.Transient2`
+(``*_in(transient, …)``), checks its preconditions exactly and raises
+:class:`~geomexact.errors.PreconditionError` naming the violated one, records its
+:class:`~geomexact.step.Step` in ``transient.steps``, and leaves the transient unchanged
+when it raises.  The pure functions (``flip(mesh, edge)``…) open a transient, run the op
+and seal it: the input snapshot never changes.  Pre/postconditions: ``specs/ops.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from geomexact.errors import PreconditionError
+from geomexact.mesh2d import Edge, Mesh2, Triangle, walk_star
+from geomexact.points import Point2, point2
+from geomexact.predicates import CircleLocation, Orientation, incircle, orient2d
+from geomexact.step import Step
+from geomexact.transient import Transient2
+
+CCW = Orientation.COUNTERCLOCKWISE
+COLLINEAR = Orientation.COLLINEAR
+
+
+# ---------------------------------------------------------------------------------------
+# geometry shared by the ops
+# ---------------------------------------------------------------------------------------
+def strictly_between(p: Point2, u: Point2, v: Point2) -> bool:
+    """True when p, known to be on line uv, lies strictly inside segment uv."""
+    return (p.x - u.x) * (v.x - u.x) + (p.y - u.y) * (v.y - u.y) > 0 and (p.x - v.x) * (
+        u.x - v.x
+    ) + (p.y - v.y) * (u.y - v.y) > 0
+
+
+def quadrilateral_area_centroid(a: Point2, b: Point2, c: Point2, d: Point2) -> Point2:
+    """Area centroid of the quadrilateral made of triangles (a, b, c) and (b, a, d), both
+    counter-clockwise: (A1·G1 + A2·G2) / (A1 + A2) with Ai the areas and Gi the centroids."""
+    area1 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)
+    area2 = (a.x - b.x) * (d.y - b.y) - (a.y - b.y) * (d.x - b.x)
+    total = 3 * (area1 + area2)
+    x = (area1 * (a.x + b.x + c.x) + area2 * (a.x + b.x + d.x)) / total
+    y = (area1 * (a.y + b.y + c.y) + area2 * (a.y + b.y + d.y)) / total
+    return point2(x, y)
+
+
+def quadrilateral_vertex_centroid(a: Point2, b: Point2, c: Point2, d: Point2) -> Point2:
+    """Average of the four vertices."""
+    return point2((a.x + b.x + c.x + d.x) / 4, (a.y + b.y + c.y + d.y) / 4)
+
+
+def _interior_edge(t: Transient2, op: str, u: int, v: int) -> tuple[int, int]:
+    """Apexes (w, x) of the two triangles of the unconstrained interior edge {u, v}."""
+    w, x = t.apex(u, v), t.apex(v, u)
+    if w is None and x is None:
+        raise PreconditionError(op, f"({u}, {v}) is not an edge of the mesh", edge=(u, v))
+    if w is None or x is None:
+        raise PreconditionError(
+            op, f"edge ({u}, {v}) is on the boundary (it has one triangle)", edge=(u, v)
+        )
+    if t.segment_marker(u, v) is not None:
+        raise PreconditionError(op, f"edge ({u}, {v}) is a constrained segment", edge=(u, v))
+    first, second = t.triangle_attributes((u, v, w)), t.triangle_attributes((v, u, x))
+    if first != second:
+        raise PreconditionError(
+            op,
+            f"the triangles of edge ({u}, {v}) carry different attributes "
+            f"({first} and {second})",
+            edge=(u, v),
+        )
+    return w, x
+
+
+# ---------------------------------------------------------------------------------------
+# ops on a transient
+# ---------------------------------------------------------------------------------------
+def flip_in(t: Transient2, u: int, v: int) -> Edge:
+    """Replace the interior edge {u, v} of triangles (u, v, w), (v, u, x) by {w, x}.
+
+    ::
+
+            w                w
+           / \\              /|\\
+          u---v     ->     u | v
+           \\ /              \\|/
+            x                x
+
+    Preconditions: {u, v} is an edge with two triangles, not constrained, whose
+    quadrilateral u, x, v, w is strictly convex.  Returns the new edge (w, x).
+    """
+    w, x = _interior_edge(t, "flip", u, v)
+    pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
+    if orient2d(px, pw, pu) != CCW or orient2d(pw, px, pv) != CCW:
+        raise PreconditionError(
+            "flip",
+            f"the quadrilateral of edge ({u}, {v}) is not strictly convex",
+            edge=(u, v),
+        )
+    attributes = t.remove_triangle(u, v, w)
+    t.remove_triangle(v, u, x)
+    t.add_triangle(x, w, u, attributes)
+    t.add_triangle(w, x, v, attributes)
+    t.record(Step("flip", (u, v)))
+    return w, x
+
+
+def _split_edge(t: Transient2, op: str, u: int, v: int, point: Point2) -> int:
+    """Insert ``point`` (strictly inside segment uv) into edge {u, v}; return its id."""
+    w, x = t.apex(u, v), t.apex(v, u)
+    if w is None and x is None:
+        raise PreconditionError(op, f"({u}, {v}) is not an edge of the mesh", edge=(u, v))
+    pu, pv = t.point(u), t.point(v)
+    if orient2d(pu, pv, point) != COLLINEAR or not strictly_between(point, pu, pv):
+        raise PreconditionError(
+            op,
+            f"point ({point.x}, {point.y}) is not strictly inside edge ({u}, {v})",
+            edge=(u, v),
+        )
+    marker = t.segment_marker(u, v)
+    n = t.add_vertex(point, marker or 0)
+    if w is not None:
+        attributes = t.remove_triangle(u, v, w)
+        t.add_triangle(u, n, w, attributes)
+        t.add_triangle(n, v, w, attributes)
+    if x is not None:
+        attributes = t.remove_triangle(v, u, x)
+        t.add_triangle(v, n, x, attributes)
+        t.add_triangle(n, u, x, attributes)
+    if marker is not None:
+        t.remove_segment(u, v)
+        t.set_segment(u, n, marker)
+        t.set_segment(n, v, marker)
+    return n
+
+
+def bisect_in(t: Transient2, u: int, v: int) -> int:
+    """Insert the exact midpoint of edge {u, v} (interior or boundary), joined to the
+    opposite vertex of each triangle of the edge (2 triangles become 4, or 1 becomes 2).
+    A constrained edge stays constrained as its two halves, with the same marker, and the
+    new vertex takes that marker.  Returns the new vertex id."""
+    pu, pv = t.point(u), t.point(v)
+    midpoint = point2((pu.x + pv.x) / 2, (pu.y + pv.y) / 2)
+    n = _split_edge(t, "bisect", u, v, midpoint)
+    t.record(Step("bisect", (u, v)))
+    return n
+
+
+def insert_in_edge_in(t: Transient2, u: int, v: int, point: Point2) -> int:
+    """Insert ``point``, which must lie strictly inside edge {u, v}; as :func:`bisect_in`
+    otherwise.  Returns the new vertex id."""
+    n = _split_edge(t, "insert_in_edge", u, v, point)
+    t.record(Step("insert_in_edge", (u, v, point.x, point.y)))
+    return n
+
+
+def insert_in_triangle_in(t: Transient2, triangle: Triangle, point: Point2) -> int:
+    """Insert ``point``, strictly inside triangle (a, b, c), joined to a, b and c
+    (one triangle becomes three).  Returns the new vertex id."""
+    a, b, c = triangle
+    if t.apex(a, b) != c:
+        raise PreconditionError(
+            "insert_in_triangle",
+            f"{triangle} is not a counter-clockwise triangle of the mesh",
+            triangle=triangle,
+        )
+    pa, pb, pc = t.point(a), t.point(b), t.point(c)
+    if orient2d(pa, pb, point) != CCW or orient2d(pb, pc, point) != CCW or (
+        orient2d(pc, pa, point) != CCW
+    ):
+        raise PreconditionError(
+            "insert_in_triangle",
+            f"point ({point.x}, {point.y}) is not strictly inside triangle {triangle}",
+            triangle=triangle,
+        )
+    n = t.add_vertex(point)
+    attributes = t.remove_triangle(a, b, c)
+    t.add_triangle(a, b, n, attributes)
+    t.add_triangle(b, c, n, attributes)
+    t.add_triangle(c, a, n, attributes)
+    t.record(Step("insert_in_triangle", (a, b, c, point.x, point.y)))
+    return n
+
+
+def _insert_quadrilateral_point(
+    t: Transient2, op: str, u: int, v: int, centre: Callable[..., Point2]
+) -> int:
+    w, x = _interior_edge(t, op, u, v)
+    pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
+    point = centre(pu, pv, pw, px)
+    corners = ((u, x, pu, px), (x, v, px, pv), (v, w, pv, pw), (w, u, pw, pu))
+    for _, _, p, q in corners:
+        if orient2d(p, q, point) != CCW:
+            raise PreconditionError(
+                op,
+                f"the centroid ({point.x}, {point.y}) of the quadrilateral of edge "
+                f"({u}, {v}) is not strictly inside it (non-convex quadrilateral)",
+                edge=(u, v),
+            )
+    n = t.add_vertex(point)
+    attributes = t.remove_triangle(u, v, w)
+    t.remove_triangle(v, u, x)
+    for i, j, _, _ in corners:
+        t.add_triangle(i, j, n, attributes)
+    t.record(Step(op, (u, v)))
+    return n
+
+
+def insert_centroid_in(t: Transient2, u: int, v: int, *, kind: str = "area") -> int:
+    """Replace the two triangles of the unconstrained interior edge {u, v} by four joined
+    at the centroid of their quadrilateral: the area centroid (``kind="area"``, step
+    ``insert_centroid``) or the average of its four vertices (``kind="vertices"``, step
+    ``insert_vertex_centroid``).  The centroid must be strictly inside each of the four new
+    triangles (true for a strictly convex quadrilateral).  Returns the new vertex id."""
+    if kind == "area":
+        return _insert_quadrilateral_point(
+            t, "insert_centroid", u, v, quadrilateral_area_centroid
+        )
+    if kind == "vertices":
+        return _insert_quadrilateral_point(
+            t, "insert_vertex_centroid", u, v, quadrilateral_vertex_centroid
+        )
+    raise PreconditionError("insert_centroid", f"unknown centroid kind {kind!r}")
+
+
+def legalize_in(t: Transient2, vertex: int) -> list[Step]:
+    """Lawson flips around ``vertex``: while an edge (a, b) opposite ``vertex`` in a
+    triangle (vertex, a, b) is unconstrained, interior, and its other apex q lies strictly
+    inside the circle through vertex, a, b, flip it (when its quadrilateral is strictly
+    convex) and examine the two new opposite edges (a, q) then (q, b).  Cocircular points
+    never cause a flip.  Edges are examined depth-first, starting from the star of
+    ``vertex`` in counter-clockwise order from its smallest neighbour.  Returns the flips."""
+    star = walk_star(t.apex, vertex, t.outgoing(vertex))
+    if not star:
+        raise PreconditionError("legalize", f"vertex {vertex} is in no triangle")
+    start = min(range(len(star)), key=lambda i: star[i][1])
+    pending = [(a, b) for _, a, b in star[start:] + star[:start]]
+    pending.reverse()
+    flips: list[Step] = []
+    p = t.point(vertex)
+    while pending:
+        a, b = pending.pop()
+        if t.apex(vertex, a) != b:
+            continue
+        q = t.apex(b, a)
+        if q is None or t.segment_marker(a, b) is not None:
+            continue
+        pa, pb, pq = t.point(a), t.point(b), t.point(q)
+        if incircle(p, pa, pb, pq) != CircleLocation.INSIDE:
+            continue
+        if orient2d(pq, p, pa) != CCW or orient2d(p, pq, pb) != CCW:
+            continue
+        if t.triangle_attributes((vertex, a, b)) != t.triangle_attributes((b, a, q)):
+            continue
+        flip_in(t, a, b)
+        flips.append(t.steps[-1])
+        pending.append((q, b))
+        pending.append((a, q))
+    return flips
+
+
+# ---------------------------------------------------------------------------------------
+# steps
+# ---------------------------------------------------------------------------------------
+def _ints(step: Step, count: int, total: int) -> tuple[int, ...]:
+    if len(step.args) != total:
+        raise PreconditionError(
+            step.op, f"expects {total} arguments, got {len(step.args)}: {step}"
+        )
+    head = step.args[:count]
+    if not all(isinstance(a, int) for a in head):
+        raise PreconditionError(step.op, f"vertex arguments must be integers: {step}")
+    return tuple(int(a) for a in head)
+
+
+def _coordinates(step: Step, start: int) -> Point2:
+    return point2(step.args[start], step.args[start + 1])
+
+
+def _apply_flip(t: Transient2, step: Step) -> None:
+    u, v = _ints(step, 2, 2)
+    flip_in(t, u, v)
+
+
+def _apply_bisect(t: Transient2, step: Step) -> None:
+    u, v = _ints(step, 2, 2)
+    bisect_in(t, u, v)
+
+
+def _apply_insert_in_edge(t: Transient2, step: Step) -> None:
+    u, v = _ints(step, 2, 4)
+    insert_in_edge_in(t, u, v, _coordinates(step, 2))
+
+
+def _apply_insert_in_triangle(t: Transient2, step: Step) -> None:
+    a, b, c = _ints(step, 3, 5)
+    insert_in_triangle_in(t, (a, b, c), _coordinates(step, 3))
+
+
+def _apply_insert_centroid(t: Transient2, step: Step) -> None:
+    u, v = _ints(step, 2, 2)
+    insert_centroid_in(t, u, v, kind="area")
+
+
+def _apply_insert_vertex_centroid(t: Transient2, step: Step) -> None:
+    u, v = _ints(step, 2, 2)
+    insert_centroid_in(t, u, v, kind="vertices")
+
+
+OPERATIONS: dict[str, Callable[[Transient2, Step], None]] = {
+    "flip": _apply_flip,
+    "bisect": _apply_bisect,
+    "insert_in_edge": _apply_insert_in_edge,
+    "insert_in_triangle": _apply_insert_in_triangle,
+    "insert_centroid": _apply_insert_centroid,
+    "insert_vertex_centroid": _apply_insert_vertex_centroid,
+}
+"""Step name -> how to apply it to a transient.  Later modules register their steps here
+with :func:`register_operation`."""
+
+
+def register_operation(name: str, run: Callable[[Transient2, Step], None]) -> None:
+    """Make steps named ``name`` applicable; refuses to replace an existing name."""
+    if name in OPERATIONS and OPERATIONS[name] is not run:
+        raise ValueError(f"step {name!r} is already registered")
+    OPERATIONS[name] = run
+
+
+def apply_in(t: Transient2, step: Step) -> None:
+    """Apply ``step`` to the transient (it records the step in ``t.steps``)."""
+    run = OPERATIONS.get(step.op)
+    if run is None:
+        raise PreconditionError(step.op, f"unknown step {step.op!r}")
+    run(t, step)
+
+
+# ---------------------------------------------------------------------------------------
+# pure functions
+# ---------------------------------------------------------------------------------------
+def apply(mesh: Mesh2, step: Step, /) -> Mesh2:
+    """The mesh after ``step``; ``mesh`` is unchanged.  O(k log n) for a step touching k
+    triangles."""
+    t = Transient2(mesh)
+    apply_in(t, step)
+    return t.seal()
+
+
+def flip(mesh: Mesh2, edge: Edge, /) -> Mesh2:
+    """The mesh with interior edge ``edge`` flipped (see :func:`flip_in`)."""
+    return apply(mesh, Step("flip", edge))
+
+
+def bisect(mesh: Mesh2, edge: Edge, /) -> Mesh2:
+    """The mesh with the midpoint of ``edge`` inserted (see :func:`bisect_in`); the new
+    vertex is ``mesh.vertex_count``."""
+    return apply(mesh, Step("bisect", edge))
+
+
+def insert_in_edge(mesh: Mesh2, edge: Edge, point: Point2, /) -> Mesh2:
+    """The mesh with ``point`` inserted strictly inside ``edge``."""
+    return apply(mesh, Step("insert_in_edge", (*edge, point.x, point.y)))
+
+
+def insert_in_triangle(mesh: Mesh2, triangle: Triangle, point: Point2, /) -> Mesh2:
+    """The mesh with ``point`` inserted strictly inside ``triangle`` (1 -> 3 triangles)."""
+    return apply(mesh, Step("insert_in_triangle", (*triangle, point.x, point.y)))
+
+
+def insert_centroid(mesh: Mesh2, edge: Edge, /, *, kind: str = "area") -> Mesh2:
+    """The mesh with the centroid of the quadrilateral of interior ``edge`` inserted
+    (2 -> 4 triangles); ``kind`` is ``"area"`` or ``"vertices"``."""
+    name = {"area": "insert_centroid", "vertices": "insert_vertex_centroid"}.get(kind)
+    if name is None:
+        raise PreconditionError("insert_centroid", f"unknown centroid kind {kind!r}")
+    return apply(mesh, Step(name, edge))
+
+
+def legalize(mesh: Mesh2, vertex: int, /) -> tuple[Mesh2, tuple[Step, ...]]:
+    """Delaunay flips around ``vertex`` (see :func:`legalize_in`); returns the new mesh and
+    the flips made, in order."""
+    t = Transient2(mesh)
+    flips = legalize_in(t, vertex)
+    return t.seal(), tuple(flips)

@@ -1,0 +1,132 @@
+"""The one mesh checker: :func:`validate` returns every violated invariant of a snapshot,
+:func:`check` raises :class:`InvalidMeshError` carrying them.  Used by the tests, the ops'
+property tests and ``geomexact check``.  Invariants: ``specs/snapshot.md``.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import attrs
+
+from geomexact.errors import InvalidMeshError
+from geomexact.measures import boundary_enclosed_area, total_area
+from geomexact.mesh2d import KEY_MASK, KEY_SHIFT, Mesh2, full_digest, key_edge
+from geomexact.numbers import format_rational
+from geomexact.predicates import Orientation, orient2d
+
+
+@attrs.frozen(slots=True)
+class Violation:
+    """One broken invariant: ``kind`` (a stable identifier), a readable ``message`` and the
+    ids of the elements involved."""
+
+    kind: str
+    message: str
+    elements: tuple[int, ...] = ()
+
+    def __str__(self) -> str:
+        return f"{self.kind}: {self.message}"
+
+
+def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
+    """Every violation of the snapshot invariants, in a deterministic order (empty when
+    the mesh is valid).  O(n) (plus the O(n) digest recomputation when ``check_digest``).
+
+    Checked: vertices referenced exist; each triangle's three half-edges agree; every
+    triangle is strictly counter-clockwise (exact); the triangle count; each vertex of a
+    triangle has a valid ``outgoing`` hint; no vertex outside every triangle; boundary
+    edges form closed loops through manifold vertices; every constrained segment is an
+    edge; attributes and markers refer to existing elements; the triangles cover exactly the
+    area enclosed by the boundary (no fold-over); the digest equals its recomputation.
+    """
+    found: list[Violation] = []
+    vertices, halfedges = mesh.vertices, mesh.halfedges
+    n = len(vertices)
+    if sorted(vertices) != list(range(n)):
+        found.append(Violation("vertex-ids", "vertex ids are not 0..n-1"))
+    triangles = []
+    for key in sorted(halfedges):
+        u, v = key >> KEY_SHIFT, key & KEY_MASK
+        w = halfedges[key]
+        if not (u in vertices and v in vertices and w in vertices):
+            found.append(
+                Violation("missing-vertex", f"half-edge ({u}, {v}) -> {w} refers to a missing "
+                          "vertex", (u, v, w))
+            )
+            continue
+        if halfedges.get((v << KEY_SHIFT) | w) != u or halfedges.get((w << KEY_SHIFT) | u) != v:
+            found.append(
+                Violation("adjacency", f"half-edges of triangle ({u}, {v}, {w}) disagree",
+                          (u, v, w))
+            )
+            continue
+        if u < v and u < w:
+            triangles.append((u, v, w))
+    for a, b, c in triangles:
+        orientation = orient2d(vertices[a], vertices[b], vertices[c])
+        if orientation != Orientation.COUNTERCLOCKWISE:
+            what = "degenerate" if orientation == Orientation.COLLINEAR else "clockwise"
+            found.append(Violation("orientation", f"triangle ({a}, {b}, {c}) is {what}",
+                                   (a, b, c)))
+    if len(triangles) != mesh.triangle_count:
+        found.append(Violation("triangle-count", f"triangle_count is {mesh.triangle_count} "
+                               f"but there are {len(triangles)} triangles"))
+    used = {vertex for triangle in triangles for vertex in triangle}
+    for vertex in sorted(used):
+        w = mesh.outgoing.get(vertex)
+        if w is None or ((vertex << KEY_SHIFT) | w) not in halfedges:
+            found.append(Violation("outgoing", f"vertex {vertex} has no valid outgoing "
+                                   "half-edge hint", (vertex,)))
+    if triangles:
+        for vertex in sorted(set(vertices) - used):
+            found.append(Violation("dangling-vertex", f"vertex {vertex} is in no triangle",
+                                   (vertex,)))
+    out_degree: Counter[int] = Counter()
+    in_degree: Counter[int] = Counter()
+    for key in halfedges:
+        u, v = key >> KEY_SHIFT, key & KEY_MASK
+        if ((v << KEY_SHIFT) | u) not in halfedges:
+            out_degree[u] += 1
+            in_degree[v] += 1
+    for vertex in sorted(set(out_degree) | set(in_degree)):
+        if out_degree[vertex] != in_degree[vertex]:
+            found.append(Violation("boundary-loop", f"boundary edges do not form closed loops "
+                                   f"at vertex {vertex}", (vertex,)))
+        elif out_degree[vertex] > 1:
+            found.append(Violation("non-manifold-vertex", f"vertex {vertex} is on "
+                                   f"{out_degree[vertex]} boundary loops", (vertex,)))
+    for key in sorted(mesh.segments):
+        u, v = key_edge(key)
+        if not mesh.is_edge(u, v):
+            found.append(Violation("segment", f"constrained segment ({u}, {v}) is not an edge",
+                                   (u, v)))
+    for triangle in sorted(mesh.triangle_attributes):
+        if not mesh.has_triangle(triangle):
+            found.append(Violation("attribute", f"attributes of missing triangle {triangle}",
+                                   triangle))
+    for table in (mesh.vertex_markers, mesh.vertex_attributes):
+        for vertex in sorted(table):
+            if vertex not in vertices:
+                found.append(Violation("attribute", f"marker or attributes of missing "
+                                       f"vertex {vertex}", (vertex,)))
+    if not found:
+        area, enclosed = total_area(mesh), boundary_enclosed_area(mesh)
+        if area != enclosed:
+            found.append(Violation("fold-over", f"triangles cover area {format_rational(area)}"
+                                   f" but the boundary encloses {format_rational(enclosed)}"))
+    if check_digest:
+        recomputed = full_digest(mesh)
+        if recomputed != mesh.digest:
+            found.append(Violation("digest", f"digest {mesh.digest:032x} differs from its "
+                                   f"recomputation {recomputed:032x}"))
+    return found
+
+
+def check(mesh: Mesh2) -> Mesh2:
+    """Return ``mesh`` if it is valid, else raise :class:`InvalidMeshError` listing every
+    violation."""
+    violations = validate(mesh)
+    if violations:
+        raise InvalidMeshError(violations)
+    return mesh
