@@ -8,7 +8,7 @@ Cocircular quadrilaterals count as Delaunay.  See ``specs/delaunay.md``.
 
 from __future__ import annotations
 
-from geomexact.mesh2d import KEY_MASK, KEY_SHIFT, Edge, Mesh2
+from geomexact.mesh2d import Edge, Mesh2
 from geomexact.predicates import CircleLocation, incircle
 
 
@@ -18,10 +18,10 @@ def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
     halfedges, vertices, segments = mesh.halfedges, mesh.vertices, mesh.segments
     found = []
     for key, w in halfedges.items():
-        u, v = key >> KEY_SHIFT, key & KEY_MASK
+        u, v = key
         if u > v or key in segments:
             continue
-        x = halfedges.get((v << KEY_SHIFT) | u)
+        x = halfedges.get((v, u))
         if x is None:
             continue
         location = incircle(vertices[u], vertices[v], vertices[w], vertices[x])

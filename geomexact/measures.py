@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from geomexact.mesh2d import KEY_MASK, KEY_SHIFT, Mesh2, Triangle
+from geomexact.mesh2d import Mesh2, Triangle
 from geomexact.numbers import ZERO, Rational
 from geomexact.points import Point2
 
@@ -36,8 +36,8 @@ def boundary_enclosed_area(mesh: Mesh2) -> Rational:
     halfedges, vertices = mesh.halfedges, mesh.vertices
     twice = ZERO
     for key in halfedges:
-        u, v = key >> KEY_SHIFT, key & KEY_MASK
-        if ((v << KEY_SHIFT) | u) not in halfedges:
+        u, v = key
+        if (v, u) not in halfedges:
             p, q = vertices[u], vertices[v]
             twice += p.x * q.y - q.x * p.y
     return twice / 2

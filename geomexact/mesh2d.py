@@ -25,19 +25,7 @@ Triangle: TypeAlias = tuple[int, int, int]
 Edge: TypeAlias = tuple[int, int]
 Attributes: TypeAlias = tuple[Rational, ...]
 
-KEY_SHIFT = 32
-KEY_MASK = (1 << KEY_SHIFT) - 1
-MAX_VERTICES = 1 << KEY_SHIFT
-
-
-def edge_key(u: int, v: int) -> int:
-    """Integer key of the directed edge (u, v) in the half-edge and segment tables."""
-    return (u << KEY_SHIFT) | v
-
-
-def key_edge(key: int) -> Edge:
-    """Inverse of :func:`edge_key`."""
-    return key >> KEY_SHIFT, key & KEY_MASK
+MAX_VERTICES = 1 << 32
 
 
 def canonical_triangle(a: int, b: int, c: int) -> Triangle:
@@ -61,11 +49,11 @@ class Mesh2:
     Tables (all persistent maps):
 
     - ``vertices``: id -> :class:`Point2`, ids 0..n-1 in insertion order;
-    - ``halfedges``: ``edge_key(u, v)`` -> apex w, for each counter-clockwise triangle
+    - ``halfedges``: ``(u, v)`` -> apex w, for each counter-clockwise triangle
       (u, v, w) and each of its three directed edges;
     - ``outgoing``: vertex -> some w such that (vertex, w) is a half-edge (a hint to walk
       the star of a vertex; absent for a vertex in no triangle);
-    - ``segments``: ``edge_key(min, max)`` -> boundary marker of a constrained segment;
+    - ``segments``: ``(min, max)`` -> boundary marker of a constrained segment;
     - ``vertex_markers`` / ``vertex_attributes`` / ``triangle_attributes``: the Triangle
       program's boundary markers and attributes, stored only where non-default.
 
@@ -74,9 +62,9 @@ class Mesh2:
     """
 
     vertices: immutables.Map[int, Point2]
-    halfedges: immutables.Map[int, int]
+    halfedges: immutables.Map[Edge, int]
     outgoing: immutables.Map[int, int]
-    segments: immutables.Map[int, int]
+    segments: immutables.Map[Edge, int]
     vertex_markers: immutables.Map[int, int]
     vertex_attributes: immutables.Map[int, Attributes]
     triangle_attributes: immutables.Map[Triangle, Attributes]
@@ -101,17 +89,17 @@ class Mesh2:
 
     def apex(self, u: int, v: int) -> int | None:
         """The third vertex of the triangle left of the directed edge (u, v), or None."""
-        return self.halfedges.get(edge_key(u, v))
+        return self.halfedges.get((u, v))
 
     def has_triangle(self, triangle: Triangle) -> bool:
         """True when (a, b, c) is a counter-clockwise triangle of the mesh."""
         a, b, c = triangle
-        return self.halfedges.get(edge_key(a, b)) == c
+        return self.halfedges.get((a, b)) == c
 
     def iter_triangles(self) -> Iterator[Triangle]:
         """Triangles in canonical form, in table order (not sorted; see :meth:`triangles`)."""
         for key, c in self.halfedges.items():
-            a, b = key >> KEY_SHIFT, key & KEY_MASK
+            a, b = key
             if a < b and a < c:
                 yield a, b, c
 
@@ -123,37 +111,33 @@ class Mesh2:
         """All edges as sorted (min, max) pairs.  O(n log n)."""
         found = set()
         for key in self.halfedges:
-            u, v = key >> KEY_SHIFT, key & KEY_MASK
+            u, v = key
             found.add((u, v) if u < v else (v, u))
         return sorted(found)
 
     def boundary_edges(self) -> list[Edge]:
         """Directed edges (u, v) of triangles with no triangle on their right, sorted."""
         halfedges = self.halfedges
-        return sorted(
-            key_edge(key)
-            for key in halfedges
-            if edge_key(key & KEY_MASK, key >> KEY_SHIFT) not in halfedges
-        )
+        return sorted((u, v) for u, v in halfedges if (v, u) not in halfedges)
 
     def is_boundary_edge(self, u: int, v: int) -> bool:
         """True when {u, v} is an edge with a triangle on exactly one side."""
-        forward = edge_key(u, v) in self.halfedges
-        backward = edge_key(v, u) in self.halfedges
+        forward = (u, v) in self.halfedges
+        backward = (v, u) in self.halfedges
         return forward != backward
 
     def is_edge(self, u: int, v: int) -> bool:
         """True when {u, v} is an edge of some triangle."""
-        return edge_key(u, v) in self.halfedges or edge_key(v, u) in self.halfedges
+        return (u, v) in self.halfedges or (v, u) in self.halfedges
 
     def segment_list(self) -> list[tuple[int, int, int]]:
         """Constrained segments as sorted (u, v, marker) with u < v."""
-        return sorted((*key_edge(key), marker) for key, marker in self.segments.items())
+        return sorted((u, v, marker) for (u, v), marker in self.segments.items())
 
     def is_constrained(self, u: int, v: int) -> bool:
         """True when {u, v} is a constrained segment."""
         a, b = (u, v) if u < v else (v, u)
-        return edge_key(a, b) in self.segments
+        return (a, b) in self.segments
 
     def star(self, vertex: int) -> list[Triangle]:
         """Triangles around ``vertex`` in counter-clockwise order, each rotated to start at
@@ -218,7 +202,7 @@ def walk_star(
     return result
 
 
-def _same_triangles(a: Mapping[int, int], b: Mapping[int, int]) -> bool:
+def _same_triangles(a: Mapping[Edge, int], b: Mapping[Edge, int]) -> bool:
     return len(a) == len(b) and all(b.get(key) == apex for key, apex in a.items())
 
 
@@ -246,7 +230,7 @@ def full_digest(mesh: Mesh2) -> int:
     for triangle in mesh.iter_triangles():
         total = _digest.combine(total, _digest.cell_hash(triangle))
     for key, marker in mesh.segments.items():
-        u, v = key_edge(key)
+        u, v = key
         total = _digest.combine(total, _digest.segment_hash(u, v, marker))
     for vertex, marker in mesh.vertex_markers.items():
         total = _digest.combine(total, _digest.attribute_hash("vm", (vertex,), (marker,)))

@@ -16,14 +16,12 @@ import immutables
 from geomexact import digest as _digest
 from geomexact.errors import PreconditionError, TransientSealedError
 from geomexact.mesh2d import (
-    KEY_MASK,
-    KEY_SHIFT,
     MAX_VERTICES,
     Attributes,
+    Edge,
     Mesh2,
     Triangle,
     canonical_triangle,
-    edge_key,
     empty_mesh,
 )
 from geomexact.points import Point2, point2
@@ -84,11 +82,11 @@ class Transient2:
 
     def apex(self, u: int, v: int) -> int | None:
         """Third vertex of the triangle left of (u, v), or None."""
-        return self._halfedges.get((u << KEY_SHIFT) | v)
+        return self._halfedges.get((u, v))
 
     def segment_marker(self, u: int, v: int) -> int | None:
         """Marker of the constrained segment {u, v}, or None when it is not constrained."""
-        return self._segments.get(edge_key(u, v) if u < v else edge_key(v, u))
+        return self._segments.get((u, v) if u < v else (v, u))
 
     def vertex_marker(self, vertex: int) -> int:
         return self._vertex_markers.get(vertex, 0)
@@ -101,11 +99,11 @@ class Transient2:
     def outgoing(self, vertex: int) -> int | None:
         """Some w with (vertex, w) a half-edge, or None."""
         w = self._outgoing.get(vertex)
-        if w is not None and ((vertex << KEY_SHIFT) | w) in self._halfedges:
+        if w is not None and (vertex, w) in self._halfedges:
             return w
         return None
 
-    def halfedges_snapshot(self) -> immutables.Map[int, int]:
+    def halfedges_snapshot(self) -> immutables.Map[Edge, int]:
         """The current half-edge table as an immutable map (to iterate over it).  O(1):
         the mutation is finished and reopened; later writes copy the trie paths they touch.
         """
@@ -117,8 +115,8 @@ class Transient2:
         """Every edge once, as (u, v) with u < v, in table order.  O(n)."""
         halfedges = self.halfedges_snapshot()
         for key in halfedges:
-            u, v = key >> KEY_SHIFT, key & KEY_MASK
-            if u < v or ((v << KEY_SHIFT) | u) not in halfedges:
+            u, v = key
+            if u < v or (v, u) not in halfedges:
                 yield (u, v) if u < v else (v, u)
 
     # -- edits --------------------------------------------------------------------------
@@ -171,7 +169,7 @@ class Transient2:
         """Add the counter-clockwise triangle (a, b, c); its half-edges must be free."""
         self._check_open()
         halfedges = self._halfedges
-        ab, bc, ca = (a << KEY_SHIFT) | b, (b << KEY_SHIFT) | c, (c << KEY_SHIFT) | a
+        ab, bc, ca = (a, b), (b, c), (c, a)
         if ab in halfedges or bc in halfedges or ca in halfedges:
             raise PreconditionError(
                 "add_triangle",
@@ -198,14 +196,14 @@ class Transient2:
         """Remove the triangle (a, b, c) (any rotation); return its attributes."""
         self._check_open()
         halfedges = self._halfedges
-        ab = (a << KEY_SHIFT) | b
+        ab = (a, b)
         if halfedges.get(ab) != c:
             raise PreconditionError(
                 "remove_triangle", f"{(a, b, c)} is not a triangle", triangle=(a, b, c)
             )
         del halfedges[ab]
-        del halfedges[(b << KEY_SHIFT) | c]
-        del halfedges[(c << KEY_SHIFT) | a]
+        del halfedges[(b, c)]
+        del halfedges[(c, a)]
         self.stale_outgoing.update((a, b, c))
         self._triangle_count -= 1
         canonical = canonical_triangle(a, b, c)
@@ -225,7 +223,7 @@ class Transient2:
         self._check_open()
         if u == v:
             raise PreconditionError("set_segment", f"segment ({u}, {v}) has equal ends")
-        key = edge_key(u, v) if u < v else edge_key(v, u)
+        key = (u, v) if u < v else (v, u)
         old = self._segments.get(key)
         if old is not None:
             self._digest = _digest.remove(
@@ -239,7 +237,7 @@ class Transient2:
     def remove_segment(self, u: int, v: int) -> int:
         """Unconstrain {u, v}; return its marker."""
         self._check_open()
-        key = edge_key(u, v) if u < v else edge_key(v, u)
+        key = (u, v) if u < v else (v, u)
         marker = self._segments.pop(key)
         self._digest = _digest.remove(
             self._digest, _digest.segment_hash(min(u, v), max(u, v), marker)
@@ -257,7 +255,7 @@ class Transient2:
         broken = []
         for vertex in self.stale_outgoing:
             w = outgoing.get(vertex)
-            if w is not None and ((vertex << KEY_SHIFT) | w) not in halfedges:
+            if w is not None and (vertex, w) not in halfedges:
                 broken.append(vertex)
         if not broken:
             self.stale_outgoing.clear()
@@ -267,9 +265,9 @@ class Transient2:
         for vertex in broken:
             del outgoing[vertex]
         for key in self.halfedges_snapshot():
-            u = key >> KEY_SHIFT
+            u = key[0]
             if u in wanted:
-                outgoing[u] = key & KEY_MASK
+                outgoing[u] = key[1]
                 wanted.discard(u)
                 if not wanted:
                     break

@@ -11,7 +11,7 @@ import attrs
 
 from geomexact.errors import InvalidMeshError
 from geomexact.measures import boundary_enclosed_area, total_area
-from geomexact.mesh2d import KEY_MASK, KEY_SHIFT, Mesh2, full_digest, key_edge
+from geomexact.mesh2d import Mesh2, full_digest
 from geomexact.numbers import format_rational
 from geomexact.predicates import Orientation, orient2d
 
@@ -47,7 +47,7 @@ def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
         found.append(Violation("vertex-ids", "vertex ids are not 0..n-1"))
     triangles = []
     for key in sorted(halfedges):
-        u, v = key >> KEY_SHIFT, key & KEY_MASK
+        u, v = key
         w = halfedges[key]
         if not (u in vertices and v in vertices and w in vertices):
             found.append(
@@ -55,7 +55,7 @@ def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
                           "vertex", (u, v, w))
             )
             continue
-        if halfedges.get((v << KEY_SHIFT) | w) != u or halfedges.get((w << KEY_SHIFT) | u) != v:
+        if halfedges.get((v, w)) != u or halfedges.get((w, u)) != v:
             found.append(
                 Violation("adjacency", f"half-edges of triangle ({u}, {v}, {w}) disagree",
                           (u, v, w))
@@ -75,7 +75,7 @@ def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
     used = {vertex for triangle in triangles for vertex in triangle}
     for vertex in sorted(used):
         w = mesh.outgoing.get(vertex)
-        if w is None or ((vertex << KEY_SHIFT) | w) not in halfedges:
+        if w is None or (vertex, w) not in halfedges:
             found.append(Violation("outgoing", f"vertex {vertex} has no valid outgoing "
                                    "half-edge hint", (vertex,)))
     if triangles:
@@ -85,8 +85,8 @@ def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
     out_degree: Counter[int] = Counter()
     in_degree: Counter[int] = Counter()
     for key in halfedges:
-        u, v = key >> KEY_SHIFT, key & KEY_MASK
-        if ((v << KEY_SHIFT) | u) not in halfedges:
+        u, v = key
+        if (v, u) not in halfedges:
             out_degree[u] += 1
             in_degree[v] += 1
     for vertex in sorted(set(out_degree) | set(in_degree)):
@@ -97,7 +97,7 @@ def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
             found.append(Violation("non-manifold-vertex", f"vertex {vertex} is on "
                                    f"{out_degree[vertex]} boundary loops", (vertex,)))
     for key in sorted(mesh.segments):
-        u, v = key_edge(key)
+        u, v = key
         if not mesh.is_edge(u, v):
             found.append(Violation("segment", f"constrained segment ({u}, {v}) is not an edge",
                                    (u, v)))

@@ -1,0 +1,54 @@
+"""Shared test set-up: hypothesis profiles, the ``../shared/data`` fixture, and the
+``slow`` / ``browser`` markers.
+
+Hypothesis profile: ``ci`` (fewer examples, no deadline) when the environment has
+``CI=true``, else ``dev`` (default number of examples, no deadline: exact arithmetic on
+large denominators has no fixed time budget).  ``HYPOTHESIS_PROFILE=name`` chooses one
+explicitly.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from hypothesis import settings
+
+settings.register_profile("ci", max_examples=25, deadline=None, print_blob=True)
+settings.register_profile("dev", deadline=None)
+settings.load_profile(
+    os.environ.get("HYPOTHESIS_PROFILE")
+    or ("ci" if os.environ.get("CI", "").lower() == "true" else "dev")
+)
+
+PROJECT = Path(__file__).resolve().parent.parent
+SHARED_DATA = PROJECT.parent / "shared" / "data"
+
+
+@pytest.fixture(scope="session")
+def shared_data() -> Path:
+    """``../shared/data`` (third-party meshes, read-only); skips the test when absent."""
+    if not SHARED_DATA.is_dir():
+        pytest.skip(f"shared test data not found at {SHARED_DATA}")
+    return SHARED_DATA
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--runslow", action="store_true", default=False, help="also run tests marked slow"
+    )
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    skip_slow = pytest.mark.skip(reason="slow: run with --runslow")
+    has_browser = any(
+        shutil.which(name) for name in ("chromium", "chromium-browser", "google-chrome")
+    )
+    skip_browser = pytest.mark.skip(reason="needs a headless chromium on PATH")
+    for item in items:
+        if "slow" in item.keywords and not config.getoption("--runslow"):
+            item.add_marker(skip_slow)
+        if "browser" in item.keywords and not has_browser:
+            item.add_marker(skip_browser)
