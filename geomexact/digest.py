@@ -10,6 +10,7 @@ adding or removing an element updates it in O(1).  See ``specs/snapshot.md``.
 from __future__ import annotations
 
 from collections.abc import Sequence
+import struct
 from hashlib import blake2b
 
 from geomexact.numbers import Rational
@@ -32,9 +33,16 @@ def vertex_hash(vertex: int, coordinates: Sequence[Rational]) -> int:
     return _hash(f"v{vertex}:{text}".encode())
 
 
+_CELL_FORMATS = {3: struct.Struct("<3Q").pack, 4: struct.Struct("<4Q").pack}
+
+
 def cell_hash(cell: Sequence[int]) -> int:
-    """Hash of a canonical cell (triangle or tetrahedron vertex tuple)."""
-    return _hash(("c" + ",".join(map(str, cell))).encode())
+    """Hash of a canonical cell (triangle or tetrahedron vertex tuple): BLAKE2b-128 with
+    personalisation ``b"cell"`` of the ids as little-endian unsigned 64-bit integers."""
+    return int.from_bytes(
+        blake2b(_CELL_FORMATS[len(cell)](*cell), digest_size=16, person=b"cell").digest(),
+        "little",
+    )
 
 
 def segment_hash(u: int, v: int, marker: int) -> int:
