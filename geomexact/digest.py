@@ -9,8 +9,8 @@ adding or removing an element updates it in O(1).  See ``specs/snapshot.md``.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 import struct
+from collections.abc import Sequence
 from hashlib import blake2b
 
 from geomexact.numbers import Rational

@@ -64,7 +64,12 @@ class InvalidMeshError(GeomexactError, ValueError):
 
 
 class TraceError(GeomexactError, ValueError):
-    """A trace that does not belong to the mesh it is replayed on, or that diverges."""
+    """A trace that does not belong to the mesh it is replayed on (``step`` is None), or
+    that diverges at step number ``step`` (1-based)."""
+
+    def __init__(self, message: str, step: int | None = None) -> None:
+        super().__init__(message)
+        self.step = step
 
 
 class TransientSealedError(GeomexactError, RuntimeError):

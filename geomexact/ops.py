@@ -29,9 +29,9 @@ COLLINEAR = Orientation.COLLINEAR
 # ---------------------------------------------------------------------------------------
 def strictly_between(p: Point2, u: Point2, v: Point2) -> bool:
     """True when p, known to be on line uv, lies strictly inside segment uv."""
-    return (p.x - u.x) * (v.x - u.x) + (p.y - u.y) * (v.y - u.y) > 0 and (p.x - v.x) * (
-        u.x - v.x
-    ) + (p.y - v.y) * (u.y - v.y) > 0
+    beyond_u = (p.x - u.x) * (v.x - u.x) + (p.y - u.y) * (v.y - u.y)
+    before_v = (p.x - v.x) * (u.x - v.x) + (p.y - v.y) * (u.y - v.y)
+    return bool(beyond_u > 0 and before_v > 0)
 
 
 def quadrilateral_area_centroid(a: Point2, b: Point2, c: Point2, d: Point2) -> Point2:

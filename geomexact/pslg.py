@@ -7,7 +7,7 @@ files.  A point set is a PSLG without segments.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 import attrs
 
@@ -26,19 +26,42 @@ class RegionSeed:
     max_area: Rational | None = None
 
 
+# Typed converters: mypy cannot type attrs fields converted by the generic ``tuple``.
+def _points(values: Iterable[Point2]) -> tuple[Point2, ...]:
+    return tuple(values)
+
+
+def _segments(values: Iterable[tuple[int, int, int]]) -> tuple[tuple[int, int, int], ...]:
+    return tuple(values)
+
+
+def _regions(values: Iterable[RegionSeed]) -> tuple[RegionSeed, ...]:
+    return tuple(values)
+
+
+def _markers(values: Iterable[int]) -> tuple[int, ...]:
+    return tuple(values)
+
+
+def _attributes(
+    values: Iterable[tuple[Rational, ...]],
+) -> tuple[tuple[Rational, ...], ...]:
+    return tuple(values)
+
+
 @attrs.frozen(slots=True)
 class PSLG:
     """Vertices (ids = positions), segments ``(u, v, marker)`` with u != v, holes (seed
     points), regions (:class:`RegionSeed`), and per-vertex boundary markers and attribute
     tuples (empty tuples when the input has none)."""
 
-    vertices: tuple[Point2, ...] = attrs.field(converter=tuple)
-    segments: tuple[tuple[int, int, int], ...] = attrs.field(converter=tuple, default=())
-    holes: tuple[Point2, ...] = attrs.field(converter=tuple, default=())
-    regions: tuple[RegionSeed, ...] = attrs.field(converter=tuple, default=())
-    vertex_markers: tuple[int, ...] = attrs.field(converter=tuple, default=())
+    vertices: tuple[Point2, ...] = attrs.field(converter=_points)
+    segments: tuple[tuple[int, int, int], ...] = attrs.field(converter=_segments, default=())
+    holes: tuple[Point2, ...] = attrs.field(converter=_points, default=())
+    regions: tuple[RegionSeed, ...] = attrs.field(converter=_regions, default=())
+    vertex_markers: tuple[int, ...] = attrs.field(converter=_markers, default=())
     vertex_attributes: tuple[tuple[Rational, ...], ...] = attrs.field(
-        converter=tuple, default=()
+        converter=_attributes, default=()
     )
 
     def __attrs_post_init__(self) -> None:

@@ -7,6 +7,7 @@ way a step changes a mesh.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import TypeAlias
 
 import attrs
@@ -16,13 +17,17 @@ from geomexact.numbers import Rational
 StepArgument: TypeAlias = "int | Rational"
 
 
+def _arguments(values: Iterable[StepArgument]) -> tuple[StepArgument, ...]:
+    return tuple(values)
+
+
 @attrs.frozen(slots=True)
 class Step:
     """Operation ``op`` (a name registered in :data:`geomexact.ops.OPERATIONS`) applied
     with ``args`` (ints and rationals, in the op's documented order)."""
 
     op: str
-    args: tuple[StepArgument, ...] = attrs.field(converter=tuple)
+    args: tuple[StepArgument, ...] = attrs.field(converter=_arguments)
 
     def __str__(self) -> str:
         return f"{self.op}({', '.join(str(a) for a in self.args)})"

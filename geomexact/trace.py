@@ -13,7 +13,7 @@ Specification: ``specs/trace.md``.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +30,14 @@ FORMAT_NAME = "geomexact-trace"
 FORMAT_VERSION = 1
 
 
+def _steps(values: Iterable[Step]) -> tuple[Step, ...]:
+    return tuple(values)
+
+
+def _digests(values: Iterable[int]) -> tuple[int, ...]:
+    return tuple(values)
+
+
 def _freeze(parameters: Mapping[str, Any] | None) -> tuple[tuple[str, Any], ...]:
     return tuple(sorted((parameters or {}).items()))
 
@@ -40,8 +48,8 @@ class Trace:
     steps and the mesh digest after each step (``len(digests) == len(steps)``)."""
 
     input_digest: int
-    steps: tuple[Step, ...] = attrs.field(converter=tuple)
-    digests: tuple[int, ...] = attrs.field(converter=tuple)
+    steps: tuple[Step, ...] = attrs.field(converter=_steps)
+    digests: tuple[int, ...] = attrs.field(converter=_digests)
     parameters: tuple[tuple[str, Any], ...] = attrs.field(default=(), converter=_freeze)
     version: str = ""
 
@@ -123,11 +131,14 @@ def _apply_checked(transient: Transient2, trace: Trace, index: int) -> None:
     try:
         apply_in(transient, step)
     except ValueError as error:
-        raise TraceError(f"step {index + 1} ({step}) cannot be applied: {error}") from error
+        raise TraceError(
+            f"step {index + 1} ({step}) cannot be applied: {error}", index + 1
+        ) from error
     if transient.digest != trace.digests[index]:
         raise TraceError(
             f"step {index + 1} ({step}) gave digest {transient.digest:032x}, "
-            f"the trace recorded {trace.digests[index]:032x}"
+            f"the trace recorded {trace.digests[index]:032x}",
+            index + 1,
         )
 
 

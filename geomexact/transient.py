@@ -37,8 +37,8 @@ class Transient2:
         "_digest",
         "_halfedges",
         "_outgoing",
-        "_segments",
         "_sealed",
+        "_segments",
         "_triangle_attributes",
         "_triangle_count",
         "_vertex_attributes",
@@ -346,9 +346,9 @@ def mesh_from_triangles(
                     triangle=index,
                 )
             b, c = c, b
-        attributes = triangle_attributes[index] if triangle_attributes is not None else None
+        values = triangle_attributes[index] if triangle_attributes is not None else None
         try:
-            transient.add_triangle(a, b, c, attributes or None)
+            transient.add_triangle(a, b, c, values or None)
         except PreconditionError as error:
             raise PreconditionError(
                 "mesh_from_triangles",

@@ -11,8 +11,9 @@ import attrs
 
 from geomexact.errors import InvalidMeshError
 from geomexact.measures import boundary_enclosed_area, total_area
-from geomexact.mesh2d import Mesh2, full_digest
+from geomexact.mesh2d import Mesh2, canonical_triangle, full_digest
 from geomexact.numbers import format_rational
+from geomexact.points import Point2
 from geomexact.predicates import Orientation, orient2d
 
 
@@ -29,16 +30,21 @@ class Violation:
         return f"{self.kind}: {self.message}"
 
 
-def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
+def validate(
+    mesh: Mesh2, *, check_digest: bool = True, allow_isolated: bool = True
+) -> list[Violation]:
     """Every violation of the snapshot invariants, in a deterministic order (empty when
     the mesh is valid).  O(n) (plus the O(n) digest recomputation when ``check_digest``).
 
     Checked: vertices referenced exist; each triangle's three half-edges agree; every
     triangle is strictly counter-clockwise (exact); the triangle count; each vertex of a
-    triangle has a valid ``outgoing`` hint; no vertex outside every triangle; boundary
-    edges form closed loops through manifold vertices; every constrained segment is an
-    edge; attributes and markers refer to existing elements; the triangles cover exactly the
-    area enclosed by the boundary (no fold-over); the digest equals its recomputation.
+    triangle has a valid ``outgoing`` hint; boundary edges form closed loops through
+    manifold vertices; every constrained segment is an edge; attributes and markers refer
+    to existing elements; the triangles cover exactly the area enclosed by the boundary (no
+    fold-over); boundary edges meet only at shared endpoints and no connected component lies
+    on another (no overlap); the digest equals its recomputation.  Vertices in no triangle
+    (Triangle keeps unused duplicates and vertices inside holes) are reported as
+    ``isolated-vertex`` only when ``allow_isolated`` is false.
     """
     found: list[Violation] = []
     vertices, halfedges = mesh.vertices, mesh.halfedges
@@ -74,13 +80,13 @@ def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
                                f"but there are {len(triangles)} triangles"))
     used = {vertex for triangle in triangles for vertex in triangle}
     for vertex in sorted(used):
-        w = mesh.outgoing.get(vertex)
-        if w is None or (vertex, w) not in halfedges:
+        hint = mesh.outgoing.get(vertex)
+        if hint is None or (vertex, hint) not in halfedges:
             found.append(Violation("outgoing", f"vertex {vertex} has no valid outgoing "
                                    "half-edge hint", (vertex,)))
-    if triangles:
+    if triangles and not allow_isolated:
         for vertex in sorted(set(vertices) - used):
-            found.append(Violation("dangling-vertex", f"vertex {vertex} is in no triangle",
+            found.append(Violation("isolated-vertex", f"vertex {vertex} is in no triangle",
                                    (vertex,)))
     out_degree: Counter[int] = Counter()
     in_degree: Counter[int] = Counter()
@@ -115,6 +121,9 @@ def validate(mesh: Mesh2, *, check_digest: bool = True) -> list[Violation]:
         if area != enclosed:
             found.append(Violation("fold-over", f"triangles cover area {format_rational(area)}"
                                    f" but the boundary encloses {format_rational(enclosed)}"))
+        found.extend(_boundary_crossings(mesh))
+        if not found:
+            found.extend(_stacked_components(mesh, triangles))
     if check_digest:
         recomputed = full_digest(mesh)
         if recomputed != mesh.digest:
@@ -130,3 +139,103 @@ def check(mesh: Mesh2) -> Mesh2:
     if violations:
         raise InvalidMeshError(violations)
     return mesh
+
+
+def _boundary_crossings(mesh: Mesh2) -> list[Violation]:
+    """Pairs of boundary edges that intersect anywhere but at a shared endpoint (a sweep
+    over x; exact)."""
+    vertices = mesh.vertices
+    edges = sorted(
+        (min(vertices[u].x, vertices[v].x), u, v) for u, v in mesh.boundary_edges()
+    )
+    found: list[Violation] = []
+    active: list[tuple[int, int]] = []
+    for low_x, u, v in edges:
+        active = [(a, b) for a, b in active if max(vertices[a].x, vertices[b].x) >= low_x]
+        for a, b in active:
+            if _segments_meet_improperly(mesh, (u, v), (a, b)):
+                found.append(Violation(
+                    "overlap", f"boundary edges ({a}, {b}) and ({u}, {v}) intersect",
+                    (a, b, u, v)))
+        active.append((u, v))
+    return found
+
+
+def _segments_meet_improperly(mesh: Mesh2, first: tuple[int, int],
+                              second: tuple[int, int]) -> bool:
+    (u, v), (a, b) = first, second
+    pu, pv, pa, pb = (mesh.vertices[i] for i in (u, v, a, b))
+    shared = {u, v} & {a, b}
+    if len(shared) == 2:
+        return True  # the same edge on the boundary twice
+    o1, o2 = orient2d(pu, pv, pa), orient2d(pu, pv, pb)
+    o3, o4 = orient2d(pa, pb, pu), orient2d(pa, pb, pv)
+    if shared:
+        # collinear and overlapping beyond the shared endpoint
+        if o1 == o2 == Orientation.COLLINEAR:
+            common = shared.pop()
+            other_first = v if common == u else u
+            other_second = b if common == a else a
+            pc, p1, p2 = (mesh.vertices[i] for i in (common, other_first, other_second))
+            dot = (p1.x - pc.x) * (p2.x - pc.x) + (p1.y - pc.y) * (p2.y - pc.y)
+            return bool(dot > 0)
+        return False
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return True
+    # touching: an endpoint of one on the other (closed segments)
+    return any(
+        orientation == Orientation.COLLINEAR and _within_box(p, q, r)
+        for orientation, p, q, r in (
+            (o1, pa, pu, pv), (o2, pb, pu, pv), (o3, pu, pa, pb), (o4, pv, pa, pb)
+        )
+    )
+
+
+def _within_box(p: Point2, q: Point2, r: Point2) -> bool:
+    return bool(min(q.x, r.x) <= p.x <= max(q.x, r.x) and min(q.y, r.y) <= p.y <= max(q.y, r.y))
+
+
+def _stacked_components(mesh: Mesh2, triangles: list[tuple[int, int, int]]) -> list[Violation]:
+    """Connected components lying inside one another (their boundaries do not cross, so
+    one vertex of each component decides).  O(n · components); skipped for one component.
+    """
+    component: dict[tuple[int, int, int], int] = {}
+    count = 0
+    halfedges = mesh.halfedges
+    for triangle in triangles:
+        if triangle in component:
+            continue
+        stack = [triangle]
+        component[triangle] = count
+        while stack:
+            a, b, c = stack.pop()
+            for u, v in ((a, b), (b, c), (c, a)):
+                w = halfedges.get((v, u))
+                if w is not None:
+                    neighbour = canonical_triangle(v, u, w)
+                    if neighbour not in component:
+                        component[neighbour] = count
+                        stack.append(neighbour)
+        count += 1
+    if count < 2:
+        return []
+    first_vertex: dict[int, int] = {}
+    for triangle in triangles:
+        index = component[triangle]
+        first_vertex[index] = min(first_vertex.get(index, triangle[0]), *triangle)
+    found: list[Violation] = []
+    vertices = mesh.vertices
+    for index, vertex in sorted(first_vertex.items()):
+        p = vertices[vertex]
+        for a, b, c in triangles:
+            if component[(a, b, c)] == index or vertex in (a, b, c):
+                continue
+            pa, pb, pc = vertices[a], vertices[b], vertices[c]
+            if (orient2d(pa, pb, p) != Orientation.CLOCKWISE
+                    and orient2d(pb, pc, p) != Orientation.CLOCKWISE
+                    and orient2d(pc, pa, p) != Orientation.CLOCKWISE):
+                found.append(Violation(
+                    "overlap", f"vertex {vertex} of one connected component lies in triangle "
+                    f"({a}, {b}, {c}) of another", (vertex, a, b, c)))
+                break
+    return found

@@ -16,8 +16,11 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
-settings.register_profile("ci", max_examples=25, deadline=None, print_blob=True)
-settings.register_profile("dev", deadline=None)
+# explicit parent: without it a profile inherits whatever is loaded now, and hypothesis
+# itself loads a built-in "ci" profile whenever a CI variable is set (even CI=false)
+_base = settings.get_profile("default")
+settings.register_profile("ci", _base, max_examples=25, deadline=None, print_blob=True)
+settings.register_profile("dev", _base, deadline=None)
 settings.load_profile(
     os.environ.get("HYPOTHESIS_PROFILE")
     or ("ci" if os.environ.get("CI", "").lower() == "true" else "dev")

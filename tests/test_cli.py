@@ -199,14 +199,38 @@ def test_check_reports_unused_duplicate_vertices_of_500poisson(
     capsys: pytest.CaptureFixture[str], shared_data: Path
 ) -> None:
     """500poisson.off lists the corners (1, 1) and (1, 0) twice; the copies 536 and 538 are
-    in no triangle, so check exits 1 naming them."""
+    in no triangle: legal (Triangle keeps such vertices), but --strict names them."""
     path = shared_data / "polylla-refinement" / "500poisson.off"
     code, report = run_json(capsys, "check", path)
+    assert code == 0 and report["violations"] == []
+    code, report = run_json(capsys, "check", "--strict", path)
     assert code == 1
     assert [(v["kind"], v["elements"]) for v in report["violations"]] == [
-        ("dangling-vertex", [536]),
-        ("dangling-vertex", [538]),
+        ("isolated-vertex", [536]),
+        ("isolated-vertex", [538]),
     ]
+
+
+def test_check_finds_stacked_components(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """A small triangle lying inside a big one, sharing no vertex: exit 1 (overlap)."""
+    path = tmp_path / "stacked.off"
+    path.write_text("OFF\n6 2 0\n0 0 0\n9 0 0\n0 9 0\n1 1 0\n2 1 0\n1 2 0\n3 0 1 2\n3 3 4 5\n")
+    code, report = run_json(capsys, "check", path)
+    assert code == 1
+    assert [v["kind"] for v in report["violations"]] == ["overlap"]
+
+
+def test_check_finds_crossing_boundaries(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Two triangles whose boundaries cross, sharing no vertex: exit 1 (overlap)."""
+    path = tmp_path / "crossing.off"
+    path.write_text("OFF\n6 2 0\n0 0 0\n4 0 0\n0 4 0\n1 1 0\n5 1 0\n1 5 0\n3 0 1 2\n3 3 4 5\n")
+    code, report = run_json(capsys, "check", path)
+    assert code == 1
+    assert {v["kind"] for v in report["violations"]} == {"overlap"}
 
 
 def test_check_overlapping_triangles_exits_1_listing_violations(

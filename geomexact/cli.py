@@ -1,0 +1,542 @@
+"""The ``geomexact`` command: parses arguments, calls the library, prints.
+
+Commands: ``info``, ``check``, ``convert``, ``replay``, ``demo`` (see ``docs/cli.md``).
+Exit codes: 0 success; 1 a check failed or a trace diverged; 2 bad input or usage.  Every
+error geomexact raises on purpose (:class:`~geomexact.errors.GeomexactError`) and every
+``OSError`` is reported as one line ``geomexact: error: …`` on stderr, never as a
+traceback.  With ``--json`` a command prints exactly one JSON object on stdout.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Callable, Sequence
+from importlib import resources
+from pathlib import Path
+from typing import Any, NoReturn, TypeAlias
+
+import attrs
+
+from geomexact import __version__, io
+from geomexact.errors import GeomexactError, OverwriteError, TraceError
+from geomexact.mesh2d import Mesh2
+from geomexact.numbers import format_rational
+from geomexact.polymesh import PolygonMesh
+from geomexact.pslg import PSLG
+from geomexact.summary import mesh_summary
+from geomexact.trace import read_trace, replay
+from geomexact.validate import validate
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_BAD_INPUT = 2
+EXIT_BROKEN_PIPE = 141  # what a shell reports for a command killed by SIGPIPE
+
+EXIT_CODES_HELP = """\
+exit codes:
+  0  success
+  1  check found violations, or a trace diverged during replay
+  2  bad input or usage: unreadable or malformed file, wrong kind of input, refusal to
+     overwrite an existing file (use --force), trace recorded on another mesh, bad option
+"""
+
+KIND_NAMES = {Mesh2: "triangle_mesh", PSLG: "pslg", PolygonMesh: "polygon_mesh"}
+
+Value: TypeAlias = Mesh2 | PSLG | PolygonMesh
+
+
+def _kind_name(kind: type) -> str:
+    return KIND_NAMES.get(kind, kind.__name__)
+
+
+class UsageProblem(Exception):
+    """A command given the wrong kind of input (e.g. ``check`` on a PSLG): exit 2."""
+
+
+# ---------------------------------------------------------------------------------------
+# output helpers
+# ---------------------------------------------------------------------------------------
+def _print_json(report: dict[str, Any]) -> None:
+    print(json.dumps(report, indent=2, allow_nan=False))
+
+
+def _print_error(message: str) -> None:
+    print(f"geomexact: error: {message}", file=sys.stderr)
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that flushing it at exit raises nothing more."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # stdout without a file descriptor (e.g. captured)
+        pass
+
+
+def _os_error_text(error: OSError) -> str:
+    if error.filename is not None and error.strerror:
+        return f"{error.filename}: {error.strerror}"
+    return str(error)
+
+
+def _show(value: object) -> str:
+    """A report value as table text (JSON keeps the value itself)."""
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    if isinstance(value, dict) and set(value) == {"x_min", "x_max", "y_min", "y_max"}:
+        return f"x {value['x_min']} .. {value['x_max']}, y {value['y_min']} .. {value['y_max']}"
+    return str(value)
+
+
+def _print_table(title: str, rows: dict[str, Any]) -> None:
+    print(title)
+    width = max((len(key) for key in rows), default=0)
+    for key, value in rows.items():
+        print(f"  {key.replace('_', ' '):<{width}}  {_show(value)}")
+
+
+# ---------------------------------------------------------------------------------------
+# reading and describing inputs
+# ---------------------------------------------------------------------------------------
+@attrs.frozen
+class Loaded:
+    """A file read by :func:`io.read_with_notes`, with the format it was read as."""
+
+    path: str
+    format: str
+    value: Value
+    notes: tuple[str, ...]
+
+    @property
+    def kind(self) -> str:
+        return _kind_name(type(self.value))
+
+
+def _load(path: str, format: str | None, verbose: bool) -> Loaded:
+    value, notes = io.read_with_notes(path, format=format)
+    if verbose:
+        for note in notes:
+            print(f"geomexact: {path}: {note}", file=sys.stderr)
+    return Loaded(path, format or io.detect_format(path), value, tuple(notes))
+
+
+def _load_mesh(path: str, format: str | None, verbose: bool, command: str) -> Mesh2:
+    loaded = _load(path, format, verbose)
+    if not isinstance(loaded.value, Mesh2):
+        raise UsageProblem(
+            f"{path}: is a {loaded.kind.replace('_', ' ')}, but {command} needs a triangle "
+            "mesh (a Triangle .ele, OFF or PSLG text file of triangles, …)"
+        )
+    return loaded.value
+
+
+def _write(
+    path: str | Path, value: Value, format: str | None, *, overwrite: bool, exact: bool
+) -> list[Path]:
+    """:func:`io.write`, refusing first (exit 2) a format that cannot hold ``value``."""
+    name = format or io.detect_format(path)
+    kinds = io.FORMATS[name].kinds
+    if not isinstance(value, kinds):
+        held = " or ".join(_kind_name(kind).replace("_", " ") for kind in kinds)
+        kind = _kind_name(type(value)).replace("_", " ")
+        raise UsageProblem(f"{path}: the {name} format holds a {held}, not a {kind}")
+    return io.write(path, value, format=name, overwrite=overwrite, exact=exact)
+
+
+def pslg_summary(pslg: PSLG) -> dict[str, Any]:
+    """Counts and the exact bounding box (``"p/q"`` or decimal text) of a PSLG."""
+    box: dict[str, str] | None = None
+    if pslg.vertices:
+        xs = [point.x for point in pslg.vertices]
+        ys = [point.y for point in pslg.vertices]
+        box = {
+            "x_min": format_rational(min(xs)),
+            "x_max": format_rational(max(xs)),
+            "y_min": format_rational(min(ys)),
+            "y_max": format_rational(max(ys)),
+        }
+    return {
+        "vertices": len(pslg.vertices),
+        "segments": len(pslg.segments),
+        "holes": len(pslg.holes),
+        "regions": len(pslg.regions),
+        "bounding_box": box,
+    }
+
+
+def polygon_mesh_summary(mesh: PolygonMesh) -> dict[str, Any]:
+    """Counts and the smallest and largest polygon size of a polygon mesh."""
+    sizes = [len(polygon) for polygon in mesh.polygons]
+    return {
+        "vertices": len(mesh.vertices),
+        "polygons": len(mesh.polygons),
+        "min_polygon_size": min(sizes, default=None),
+        "max_polygon_size": max(sizes, default=None),
+    }
+
+
+def summary_of(value: Value) -> dict[str, Any]:
+    """The ``info`` statistics of a mesh, PSLG or polygon mesh (JSON-ready)."""
+    if isinstance(value, Mesh2):
+        return mesh_summary(value)
+    if isinstance(value, PSLG):
+        return pslg_summary(value)
+    return polygon_mesh_summary(value)
+
+
+def _describe(loaded: Loaded) -> dict[str, Any]:
+    return {
+        "file": loaded.path,
+        "format": loaded.format,
+        "kind": loaded.kind,
+        **summary_of(loaded.value),
+        "notes": list(loaded.notes),
+    }
+
+
+# ---------------------------------------------------------------------------------------
+# commands
+# ---------------------------------------------------------------------------------------
+def command_info(args: argparse.Namespace) -> int:
+    """Statistics of each file."""
+    reports = [_describe(_load(path, args.format, args.verbose)) for path in args.files]
+    if args.json:
+        _print_json(reports[0] if len(reports) == 1 else {"files": reports})
+        return EXIT_OK
+    for index, report in enumerate(reports):
+        if index:
+            print()
+        rows = {k: v for k, v in report.items() if k not in {"file", "format", "kind", "notes"}}
+        kind = report["kind"].replace("_", " ")
+        _print_table(f"{report['file']} ({report['format']}, {kind})", rows)
+    return EXIT_OK
+
+
+def command_check(args: argparse.Namespace) -> int:
+    """Validate a triangle mesh; exit 1 listing every violation."""
+    mesh = _load_mesh(args.file, args.format, args.verbose, "check")
+    violations = validate(mesh, allow_isolated=not args.strict)
+    if args.json:
+        _print_json(
+            {
+                "file": args.file,
+                "valid": not violations,
+                "vertices": mesh.vertex_count,
+                "triangles": mesh.triangle_count,
+                "violations": [
+                    {"kind": v.kind, "message": v.message, "elements": list(v.elements)}
+                    for v in violations
+                ],
+            }
+        )
+    elif violations:
+        print(f"{args.file}: invalid, {len(violations)} violation(s)")
+        for violation in violations:
+            print(f"  {violation}")
+    else:
+        print(
+            f"{args.file}: valid ({mesh.vertex_count} vertices, "
+            f"{mesh.triangle_count} triangles, digest {mesh.digest_text})"
+        )
+    return EXIT_FAILED if violations else EXIT_OK
+
+
+def command_convert(args: argparse.Namespace) -> int:
+    """Read a file in one format and write it in another."""
+    loaded = _load(args.input, args.source_format, args.verbose)
+    written = _write(
+        args.output, loaded.value, args.target_format, overwrite=args.force, exact=args.exact
+    )
+    if args.json:
+        _print_json(
+            {
+                "input": args.input,
+                "format": loaded.format,
+                "kind": loaded.kind,
+                "written": [str(path) for path in written],
+            }
+        )
+    else:
+        for path in written:
+            print(f"wrote {path}")
+    return EXIT_OK
+
+
+def command_replay(args: argparse.Namespace) -> int:
+    """Replay a trace on its input mesh, checking every digest, and write the result."""
+    start = _load_mesh(args.input, args.format, args.verbose, "replay")
+    trace = read_trace(args.trace)
+    try:
+        result = replay(start, trace, until=args.until)
+    except TraceError as error:
+        wrong_start = start.digest != trace.input_digest
+        bad_until = args.until is not None and not 0 <= args.until <= len(trace)
+        if wrong_start or bad_until:
+            raise  # the inputs do not belong together: bad input, exit 2
+        print(f"geomexact: trace diverged: {error}", file=sys.stderr)
+        if args.json:
+            _print_json(
+                {"input": args.input, "trace": args.trace, "diverged": True, "error": str(error)}
+            )
+        return EXIT_FAILED
+    applied = len(trace) if args.until is None else args.until
+    written = _write(args.output, result, args.to, overwrite=args.force, exact=args.exact)
+    if args.json:
+        _print_json(
+            {
+                "input": args.input,
+                "trace": args.trace,
+                "diverged": False,
+                "trace_steps": len(trace),
+                "steps_applied": applied,
+                "input_digest": start.digest_text,
+                "final_digest": result.digest_text,
+                "vertices": result.vertex_count,
+                "triangles": result.triangle_count,
+                "written": [str(path) for path in written],
+            }
+        )
+    else:
+        print(
+            f"replayed {applied} of {len(trace)} steps: {result.vertex_count} vertices, "
+            f"{result.triangle_count} triangles, digest {result.digest_text} (all digests match)"
+        )
+        for path in written:
+            print(f"wrote {path}")
+    return EXIT_OK
+
+
+# -- demo: the README's main job ----------------------------------------------------------
+DEMO_INPUT = "superior.poly"
+DEMO_SOURCE = "Unity-Technologies/triangle.net @ 730f6c4, Data/superior.poly"
+
+
+@attrs.define
+class DemoRun:
+    """State shared by the demo's steps: where to write, what was made, what to report."""
+
+    directory: Path
+    force: bool
+    pslg: PSLG | None = None
+    report: dict[str, Any] = attrs.Factory(dict)
+    written: list[Path] = attrs.Factory(list)
+
+    def write(self, name: str, value: Value, format: str) -> None:
+        """Write ``value`` exactly to ``directory/name``."""
+        self.written.extend(
+            _write(self.directory / name, value, format, overwrite=self.force, exact=True)
+        )
+
+
+@attrs.frozen
+class DemoStep:
+    """One stage of the demo: a name, the files it writes in the output directory
+    (checked before anything is written) and the function doing it."""
+
+    name: str
+    outputs: tuple[str, ...]
+    run: Callable[[DemoRun], None]
+
+
+def _demo_read(run: DemoRun) -> None:
+    source = resources.files("geomexact") / "data" / DEMO_INPUT
+    with resources.as_file(source) as path:
+        pslg = io.read(path, format="poly")
+    if not isinstance(pslg, PSLG):  # pragma: no cover - the bundled file is a PSLG
+        raise UsageProblem(f"bundled {DEMO_INPUT} did not read as a PSLG")
+    run.pslg = pslg
+    run.report["input"] = {"file": DEMO_INPUT, "source": DEMO_SOURCE, **pslg_summary(pslg)}
+
+
+def _demo_write_input(run: DemoRun) -> None:
+    if run.pslg is None:
+        raise RuntimeError("the demo's read step must run before write-input")
+    run.write("superior.node", run.pslg, "node")
+    run.write("superior.poly", run.pslg, "poly")
+
+
+DEMO_STEPS: tuple[DemoStep, ...] = (
+    DemoStep("read", (), _demo_read),
+    DemoStep("write-input", ("superior.node", "superior.poly"), _demo_write_input),
+    # later issues: ("triangulate", …), ("refine", …), ("draw", …)
+)
+
+
+def command_demo(args: argparse.Namespace) -> int:
+    """The README's main job on the bundled Lake Superior PSLG."""
+    run = DemoRun(Path(args.output), args.force)
+    if not args.force:
+        for step in DEMO_STEPS:
+            for name in step.outputs:
+                if (run.directory / name).exists():
+                    raise OverwriteError(str(run.directory / name))
+    run.directory.mkdir(parents=True, exist_ok=True)
+    for step in DEMO_STEPS:
+        step.run(run)
+    run.report["steps"] = [step.name for step in DEMO_STEPS]
+    run.report["output_directory"] = str(run.directory)
+    run.report["written"] = [str(path) for path in run.written]
+    if args.json:
+        _print_json(run.report)
+        return EXIT_OK
+    summary = {k: v for k, v in run.report["input"].items() if k not in {"file", "source"}}
+    _print_table(f"Lake Superior PSLG ({DEMO_INPUT}, from {DEMO_SOURCE})", summary)
+    for path in run.written:
+        print(f"wrote {path}")
+    return EXIT_OK
+
+
+# ---------------------------------------------------------------------------------------
+# parser
+# ---------------------------------------------------------------------------------------
+def _non_negative(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{value} is negative")
+    return value
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors name the program as ``geomexact: error:``."""
+
+    def error(self, message: str) -> NoReturn:
+        self.print_usage(sys.stderr)
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``geomexact`` argument parser."""
+    formats = sorted(io.FORMATS)
+    names = ", ".join(formats)
+    format_help = f"file format, one of {names} (default: from the extension)"
+    parser = _Parser(
+        prog="geomexact",
+        description="Exact, replayable mesh refinement on rational coordinates.",
+        epilog=EXIT_CODES_HELP + "\nSee docs/cli.md for every command, option and JSON key.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--version", action="version", version=f"geomexact {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    def add(name: str, run: Callable[[argparse.Namespace], int], summary: str) -> Any:
+        sub = commands.add_parser(
+            name, help=summary, description=summary, epilog=EXIT_CODES_HELP,
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
+        sub.set_defaults(run=run)
+        return sub
+
+    def verbose(sub: argparse.ArgumentParser) -> None:
+        sub.add_argument(
+            "-v", "--verbose", action="store_true",
+            help="print the reader's notes (e.g. orientation fixed) on stderr",
+        )
+
+    def json_flag(sub: argparse.ArgumentParser) -> None:
+        sub.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+
+    info = add("info", command_info, "print statistics of meshes, PSLGs and polygon meshes")
+    info.add_argument("files", nargs="+", metavar="FILE", help="mesh, PSLG or polygon mesh file")
+    info.add_argument("--format", choices=formats, metavar="F", help=format_help)
+    json_flag(info)
+    verbose(info)
+
+    check = add("check", command_check, "validate a triangle mesh (exit 1 on violations)")
+    check.add_argument("file", metavar="FILE", help="triangle mesh file")
+    check.add_argument("--format", choices=formats, metavar="F", help=format_help)
+    check.add_argument(
+        "--strict",
+        action="store_true",
+        help="also report vertices in no triangle (isolated-vertex)",
+    )
+    json_flag(check)
+    verbose(check)
+
+    convert = add("convert", command_convert, "convert a file to another format")
+    convert.add_argument("input", metavar="IN", help="file to read")
+    convert.add_argument("output", metavar="OUT", help="file to write")
+    convert.add_argument(
+        "--from", dest="source_format", choices=formats, metavar="F",
+        help=f"format of IN, one of {names} (default: from its extension)",
+    )
+    convert.add_argument(
+        "--to", dest="target_format", choices=formats, metavar="F",
+        help=f"format of OUT, one of {names} (default: from its extension)",
+    )
+    convert.add_argument(
+        "--exact", action="store_true",
+        help="write exact rationals even in float formats (default: nearest doubles there)",
+    )
+    convert.add_argument("--force", action="store_true", help="replace existing files")
+    json_flag(convert)
+    verbose(convert)
+
+    replay_ = add("replay", command_replay, "replay a trace on its input mesh, checking digests")
+    replay_.add_argument("input", metavar="INPUT", help="the mesh the trace was recorded on")
+    replay_.add_argument("trace", metavar="TRACE", help="trace file (JSON Lines)")
+    replay_.add_argument(
+        "--until", type=_non_negative, metavar="K", help="replay only the first K steps"
+    )
+    replay_.add_argument("-o", "--output", required=True, metavar="OUT", help="result file")
+    replay_.add_argument(
+        "--format", choices=formats, metavar="F", help=f"format of INPUT, one of {names}"
+    )
+    replay_.add_argument(
+        "--to", choices=formats, metavar="F", help=f"format of OUT, one of {names}"
+    )
+    replay_.add_argument(
+        "--exact", action="store_true", help="write exact rationals even in float formats"
+    )
+    replay_.add_argument("--force", action="store_true", help="replace existing files")
+    json_flag(replay_)
+    verbose(replay_)
+
+    demo = add("demo", command_demo, "run the main job on the bundled Lake Superior PSLG")
+    demo.add_argument(
+        "-o", "--output", default="geomexact-demo", metavar="DIR",
+        help="output directory (default: geomexact-demo)",
+    )
+    demo.add_argument("--force", action="store_true", help="replace existing files")
+    json_flag(demo)
+    return parser
+
+
+# ---------------------------------------------------------------------------------------
+# entry point
+# ---------------------------------------------------------------------------------------
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``geomexact`` command with ``argv`` (default: ``sys.argv[1:]``); return the
+    exit code."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help, --version and usage errors
+        return stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
+    try:
+        return int(args.run(args))
+    except (GeomexactError, UsageProblem) as error:
+        _print_error(str(error))
+    except BrokenPipeError:
+        _silence_stdout()  # the reader went away (e.g. `| head`): stop quietly, as SIGPIPE
+        return EXIT_BROKEN_PIPE
+    except OSError as error:
+        _print_error(_os_error_text(error))
+    except KeyboardInterrupt:
+        _print_error("interrupted")
+        return 130
+    return EXIT_BAD_INPUT
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
