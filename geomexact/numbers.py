@@ -23,9 +23,14 @@ ZERO = mpq(0)
 ONE = mpq(1)
 HALF = mpq(1, 2)
 
-# decimal: optional sign, digits with optional fraction (or fraction alone), optional exponent
-_DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
-_FRACTION = re.compile(r"[+-]?\d+/\d+")
+# decimal: optional sign, digits with optional fraction (or fraction alone), optional exponent.
+# ASCII digits only; the groups are assembled into an integer here (gmpy2's own decimal
+# parser rejects "+3" and "-.5", and Python's int() refuses more than 4300 digits).
+_DECIMAL = re.compile(
+    r"(?P<sign>[+-]?)(?P<whole>\d*)(?:\.(?P<fraction>\d*))?(?:[eE](?P<exponent>[+-]?\d+))?",
+    re.ASCII,
+)
+_FRACTION = re.compile(r"(?P<numerator>[+-]?\d+)/(?P<denominator>\d+)", re.ASCII)
 _MAX_EXPONENT = 100_000  # refuse "1e999999999" instead of allocating a huge integer
 
 
@@ -38,16 +43,22 @@ def parse_rational(text: str) -> Rational:
     text for anything else: NaN, infinities, empty text, ``1/0``, hexadecimal, garbage.
     """
     stripped = text.strip()
-    if _DECIMAL.fullmatch(stripped):
-        mantissa, _, exponent = stripped.lower().partition("e")
-        if exponent and abs(int(exponent)) > _MAX_EXPONENT:
+    decimal = _DECIMAL.fullmatch(stripped)
+    if decimal and (decimal["whole"] or decimal["fraction"]):
+        written_exponent = gmpy2.mpz(decimal["exponent"] or 0)
+        if abs(written_exponent) > _MAX_EXPONENT:
             raise RationalParseError(text, "exponent out of range")
-        return mpq(stripped)
-    if _FRACTION.fullmatch(stripped):
-        numerator, _, denominator = stripped.partition("/")
-        if int(denominator) == 0:
+        fraction = decimal["fraction"] or ""
+        digits = gmpy2.mpz((decimal["whole"] + fraction) or 0)
+        exponent = int(written_exponent) - len(fraction)
+        value = mpq(digits * 10**exponent) if exponent >= 0 else mpq(digits, 10**-exponent)
+        return -value if decimal["sign"] == "-" else value
+    fraction_match = _FRACTION.fullmatch(stripped)
+    if fraction_match:
+        denominator = gmpy2.mpz(fraction_match["denominator"])
+        if denominator == 0:
             raise RationalParseError(text, "zero denominator")
-        return mpq(int(numerator), int(denominator))
+        return mpq(gmpy2.mpz(fraction_match["numerator"]), denominator)
     lowered = stripped.lower()
     if lowered in {"nan", "+nan", "-nan"}:
         raise RationalParseError(text, "NaN is not a number geomexact can use")

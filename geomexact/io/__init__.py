@@ -1,0 +1,169 @@
+"""Reading and writing meshes, PSLGs and polygon meshes, one module per format behind one
+registry.  Spec: ``specs/formats/registry.md`` (and one spec per format beside it).
+
+>>> from geomexact import io
+>>> sorted(io.FORMATS)  # doctest: +NORMALIZE_WHITESPACE
+['meshio', 'node', 'off', 'poly', 'pslg', 'triangle', 'trilist']
+>>> io.detect_format("pikachu.1.ele")
+'triangle'
+
+``read`` parses numbers exactly (decimal text is a rational, never a double) and reports
+every problem of the input as a :class:`~geomexact.errors.FormatError` naming the file,
+the line and the problem.  ``write`` refuses to replace an existing file unless
+``overwrite=True`` and writes atomically; ``exact=False`` writes the nearest doubles,
+``exact=True`` exact text that reads back to the same value.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from types import MappingProxyType
+
+from geomexact.errors import FormatError
+from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
+from geomexact.io.meshio_bridge import read_meshio, write_meshio
+from geomexact.io.off import read_off, write_off
+from geomexact.io.pslg_text import read_pslg_text, write_pslg_text
+from geomexact.io.registry import Format, Value, collector_paused
+from geomexact.io.triangle import (
+    read_node,
+    read_poly,
+    read_triangle,
+    write_node,
+    write_poly,
+    write_triangle,
+)
+from geomexact.io.triangle_list import read_triangle_list, write_triangle_list
+from geomexact.mesh2d import Mesh2
+from geomexact.polymesh import PolygonMesh
+from geomexact.pslg import PSLG
+
+_FORMATS = (
+    Format(
+        "triangle",
+        (".ele",),
+        "Triangle mesh: .ele named, .node beside it (required), .neigh checked, "
+        ".poly segments",
+        read_triangle,
+        write_triangle,
+        (Mesh2,),
+    ),
+    Format(
+        "node",
+        (".node",),
+        "Triangle .node alone: a point set (PSLG without segments)",
+        read_node,
+        write_node,
+        (PSLG,),
+    ),
+    Format(
+        "poly",
+        (".poly",),
+        "Triangle .poly: a PSLG with segments, holes and regions",
+        read_poly,
+        write_poly,
+        (PSLG,),
+    ),
+    Format(
+        "off",
+        (".off",),
+        "OFF (also inside a Geomview { appearance … LIST … } block), planar: triangle or "
+        "polygon mesh",
+        read_off,
+        write_off,
+        (Mesh2, PolygonMesh),
+    ),
+    Format(
+        "pslg",
+        (".pslg",),
+        "line-tagged PSLG text: v/s/h/r records (PSLG) or v/t/n/s records (mesh)",
+        read_pslg_text,
+        write_pslg_text,
+        (PSLG, Mesh2),
+    ),
+    Format(
+        "trilist",
+        (".txt",),
+        "one triangle per line 'x1 y1 x2 y2 x3 y3'",
+        read_triangle_list,
+        write_triangle_list,
+        (Mesh2,),
+    ),
+    Format(
+        "meshio",
+        MESHIO_EXTENSIONS,
+        "2D triangle meshes through meshio (VTK, VTU, XDMF, Gmsh, …), doubles",
+        read_meshio,
+        write_meshio,
+        (Mesh2,),
+    ),
+)
+
+FORMATS: Mapping[str, Format] = MappingProxyType({fmt.name: fmt for fmt in _FORMATS})
+"""The registry: format name -> :class:`Format`."""
+
+_BY_EXTENSION: dict[str, str] = {
+    extension: fmt.name for fmt in _FORMATS for extension in fmt.extensions
+}
+
+
+def detect_format(path: str | Path) -> str:
+    """The name of the format that ``path``'s extension selects (case-insensitive);
+    :class:`FormatError` when no format claims it."""
+    suffix = Path(path).suffix.lower()
+    name = _BY_EXTENSION.get(suffix)
+    if name is None:
+        known = ", ".join(sorted(_BY_EXTENSION))
+        shown = f"extension {suffix!r}" if suffix else "no extension"
+        raise FormatError(
+            str(path), None, f"{shown} names no known format (known: {known}); pass format="
+        )
+    return name
+
+
+def _format(path: str | Path, format: str | None) -> Format:
+    name = format if format is not None else detect_format(path)
+    try:
+        return FORMATS[name]
+    except KeyError:
+        raise FormatError(
+            str(path), None, f"unknown format {name!r} (known: {', '.join(sorted(FORMATS))})"
+        ) from None
+
+
+def read_with_notes(path: str | Path, *, format: str | None = None) -> tuple[Value, list[str]]:
+    """Read ``path`` (format from its extension unless ``format`` names one); return the
+    value and the reader's notes (what it fixed or ignored, for verbose output)."""
+    reader = _format(path, format).read
+    with collector_paused():
+        return reader(Path(path))
+
+
+def read(path: str | Path, *, format: str | None = None) -> Value:
+    """Read ``path`` as a :class:`Mesh2`, :class:`PSLG` or :class:`PolygonMesh`
+    (see :func:`read_with_notes`)."""
+    value, _ = read_with_notes(path, format=format)
+    return value
+
+
+def write(
+    path: str | Path,
+    value: Value,
+    *,
+    format: str | None = None,
+    overwrite: bool = False,
+    exact: bool = False,
+) -> list[Path]:
+    """Write ``value`` to ``path`` (and the other files of a multi-file format); return
+    the paths written.  ``TypeError`` when the format cannot hold this kind of value."""
+    chosen = _format(path, format)
+    if not isinstance(value, chosen.kinds):
+        kinds = " or ".join(kind.__name__ for kind in chosen.kinds)
+        raise TypeError(
+            f"the {chosen.name} format writes a {kinds}, not a {type(value).__name__}"
+        )
+    return chosen.write(Path(path), value, overwrite=overwrite, exact=exact)
+
+
+__all__ = ["FORMATS", "Format", "Value", "detect_format", "read", "read_with_notes", "write"]

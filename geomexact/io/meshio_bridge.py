@@ -1,0 +1,169 @@
+"""The bridge to meshio (VTK, VTU, XDMF, Gmsh, Medit, …) for 2D triangle meshes.
+Spec: ``specs/formats/meshio.md``.
+
+Reading takes the ``triangle`` cells (``line`` and ``vertex`` cells are ignored, with a
+note; any other cell type is an error), requires z = 0, and converts each float to its
+exact binary value.  Writing stores the nearest doubles (``exact`` cannot apply: these
+formats hold floats) with z = 0, triangles in canonical order; markers, attributes and
+segments are not written.  meshio is imported only when the bridge is used.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import tempfile
+from io import StringIO
+from pathlib import Path
+from typing import Any
+
+from geomexact.errors import FormatError, OverwriteError, RationalParseError
+from geomexact.io.files import write_bytes_atomic
+from geomexact.io.registry import TriangleTable, Value, build_mesh
+from geomexact.mesh2d import Mesh2
+from geomexact.numbers import to_float, to_rational
+from geomexact.points import Point2, point2
+
+EXTENSIONS = (".vtk", ".vtu", ".xdmf", ".xmf", ".msh", ".mesh", ".obj", ".ply")
+# extension -> meshio's formats (modules) to read it with, first one also to write it
+# (meshio's own guess for .msh is the ANSYS format; geomexact means Gmsh)
+_MESHIO_FORMATS: dict[str, tuple[str, ...]] = {
+    ".vtk": ("vtk",),
+    ".vtu": ("vtu",),
+    ".xdmf": ("xdmf",),
+    ".xmf": ("xdmf",),
+    ".msh": ("gmsh", "ansys"),
+    ".mesh": ("medit",),
+    ".obj": ("obj",),
+    ".ply": ("ply",),
+}
+_IGNORED_CELLS = ("vertex", "line", "line3")
+# meshio's XDMF writer puts the arrays in an HDF5 file beside the .xdmf by default; XML
+# keeps the output one self-contained file.
+_WRITE_OPTIONS: dict[str, dict[str, Any]] = {
+    ".xdmf": {"data_format": "XML"},
+    ".xmf": {"data_format": "XML"},
+    ".msh": {"binary": False},  # Gmsh text, doubles in full ("%.16e")
+}
+
+
+def _missing(error: ImportError) -> str:
+    return f"meshio needs the {error.name or 'missing'} package for this format ({error})"
+
+
+def _meshio_read(path: Path) -> Any:
+    """meshio's reader of ``path``'s format.  ``meshio.read`` itself prints and calls
+    ``sys.exit`` when a file does not parse, so the format's own reader is called; only an
+    extension outside :data:`EXTENSIONS` goes through ``meshio.read``, silenced."""
+    import meshio  # heavy: imported only when the bridge is used
+
+    name = str(path)
+    modules = _MESHIO_FORMATS.get(path.suffix.lower())
+    try:
+        if modules is None:
+            with contextlib.redirect_stdout(StringIO()), contextlib.redirect_stderr(StringIO()):
+                return meshio.read(path)
+        for module in modules[:-1]:
+            try:
+                return importlib.import_module(f"meshio.{module}").read(name)
+            except meshio.ReadError:
+                continue
+        return importlib.import_module(f"meshio.{modules[-1]}").read(name)
+    except ImportError as error:
+        raise FormatError(name, None, _missing(error)) from error
+    except (Exception, SystemExit) as error:  # meshio raises many kinds, or exits
+        problem = str(error) or type(error).__name__
+        raise FormatError(name, None, f"meshio cannot read it: {problem}") from error
+
+
+def read_meshio(path: Path) -> tuple[Value, list[str]]:
+    """A file meshio can read, as a Mesh2 of its triangle cells."""
+    name = str(path)
+    if not path.exists():
+        raise FormatError(name, None, "no such file")
+    data = _meshio_read(path)
+    notes: list[str] = []
+    raw_points = data.points
+    if raw_points.ndim != 2 or raw_points.shape[1] not in (2, 3):
+        raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 2|3")
+    points: list[Point2] = []
+    for index, row in enumerate(raw_points.tolist()):
+        try:
+            x, y = to_rational(row[0]), to_rational(row[1])
+            z = to_rational(row[2]) if len(row) == 3 else 0
+        except RationalParseError as error:
+            raise FormatError(name, None, f"point {index}: {error}") from error
+        if z != 0:
+            raise FormatError(
+                name,
+                None,
+                f"point {index} has z = {row[2]!r}; only planar meshes (z = 0) are supported",
+            )
+        points.append(point2(x, y))
+    triangles: list[tuple[int, int, int]] = []
+    for block in data.cells:
+        if block.type == "triangle":
+            triangles.extend(
+                (int(a), int(b), int(c)) for a, b, c in block.data.tolist()
+            )
+        elif block.type in _IGNORED_CELLS:
+            notes.append(f"ignored {len(block.data)} {block.type} cells")
+        else:
+            raise FormatError(
+                name,
+                None,
+                f"has {block.type} cells; only triangle meshes are supported",
+            )
+    count = len(points)
+    for index, triangle in enumerate(triangles):
+        for vertex in triangle:
+            if not 0 <= vertex < count:
+                raise FormatError(
+                    name,
+                    None,
+                    f"triangle {index} {triangle}: vertex {vertex} is out of range "
+                    f"(there are {count} points)",
+                )
+    table = TriangleTable(path=name, triangles=triangles, lines=[None] * len(triangles))
+    mesh = build_mesh(points, [None] * count, table, point_path=name, notes=notes)
+    return mesh, notes
+
+
+def write_meshio(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+    """A Mesh2 through meshio, floats (the format is chosen by the extension)."""
+    del exact  # meshio formats store doubles
+    if not isinstance(value, Mesh2):
+        raise TypeError(f"the meshio format writes a Mesh2, not a {type(value).__name__}")
+    import meshio
+    import numpy
+
+    if path.exists() and not overwrite:
+        raise OverwriteError(str(path))
+    points = numpy.array(
+        [
+            (to_float(value.vertices[index].x), to_float(value.vertices[index].y), 0.0)
+            for index in range(value.vertex_count)
+        ],
+        dtype=float,
+    ).reshape(-1, 3)
+    # 32-bit indices where they fit: some writers (PLY) warn on 64-bit ones
+    index_type = numpy.int32 if value.vertex_count < 2**31 else numpy.int64
+    triangles = numpy.array(value.triangles(), dtype=index_type).reshape(-1, 3)
+    mesh = meshio.Mesh(points, [("triangle", triangles)])
+    suffix = path.suffix.lower()
+    options = dict(_WRITE_OPTIONS.get(suffix, {}))
+    if suffix in _MESHIO_FORMATS:
+        options["file_format"] = _MESHIO_FORMATS[suffix][0]
+    directory = path.parent if str(path.parent) else Path(".")
+    with tempfile.TemporaryDirectory(prefix=".geomexact-", dir=directory) as scratch:
+        temporary = Path(scratch) / path.name
+        try:
+            with contextlib.redirect_stdout(StringIO()):  # meshio prints warnings
+                meshio.write(temporary, mesh, **options)
+        except ImportError as error:
+            raise FormatError(str(path), None, _missing(error)) from error
+        except Exception as error:  # meshio raises many kinds
+            raise FormatError(str(path), None, f"meshio cannot write it: {error}") from error
+        data = temporary.read_bytes()
+    write_bytes_atomic(path, data, overwrite=overwrite)
+    return [path]

@@ -1,0 +1,326 @@
+"""The line-tagged PSLG text format (``.pslg``): one record per line, tagged by its first
+token.  Spec: ``specs/formats/pslg.md``.
+
+::
+
+    # comment
+    v x y [marker [attribute ...]]      vertex; ids 0, 1, 2, ... in order of appearance
+    s a b [marker]                      segment between two vertex ids
+    h x y                               hole seed
+    r x y attribute [max_area]          region seed (max_area <= 0 or absent: none)
+    t a b c [attribute ...]             triangle (vertex ids, 0-based)
+    n n0 n1 n2                          neighbours of the k-th triangle (k-th n line):
+                                        the triangle across the edge opposite a, b, c;
+                                        -1 for none
+
+A file with ``t`` records reads as a :class:`Mesh2` (its ``s`` records become constrained
+segments, ``n`` records are checked against the adjacency); without, as a :class:`PSLG`.
+Records may come in any order; ids refer to vertices anywhere in the file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import attrs
+
+from geomexact.errors import FormatError
+from geomexact.io.files import read_text
+from geomexact.io.registry import (
+    TriangleTable,
+    Value,
+    build_mesh,
+    check_index,
+    data_lines,
+    expect_exact_fields,
+    expect_fields,
+    expected_neighbours,
+    note_duplicate_points,
+    number_formatter,
+    parse_int,
+    parse_number,
+    uniform_attributes,
+    write_files,
+)
+from geomexact.mesh2d import Attributes, Mesh2
+from geomexact.numbers import Rational
+from geomexact.points import Point2, point2
+from geomexact.pslg import PSLG, RegionSeed
+
+_TAGS = "v, s, h, r, t or n"
+
+
+@attrs.define
+class _Records:
+    points: list[Point2] = attrs.Factory(list)
+    point_lines: list[int | None] = attrs.Factory(list)
+    markers: list[int | None] = attrs.Factory(list)
+    vertex_attributes: list[tuple[int, Attributes]] = attrs.Factory(list)
+    segments: list[tuple[int, int, int, int]] = attrs.Factory(list)  # a, b, marker, line
+    holes: list[Point2] = attrs.Factory(list)
+    regions: list[RegionSeed] = attrs.Factory(list)
+    region_lines: list[int] = attrs.Factory(list)
+    hole_lines: list[int] = attrs.Factory(list)
+    triangles: list[tuple[int, int, int, int]] = attrs.Factory(list)  # a, b, c, line
+    triangle_attributes: list[tuple[int, Attributes]] = attrs.Factory(list)
+    neighbours: list[tuple[int, int, int, int]] = attrs.Factory(list)  # n0, n1, n2, line
+
+
+def _parse(name: str, text: str) -> _Records:
+    records = _Records()
+    for number, tokens in data_lines(text):
+        tag = tokens[0]
+        if tag == "v":
+            expect_fields(name, number, tokens, 3, "a vertex record 'v x y [marker [attributes]]'")
+            index = len(records.points)
+            x = parse_number(name, number, tokens[1], f"x of vertex {index}")
+            y = parse_number(name, number, tokens[2], f"y of vertex {index}")
+            records.points.append(point2(x, y))
+            records.point_lines.append(number)
+            records.markers.append(
+                parse_int(name, number, tokens[3], f"marker of vertex {index}")
+                if len(tokens) > 3
+                else None
+            )
+            records.vertex_attributes.append(
+                (
+                    number,
+                    tuple(
+                        parse_number(name, number, token, f"attribute of vertex {index}")
+                        for token in tokens[4:]
+                    ),
+                )
+            )
+        elif tag == "s":
+            if not 3 <= len(tokens) <= 4:
+                raise FormatError(
+                    name,
+                    number,
+                    f"a segment record is 's a b [marker]', found {' '.join(tokens)!r}",
+                )
+            a = parse_int(name, number, tokens[1], "segment endpoint")
+            b = parse_int(name, number, tokens[2], "segment endpoint")
+            marker = parse_int(name, number, tokens[3], "segment marker") if len(tokens) > 3 else 0
+            records.segments.append((a, b, marker, number))
+        elif tag == "h":
+            expect_exact_fields(name, number, tokens, 3, "a hole record 'h x y'")
+            records.holes.append(
+                point2(
+                    parse_number(name, number, tokens[1], "x of hole"),
+                    parse_number(name, number, tokens[2], "y of hole"),
+                )
+            )
+            records.hole_lines.append(number)
+        elif tag == "r":
+            if not 4 <= len(tokens) <= 5:
+                raise FormatError(
+                    name,
+                    number,
+                    "a region record is 'r x y attribute [max_area]', found "
+                    f"{' '.join(tokens)!r}",
+                )
+            point = point2(
+                parse_number(name, number, tokens[1], "x of region"),
+                parse_number(name, number, tokens[2], "y of region"),
+            )
+            attribute = parse_number(name, number, tokens[3], "attribute of region")
+            area: Rational | None = None
+            if len(tokens) == 5:
+                area = parse_number(name, number, tokens[4], "maximum area of region")
+                if area <= 0:
+                    area = None
+            records.regions.append(RegionSeed(point, attribute, area))
+            records.region_lines.append(number)
+        elif tag == "t":
+            expect_fields(name, number, tokens, 4, "a triangle record 't a b c [attributes]'")
+            index = len(records.triangles)
+            a, b, c = (
+                parse_int(name, number, token, f"vertex of triangle {index}")
+                for token in tokens[1:4]
+            )
+            records.triangles.append((a, b, c, number))
+            records.triangle_attributes.append(
+                (
+                    number,
+                    tuple(
+                        parse_number(name, number, token, f"attribute of triangle {index}")
+                        for token in tokens[4:]
+                    ),
+                )
+            )
+        elif tag == "n":
+            expect_exact_fields(name, number, tokens, 4, "a neighbour record 'n n0 n1 n2'")
+            n0, n1, n2 = (
+                parse_int(name, number, token, "neighbour") for token in tokens[1:4]
+            )
+            records.neighbours.append((n0, n1, n2, number))
+        else:
+            raise FormatError(name, number, f"unknown record {tag!r}; expected {_TAGS}")
+    return records
+
+
+def _uniform(
+    name: str, rows: list[tuple[int, Attributes]], what: str
+) -> list[Attributes] | None:
+    """The attribute rows when every record has the same number (None when all have
+    none); FormatError naming the first record that differs."""
+    if not rows or all(not values for _, values in rows):
+        return None
+    size = len(rows[0][1])
+    for number, values in rows:
+        if len(values) != size:
+            raise FormatError(
+                name,
+                number,
+                f"this {what} has {len(values)} attributes, but the first {what} has {size}",
+            )
+    return [values for _, values in rows]
+
+
+def read_pslg_text(path: Path) -> tuple[Value, list[str]]:
+    """A ``.pslg`` file as a Mesh2 (with ``t`` records) or a PSLG."""
+    name = str(path)
+    notes: list[str] = []
+    records = _parse(name, read_text(path))
+    count = len(records.points)
+    vertex_markers = (
+        [marker or 0 for marker in records.markers]
+        if any(marker is not None for marker in records.markers)
+        else None
+    )
+    vertex_attributes = _uniform(name, records.vertex_attributes, "vertex")
+    segments = []
+    segment_lines: list[int | None] = []
+    for a, b, marker, number in records.segments:
+        u = check_index(name, number, a, count, 0, "segment endpoint: vertex")
+        v = check_index(name, number, b, count, 0, "segment endpoint: vertex")
+        if u == v:
+            raise FormatError(name, number, f"segment ({a}, {b}) has equal ends")
+        segments.append((u, v, marker))
+        segment_lines.append(number)
+    if not records.triangles:
+        if records.neighbours:
+            raise FormatError(
+                name, records.neighbours[0][3], "neighbour records need triangle records"
+            )
+        note_duplicate_points(records.points, records.point_lines, notes)
+        pslg = PSLG(
+            vertices=records.points,
+            segments=segments,
+            holes=records.holes,
+            regions=records.regions,
+            vertex_markers=tuple(vertex_markers) if vertex_markers is not None else (),
+            vertex_attributes=tuple(vertex_attributes) if vertex_attributes is not None else (),
+        )
+        return pslg, notes
+    if records.holes or records.regions:
+        line = (records.hole_lines + records.region_lines)[0]
+        raise FormatError(
+            name, line, "hole and region records belong to a PSLG, not to a file of triangles"
+        )
+    triangles: list[tuple[int, int, int]] = []
+    for a, b, c, number in records.triangles:
+        corners = [
+            check_index(name, number, vertex, count, 0, "triangle corner: vertex")
+            for vertex in (a, b, c)
+        ]
+        triangles.append((corners[0], corners[1], corners[2]))
+    table = TriangleTable(
+        path=name,
+        triangles=triangles,
+        lines=[number for *_, number in records.triangles],
+        attributes=_uniform(name, records.triangle_attributes, "triangle"),
+    )
+    mesh = build_mesh(
+        records.points,
+        records.point_lines,
+        table,
+        point_path=name,
+        notes=notes,
+        vertex_markers=vertex_markers,
+        vertex_attributes=vertex_attributes,
+        segments=segments,
+        segment_lines=segment_lines,
+    )
+    if records.neighbours:
+        _check_neighbours(name, table, records.neighbours)
+        notes.append("the neighbour records agree with the adjacency")
+    return mesh, notes
+
+
+def _check_neighbours(
+    name: str, table: TriangleTable, neighbours: list[tuple[int, int, int, int]]
+) -> None:
+    count = len(table.triangles)
+    if len(neighbours) != count:
+        line = neighbours[min(count, len(neighbours) - 1)][3]
+        raise FormatError(
+            name, line, f"{len(neighbours)} neighbour records for {count} triangles"
+        )
+    expected = expected_neighbours(table.triangles)
+    for index, (*listed, number) in enumerate(neighbours):
+        for corner, neighbour in enumerate(listed):
+            if neighbour != -1:
+                check_index(name, number, neighbour, count, 0, "neighbour: triangle")
+            want = expected[index][corner]
+            if neighbour != want:
+                vertex = table.triangles[index][corner]
+                raise FormatError(
+                    name,
+                    number,
+                    f"triangle {index}: the neighbour opposite its vertex {vertex} is listed "
+                    f"as {neighbour}, but in the mesh it is {want} (-1: none)",
+                )
+
+
+def write_pslg_text(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+    """A PSLG (v, s, h, r records) or a Mesh2 (v, t, n, s records) as a ``.pslg`` file."""
+    number = number_formatter(exact)
+    out: list[str] = []
+    if isinstance(value, PSLG):
+        markers = value.vertex_markers or (0,) * len(value.vertices)
+        show_markers = bool(value.vertex_markers or value.vertex_attributes)
+        attributes = value.vertex_attributes or ((),) * len(value.vertices)
+        for index, point in enumerate(value.vertices):
+            fields = ["v", number(point.x), number(point.y)]
+            if show_markers:
+                fields.append(str(markers[index]))
+                fields.extend(map(number, attributes[index]))
+            out.append(" ".join(fields))
+        out.extend(f"s {a} {b} {marker}" for a, b, marker in value.segments)
+        out.extend(f"h {number(point.x)} {number(point.y)}" for point in value.holes)
+        for region in value.regions:
+            area = "" if region.max_area is None else f" {number(region.max_area)}"
+            out.append(
+                f"r {number(region.point.x)} {number(region.point.y)} "
+                f"{number(region.attribute)}{area}"
+            )
+    elif isinstance(value, Mesh2):
+        _mesh_records(value, number, out)
+    else:
+        raise TypeError(f"the pslg format writes a PSLG or a Mesh2, not a {type(value).__name__}")
+    return write_files([(path, "".join(line + "\n" for line in out))], overwrite=overwrite)
+
+
+def _mesh_records(mesh: Mesh2, number: Callable[[Rational], str], out: list[str]) -> None:
+    count = mesh.vertex_count
+    vertex_count, vertex_rows = uniform_attributes(
+        [mesh.vertex_attributes.get(index) for index in range(count)], "vertex"
+    )
+    show_markers = bool(mesh.vertex_markers) or vertex_count > 0
+    for index in range(count):
+        point = mesh.vertices[index]
+        fields = ["v", number(point.x), number(point.y)]
+        if show_markers:
+            fields.append(str(mesh.vertex_markers.get(index, 0)))
+            fields.extend(number(value) for value in vertex_rows[index])
+        out.append(" ".join(fields))
+    triangles = mesh.triangles()
+    _, rows = uniform_attributes(
+        [mesh.triangle_attributes.get(triangle) for triangle in triangles], "triangle"
+    )
+    for index, (a, b, c) in enumerate(triangles):
+        out.append(" ".join(["t", str(a), str(b), str(c), *(number(v) for v in rows[index])]))
+    out.extend(f"n {n0} {n1} {n2}" for n0, n1, n2 in expected_neighbours(triangles))
+    out.extend(f"s {u} {v} {marker}" for u, v, marker in mesh.segment_list())

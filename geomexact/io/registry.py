@@ -1,0 +1,539 @@
+"""The format registry's record type and the machinery every format module shares.
+
+A :class:`Format` names a file format, the extensions that select it, the kinds of value
+it reads and writes, and its ``read`` / ``write`` functions.  The registry itself
+(``geomexact.io.FORMATS``) is assembled in :mod:`geomexact.io` from the format modules.
+
+The rest of this module is what the readers and writers have in common, so each rule is
+written once (``specs/formats/registry.md``):
+
+- :func:`data_lines` / :class:`Lines`: text split into numbered lines of tokens, ``#``
+  comments and blank lines dropped, with a cursor that reports a truncated file;
+- :func:`parse_int` / :func:`parse_number`: tokens to integers and exact rationals, every
+  failure a :class:`FormatError` naming the file and the line;
+- :func:`build_mesh`: vertex and triangle tables to a :class:`Mesh2`, checking indices,
+  duplicate vertices, degenerate triangles, orientation (all clockwise is reversed and
+  noted; mixed is an error naming one triangle of each) and overlaps;
+- :func:`number_formatter` and :func:`write_files`: number text (nearest double or exact)
+  and the all-or-nothing, never-overwrite-by-default atomic writing of one or more files.
+"""
+
+from __future__ import annotations
+
+import gc
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Protocol, TypeAlias
+
+import attrs
+
+from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
+from geomexact.io.files import write_text_atomic
+from geomexact.mesh2d import Attributes, Mesh2, empty_mesh
+from geomexact.numbers import ZERO, Rational, format_float, format_rational, parse_rational
+from geomexact.points import Point2
+from geomexact.polymesh import PolygonMesh
+from geomexact.predicates import Orientation, orient2d
+from geomexact.pslg import PSLG
+from geomexact.transient import Transient2
+
+Value: TypeAlias = Mesh2 | PSLG | PolygonMesh
+"""What a reader returns and a writer accepts."""
+
+Tokens: TypeAlias = list[str]
+NumberedLine: TypeAlias = tuple[int, Tokens]
+
+
+class Reader(Protocol):
+    """``read(path)`` -> (value, notes)."""
+
+    def __call__(self, path: Path, /) -> tuple[Value, list[str]]: ...
+
+
+class Writer(Protocol):
+    """``write(path, value, overwrite=..., exact=...)`` -> the files written."""
+
+    def __call__(
+        self, path: Path, value: Value, /, *, overwrite: bool, exact: bool
+    ) -> list[Path]: ...
+
+
+@attrs.frozen(slots=True)
+class Format:
+    """A registered file format.
+
+    ``extensions`` are lower-case with the dot (``".ele"``); ``kinds`` are the value types
+    ``write`` accepts (and ``read`` may return).
+    """
+
+    name: str
+    extensions: tuple[str, ...]
+    description: str
+    read: Reader
+    write: Writer
+    kinds: tuple[type, ...]
+
+
+# -----------------------------------------------------------------------------------------
+# reading text
+# -----------------------------------------------------------------------------------------
+@contextmanager
+def collector_paused() -> Iterator[None]:
+    """Pause Python's cyclic garbage collector while a reader builds a large value.
+
+    A reader creates hundreds of thousands of small acyclic objects (rationals, tuples,
+    map nodes); each automatic collection walks all of them, which measured here doubles
+    the time to read a 100k-triangle mesh.  The collector's state is restored on exit.
+    """
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def data_lines(text: str) -> list[NumberedLine]:
+    """The non-blank lines of ``text`` as (1-based line number, tokens), with everything
+    from a ``#`` to the end of its line removed.  Lines are split on ``\\n`` only (so line
+    numbers agree with ``read_text``'s and with editors'); tokens on any whitespace."""
+    result: list[NumberedLine] = []
+    text = text.removeprefix("\ufeff")  # a byte-order mark is not data
+    for number, line in enumerate(text.split("\n"), start=1):
+        if "#" in line:
+            line = line[: line.index("#")]
+        tokens = line.split()
+        if tokens:
+            result.append((number, tokens))
+    return result
+
+
+class Lines:
+    """A cursor over numbered lines of one file; running out is a :class:`FormatError`
+    saying what was expected (a truncated file)."""
+
+    __slots__ = ("_index", "_lines", "last_line", "path")
+
+    def __init__(self, path: str, lines: list[NumberedLine]) -> None:
+        self.path = path
+        self._lines = lines
+        self._index = 0
+        self.last_line: int | None = lines[-1][0] if lines else None
+
+    def next(self, what: str) -> NumberedLine:
+        """The next line, or a FormatError "file ends before <what>"."""
+        if self._index >= len(self._lines):
+            raise FormatError(self.path, self.last_line, f"the file ends before {what}")
+        line = self._lines[self._index]
+        self._index += 1
+        return line
+
+    def at_end(self) -> bool:
+        """True when every line was consumed."""
+        return self._index >= len(self._lines)
+
+    def rest(self) -> list[NumberedLine]:
+        """The lines not consumed yet (and consume them)."""
+        remaining = self._lines[self._index :]
+        self._index = len(self._lines)
+        return remaining
+
+    def expect_end(self, what: str) -> None:
+        """FormatError when lines remain after the last section ``what``."""
+        if not self.at_end():
+            number, tokens = self._lines[self._index]
+            raise FormatError(
+                self.path, number, f"unexpected data after {what}: {' '.join(tokens)!r}"
+            )
+
+
+def counted(count: int, singular: str, plural: str | None = None) -> str:
+    """``"1 vertex"``, ``"2 vertices"``: a count with its noun, for notes and messages."""
+    return f"{count} {singular if count == 1 else plural or singular + 's'}"
+
+
+def all_clockwise_note(count: int, noun: str) -> str:
+    """The note of a reader that reversed every one of ``count`` clockwise elements."""
+    if count == 1:
+        return f"the only {noun} was clockwise; reversed it"
+    return f"all {count} {noun}s were clockwise; reversed them"
+
+
+def parse_int(path: str, line: int, token: str, what: str) -> int:
+    """``token`` as an integer, or a FormatError naming ``what`` it should be."""
+    try:
+        if token.isascii():
+            return int(token)
+    except ValueError:
+        pass
+    raise FormatError(path, line, f"{what}: {token!r} is not an integer")
+
+
+def parse_number(path: str, line: int, token: str, what: str) -> Rational:
+    """``token`` parsed exactly (:func:`geomexact.numbers.parse_rational`), or a FormatError
+    embedding the parser's message."""
+    try:
+        return parse_rational(token)
+    except RationalParseError as error:
+        raise FormatError(path, line, f"{what}: {error}") from error
+
+
+def parse_count(path: str, line: int, token: str, what: str) -> int:
+    """A non-negative integer count."""
+    value = parse_int(path, line, token, what)
+    if value < 0:
+        raise FormatError(path, line, f"{what} is negative ({value})")
+    return value
+
+
+def expect_fields(path: str, line: int, tokens: Tokens, least: int, what: str) -> None:
+    """FormatError when ``tokens`` has fewer than ``least`` fields."""
+    if len(tokens) < least:
+        raise FormatError(
+            path,
+            line,
+            f"{what} needs {least} fields, found {len(tokens)}: {' '.join(tokens)!r}",
+        )
+
+
+def expect_exact_fields(path: str, line: int, tokens: Tokens, count: int, what: str) -> None:
+    """FormatError when ``tokens`` does not have exactly ``count`` fields."""
+    if len(tokens) != count:
+        raise FormatError(
+            path,
+            line,
+            f"{what} needs {count} fields, found {len(tokens)}: {' '.join(tokens)!r}",
+        )
+
+
+def check_index(path: str, line: int, index: int, count: int, base: int, what: str) -> int:
+    """The 0-based id of a 0- or 1-based file index, or a FormatError when out of range."""
+    value = index - base
+    if not 0 <= value < count:
+        allowed = "there are none" if count == 0 else f"expected {base}..{count - 1 + base}"
+        raise FormatError(path, line, f"{what} {index} is out of range ({allowed})")
+    return value
+
+
+# -----------------------------------------------------------------------------------------
+# building a mesh
+# -----------------------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class TriangleTable:
+    """Triangles as read from a file: 0-based vertex triples in file order, with where
+    each came from (its line, or None when the source has no lines) and, optionally, the
+    file's own numbering of triangles and vertices for messages."""
+
+    path: str
+    triangles: Sequence[tuple[int, int, int]]
+    lines: Sequence[int | None]
+    attributes: Sequence[Attributes] | None = None
+    noun: str = "triangle"
+    first_number: int = 0
+    vertex_base: int = 0
+
+    def describe(self, index: int) -> str:
+        a, b, c = (v + self.vertex_base for v in self.triangles[index])
+        line = self.lines[index]
+        where = f" on line {line}" if line is not None else ""
+        return f"{self.noun} {index + self.first_number} ({a}, {b}, {c}){where}"
+
+
+def check_distinct_points(
+    path: str,
+    points: Sequence[Point2],
+    lines: Sequence[int | None],
+    used: set[int],
+    notes: list[str],
+    vertex_base: int = 0,
+) -> None:
+    """FormatError when two vertices used by triangles have identical exact coordinates
+    (a mesh needs distinct corners), naming both and the line of the second.  A copy in
+    no triangle is harmless (such files exist: meshio output with stray corner points) and
+    is only noted."""
+    seen: dict[tuple[Rational, Rational], int] = {}
+    unused_copies: list[tuple[int, int]] = []
+    for index, point in enumerate(points):
+        key = (point.x, point.y)
+        first = seen.get(key)
+        if first is None:
+            seen[key] = index
+            continue
+        if first in used and index in used:
+            first_line = lines[first]
+            where = f" (line {first_line})" if first_line is not None else ""
+            raise FormatError(
+                path,
+                lines[index],
+                f"vertex {index + vertex_base} ({point.x}, {point.y}) has the same "
+                f"coordinates as vertex {first + vertex_base}{where}; a mesh needs "
+                "distinct vertices",
+            )
+        if index in used:  # the triangles use the later copy: remember it instead
+            seen[key] = index
+        unused_copies.append((index if index not in used else first, seen[key]))
+    if unused_copies:
+        copy, original = unused_copies[0]
+        notes.append(
+            f"{counted(len(unused_copies), 'vertex', 'vertices')} in no triangle "
+            f"{'repeats' if len(unused_copies) == 1 else 'repeat'} another vertex's "
+            f"coordinates (vertex {copy + vertex_base} repeats vertex "
+            f"{original + vertex_base}); kept them"
+        )
+
+
+def note_duplicate_points(
+    points: Sequence[Point2], lines: Sequence[int | None], notes: list[str], base: int = 0
+) -> None:
+    """Note (not an error) vertices that repeat an earlier vertex's exact coordinates:
+    allowed in a PSLG or a polygon mesh."""
+    seen: dict[tuple[Rational, Rational], int] = {}
+    duplicates = 0
+    example = ""
+    for index, point in enumerate(points):
+        first = seen.setdefault((point.x, point.y), index)
+        if first != index:
+            duplicates += 1
+            if not example:
+                line = lines[index]
+                where = f" on line {line}" if line is not None else ""
+                example = f" (vertex {index + base}{where} repeats vertex {first + base})"
+    if duplicates:
+        notes.append(
+            f"{counted(duplicates, 'vertex', 'vertices')} "
+            f"{'repeats' if duplicates == 1 else 'repeat'} an earlier vertex's "
+            f"coordinates{example}"
+        )
+
+
+def orient_triangles(
+    table: TriangleTable, points: Sequence[Point2], *, individually: bool, notes: list[str]
+) -> list[tuple[int, int, int]]:
+    """The triangles of ``table`` made counter-clockwise (exact ``orient2d``).
+
+    A degenerate triangle (a repeated or collinear corner) is a FormatError naming it.
+    With ``individually`` each clockwise triangle is reversed.  Otherwise the file must be
+    consistent: all clockwise is reversed (and noted), a mix is a FormatError naming the
+    first clockwise and the first counter-clockwise triangle.
+    """
+    clockwise = Orientation.CLOCKWISE
+    collinear = Orientation.COLLINEAR
+    path = table.path
+    result: list[tuple[int, int, int]] = []
+    first_cw: int | None = None
+    first_ccw: int | None = None
+    reversed_count = 0
+    for index, (a, b, c) in enumerate(table.triangles):
+        if a in (b, c) or b == c:
+            raise FormatError(
+                path, table.lines[index], f"{table.describe(index)} repeats a vertex"
+            )
+        orientation = orient2d(points[a], points[b], points[c])
+        if orientation == collinear:
+            raise FormatError(
+                path,
+                table.lines[index],
+                f"{table.describe(index)} is degenerate: its corners are collinear",
+            )
+        if orientation == clockwise:
+            if first_cw is None:
+                first_cw = index
+            result.append((a, c, b))
+            reversed_count += 1
+        else:
+            if first_ccw is None:
+                first_ccw = index
+            result.append((a, b, c))
+        if not individually and first_cw is not None and first_ccw is not None:
+            later = max(first_cw, first_ccw)
+            raise FormatError(
+                path,
+                table.lines[later],
+                f"{table.noun}s have mixed orientations: {table.describe(first_cw)} is "
+                f"clockwise but {table.describe(first_ccw)} is counter-clockwise",
+            )
+    total = len(result)
+    if reversed_count:
+        if reversed_count == total:
+            notes.append(all_clockwise_note(total, table.noun))
+        else:
+            notes.append(
+                f"{reversed_count} of {counted(total, table.noun)} were clockwise; reversed "
+                f"{'it' if reversed_count == 1 else 'them'}"
+            )
+    return result
+
+
+def build_mesh(
+    points: Sequence[Point2],
+    point_lines: Sequence[int | None],
+    table: TriangleTable,
+    *,
+    point_path: str,
+    notes: list[str],
+    vertex_markers: Sequence[int] | None = None,
+    vertex_attributes: Sequence[Attributes] | None = None,
+    segments: Sequence[tuple[int, int, int]] = (),
+    segment_lines: Sequence[int | None] = (),
+    segment_path: str | None = None,
+    orient_individually: bool = False,
+) -> Mesh2:
+    """A :class:`Mesh2` from checked tables (indices already 0-based and in range).
+
+    Checks, each a FormatError naming the file and line: duplicate vertices, degenerate
+    triangles, orientation (see :func:`orient_triangles`), two triangles on the same side
+    of an edge (overlap), segments with equal ends.  Notes vertices in no triangle.
+    """
+    used = {vertex for triangle in table.triangles for vertex in triangle}
+    check_distinct_points(point_path, points, point_lines, used, notes, table.vertex_base)
+    oriented = orient_triangles(
+        table, points, individually=orient_individually, notes=notes
+    )
+    transient = Transient2(empty_mesh())
+    for index, point in enumerate(points):
+        marker = vertex_markers[index] if vertex_markers is not None else 0
+        attributes = vertex_attributes[index] if vertex_attributes is not None else ()
+        transient.add_vertex(point, marker, attributes)
+    triangle_attributes = table.attributes
+    for index, (a, b, c) in enumerate(oriented):
+        values = triangle_attributes[index] if triangle_attributes is not None else None
+        try:
+            transient.add_triangle(a, b, c, values or None)
+        except PreconditionError as error:
+            raise FormatError(
+                table.path, table.lines[index], _overlap_problem(table, oriented, index)
+            ) from error
+    segment_file = segment_path or table.path
+    not_edges = 0
+    for index, (u, v, marker) in enumerate(segments):
+        line = segment_lines[index] if index < len(segment_lines) else None
+        if u == v:
+            raise FormatError(
+                segment_file,
+                line,
+                f"segment ({u + table.vertex_base}, {v + table.vertex_base}) has equal ends",
+            )
+        if transient.segment_marker(u, v) is not None:
+            notes.append(
+                f"segment ({u + table.vertex_base}, {v + table.vertex_base}) is listed twice"
+                + (f" (line {line})" if line is not None else "")
+                + "; kept the last marker"
+            )
+        transient.set_segment(u, v, marker)
+        if transient.apex(u, v) is None and transient.apex(v, u) is None:
+            not_edges += 1
+    mesh = transient.seal()
+    if not_edges:
+        notes.append(
+            f"{counted(not_edges, 'segment')} {'is' if not_edges == 1 else 'are'} not an "
+            "edge of the mesh (validate reports them)"
+        )
+    unused = len(points) - len(used)
+    if unused and oriented:
+        notes.append(
+            f"{unused} of {counted(len(points), 'vertex', 'vertices')} "
+            f"{'is' if unused == 1 else 'are'} in no triangle"
+        )
+    return mesh
+
+
+def _overlap_problem(
+    table: TriangleTable, oriented: Sequence[tuple[int, int, int]], index: int
+) -> str:
+    a, b, c = oriented[index]
+    edges = {(a, b), (b, c), (c, a)}
+    for earlier in range(index):
+        p, q, r = oriented[earlier]
+        shared = edges & {(p, q), (q, r), (r, p)}
+        if shared:
+            u, v = min(shared)
+            base = table.vertex_base
+            return (
+                f"{table.describe(index)} and {table.describe(earlier)} lie on the same "
+                f"side of edge ({u + base}, {v + base}): the triangles overlap"
+            )
+    return f"{table.describe(index)} overlaps an earlier {table.noun}"  # pragma: no cover
+
+
+def expected_neighbours(
+    triangles: Sequence[tuple[int, int, int]],
+) -> list[tuple[int, int, int]]:
+    """For each triangle (a, b, c), the indices of the triangles across the edges opposite
+    a, b and c (-1 for none), as Triangle's ``.neigh`` lists them.  The triangles must be
+    consistently oriented (all clockwise or all counter-clockwise, no overlap), as
+    :func:`build_mesh` checks: the neighbour across (b, c) is the owner of (c, b)."""
+    owner: dict[int, int] = {}
+    for index, (a, b, c) in enumerate(triangles):
+        owner[(a << 32) | b] = index
+        owner[(b << 32) | c] = index
+        owner[(c << 32) | a] = index
+    get = owner.get
+    return [
+        (get((c << 32) | b, -1), get((a << 32) | c, -1), get((b << 32) | a, -1))
+        for a, b, c in triangles
+    ]
+
+
+# -----------------------------------------------------------------------------------------
+# writing
+# -----------------------------------------------------------------------------------------
+_EXACT_INTEGER_LIMIT = 1 << 53
+
+
+def number_formatter(exact: bool) -> Callable[[Rational], str]:
+    """The text of a coordinate: exact (shortest decimal, else ``p/q``) when ``exact``,
+    else the nearest double (an integer that is a double exactly is written without
+    ``.0``)."""
+    if exact:
+        return format_rational
+
+    def nearest_double(value: Rational) -> str:
+        if value.denominator == 1 and abs(value.numerator) <= _EXACT_INTEGER_LIMIT:
+            return str(int(value.numerator))
+        return format_float(value)
+
+    return nearest_double
+
+
+def write_files(files: Sequence[tuple[Path, str]], *, overwrite: bool) -> list[Path]:
+    """Write each (path, text) atomically; when not ``overwrite``, refuse (OverwriteError)
+    before writing anything if any target exists."""
+    if not overwrite:
+        for path, _ in files:
+            if path.exists():
+                raise OverwriteError(str(path))
+    written: list[Path] = []
+    for path, text in files:
+        write_text_atomic(path, text, overwrite=overwrite)
+        written.append(path)
+    return written
+
+
+def uniform_attributes(
+    tables: Sequence[Attributes | None], what: str
+) -> tuple[int, list[Attributes]]:
+    """(count, rows) for a file column block: every row padded to the common length with
+    zeros when missing; a ValueError when two rows have different lengths."""
+    lengths = {len(row) for row in tables if row}
+    if len(lengths) > 1:
+        raise PreconditionError(
+            "write", f"{what} attributes have different lengths {sorted(lengths)}"
+        )
+    count = lengths.pop() if lengths else 0
+    rows = [tuple(row) if row else (ZERO,) * count for row in tables]
+    return count, rows
+
+
+def file_stem(path: Path, extension: str) -> Path:
+    """``path`` without ``extension`` when it ends with it, else ``path`` itself (so
+    ``x.1.ele`` and ``x.1`` both name the stem ``x.1``)."""
+    if path.name.lower().endswith(extension) and len(path.name) > len(extension):
+        return path.with_name(path.name[: -len(extension)])
+    return path
+
+
+def with_extension(stem: Path, extension: str) -> Path:
+    """``stem`` + ``extension`` (appended, never replacing a dotted part of the stem)."""
+    return stem.with_name(stem.name + extension)

@@ -1,0 +1,636 @@
+"""Jonathan Shewchuk's Triangle files: ``.node``, ``.ele``, ``.neigh`` and ``.poly``.
+
+Three registry formats live here (``specs/formats/triangle.md``, ``node.md``, ``poly.md``):
+
+- ``triangle``: a mesh named by its ``.ele`` file, with the ``.node`` beside it (required),
+  the ``.neigh`` (read when present and checked against the adjacency) and a ``.poly``
+  whose vertex count is 0 (its segments become the mesh's constrained segments);
+- ``node``: a ``.node`` alone, read as a point set (a PSLG without segments);
+- ``poly``: a PSLG with segments, holes and regions; a vertex count of 0 in its first line
+  means "the vertices are in the ``.node`` beside it".
+
+Indices are 0- or 1-based as the first vertex number says; vertices and triangles must be
+numbered consecutively from there.  Boundary markers and attributes are kept.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import attrs
+
+from geomexact.errors import FormatError
+from geomexact.io.files import read_text
+from geomexact.io.registry import (
+    Lines,
+    TriangleTable,
+    Value,
+    build_mesh,
+    check_index,
+    counted,
+    data_lines,
+    expect_exact_fields,
+    expect_fields,
+    expected_neighbours,
+    file_stem,
+    note_duplicate_points,
+    number_formatter,
+    parse_count,
+    parse_int,
+    parse_number,
+    uniform_attributes,
+    with_extension,
+    write_files,
+)
+from geomexact.mesh2d import Attributes, Mesh2
+from geomexact.numbers import Rational
+from geomexact.points import Point2, point2
+from geomexact.pslg import PSLG, RegionSeed
+
+NODE, ELE, NEIGH, POLY = ".node", ".ele", ".neigh", ".poly"
+
+
+# -----------------------------------------------------------------------------------------
+# vertex tables (.node, and the first section of .poly)
+# -----------------------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class VertexTable:
+    """The vertex section of a ``.node`` or ``.poly`` file."""
+
+    path: str
+    points: list[Point2]
+    lines: list[int | None]
+    base: int
+    attribute_count: int
+    has_markers: bool
+    markers: list[int]
+    attributes: list[Attributes]
+
+
+def _read_vertex_header(path: str, number: int, tokens: list[str]) -> tuple[int, int, int]:
+    """(count, attribute count, markers flag) from ``n [dim [attrs [markers]]]``."""
+    if len(tokens) > 4:
+        raise FormatError(
+            path,
+            number,
+            "the vertex header is 'count dimension attributes markers', found "
+            f"{len(tokens)} fields",
+        )
+    count = parse_count(path, number, tokens[0], "vertex count")
+    if len(tokens) > 1:
+        dimension = parse_int(path, number, tokens[1], "dimension")
+        if dimension != 2:
+            raise FormatError(
+                path, number, f"dimension is {dimension}; only 2D files are supported"
+            )
+    attributes = parse_count(path, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
+    markers = parse_int(path, number, tokens[3], "boundary marker count") if len(tokens) > 3 else 0
+    if markers not in (0, 1):
+        raise FormatError(path, number, f"boundary marker count must be 0 or 1, not {markers}")
+    return count, attributes, markers
+
+
+def _read_vertices(
+    path: str, lines: Lines, count: int, attribute_count: int, has_markers: bool
+) -> VertexTable:
+    fields = 3 + attribute_count + (1 if has_markers else 0)
+    points: list[Point2] = []
+    point_lines: list[int | None] = []
+    markers: list[int] = []
+    attributes: list[Attributes] = []
+    base = 0
+    for index in range(count):
+        number, tokens = lines.next(f"vertex {index + base} (of {count})")
+        expect_exact_fields(
+            path, number, tokens, fields,
+            "a vertex line 'number x y"
+            + " attributes" * bool(attribute_count)
+            + " marker" * has_markers
+            + "'",
+        )
+        label = parse_int(path, number, tokens[0], "vertex number")
+        if index == 0:
+            if label not in (0, 1):
+                raise FormatError(
+                    path, number, f"the first vertex is numbered {label}; it must be 0 or 1"
+                )
+            base = label
+        elif label != index + base:
+            raise FormatError(
+                path, number, f"vertex numbered {label}, expected {index + base} (consecutive)"
+            )
+        x = parse_number(path, number, tokens[1], f"x of vertex {label}")
+        y = parse_number(path, number, tokens[2], f"y of vertex {label}")
+        points.append(point2(x, y))
+        point_lines.append(number)
+        if attribute_count:
+            attributes.append(
+                tuple(
+                    parse_number(path, number, token, f"attribute of vertex {label}")
+                    for token in tokens[3 : 3 + attribute_count]
+                )
+            )
+        if has_markers:
+            markers.append(parse_int(path, number, tokens[-1], f"marker of vertex {label}"))
+    return VertexTable(
+        path, points, point_lines, base, attribute_count, has_markers, markers, attributes
+    )
+
+
+def read_node_table(path: Path) -> VertexTable:
+    """The vertices of a ``.node`` file (nothing may follow them)."""
+    name = str(path)
+    lines = Lines(name, data_lines(read_text(path)))
+    number, tokens = lines.next("the header 'count dimension attributes markers'")
+    count, attribute_count, markers = _read_vertex_header(name, number, tokens)
+    table = _read_vertices(name, lines, count, attribute_count, bool(markers))
+    lines.expect_end(f"the {counted(count, 'vertex', 'vertices')}")
+    return table
+
+
+def _pslg_vertex_tables(
+    table: VertexTable,
+) -> tuple[tuple[int, ...], tuple[Attributes, ...]]:
+    markers = tuple(table.markers) if table.has_markers else ()
+    attributes = tuple(table.attributes) if table.attribute_count else ()
+    return markers, attributes
+
+
+def _note_duplicate_vertices(table: VertexTable, notes: list[str]) -> None:
+    note_duplicate_points(table.points, table.lines, notes, table.base)
+
+
+# -----------------------------------------------------------------------------------------
+# format "node": a point set
+# -----------------------------------------------------------------------------------------
+def read_node(path: Path) -> tuple[Value, list[str]]:
+    """A ``.node`` file as a PSLG without segments (markers and attributes kept)."""
+    table = read_node_table(path)
+    notes: list[str] = []
+    _note_duplicate_vertices(table, notes)
+    markers, attributes = _pslg_vertex_tables(table)
+    return PSLG(vertices=table.points, vertex_markers=markers, vertex_attributes=attributes), notes
+
+
+def _node_text(
+    points: Sequence[Point2],
+    markers: Sequence[int] | None,
+    attributes: Sequence[Attributes | None],
+    exact: bool,
+) -> str:
+    number = number_formatter(exact)
+    count, rows = uniform_attributes(attributes, "vertex")
+    out = [f"{len(points)} 2 {count} {1 if markers is not None else 0}"]
+    for index, point in enumerate(points):
+        fields = [str(index), number(point.x), number(point.y)]
+        fields.extend(number(value) for value in rows[index])
+        if markers is not None:
+            fields.append(str(markers[index]))
+        out.append(" ".join(fields))
+    return "\n".join(out) + "\n"
+
+
+def _pslg_node_text(pslg: PSLG, exact: bool) -> str:
+    attributes: Sequence[Attributes | None] = (
+        pslg.vertex_attributes if pslg.vertex_attributes else [None] * len(pslg.vertices)
+    )
+    markers = pslg.vertex_markers if pslg.vertex_markers else None
+    return _node_text(pslg.vertices, markers, attributes, exact)
+
+
+def write_node(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+    """The vertices of a PSLG (markers, attributes) as a ``.node`` file; its segments,
+    holes and regions are not part of a ``.node`` (write a ``.poly`` for them)."""
+    if not isinstance(value, PSLG):
+        raise TypeError(f"the node format writes a PSLG, not a {type(value).__name__}")
+    return write_files([(path, _pslg_node_text(value, exact))], overwrite=overwrite)
+
+
+# -----------------------------------------------------------------------------------------
+# format "poly": a PSLG
+# -----------------------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class PolySections:
+    """What follows the vertices of a ``.poly`` file."""
+
+    segments: list[tuple[int, int, int]]
+    segment_lines: list[int | None]
+    holes: list[Point2]
+    regions: list[RegionSeed]
+
+
+def _read_poly_sections(
+    path: str, lines: Lines, vertex_count: int, base: int
+) -> PolySections:
+    number, tokens = lines.next("the segment header 'count markers'")
+    if len(tokens) > 2:
+        raise FormatError(
+            path, number, f"the segment header is 'count markers', found {len(tokens)} fields"
+        )
+    count = parse_count(path, number, tokens[0], "segment count")
+    markers = parse_int(path, number, tokens[1], "segment marker count") if len(tokens) > 1 else 0
+    if markers not in (0, 1):
+        raise FormatError(path, number, f"segment marker count must be 0 or 1, not {markers}")
+    segments: list[tuple[int, int, int]] = []
+    segment_lines: list[int | None] = []
+    fields = 3 + markers
+    for index in range(count):
+        number, tokens = lines.next(f"segment {index + base} (of {count})")
+        expect_exact_fields(
+            path, number, tokens, fields,
+            "a segment line 'number endpoint endpoint" + " marker" * markers + "'",
+        )
+        label = parse_int(path, number, tokens[0], "segment number")
+        ends = []
+        for token in tokens[1:3]:
+            vertex = parse_int(path, number, token, f"endpoint of segment {label}")
+            ends.append(
+                check_index(path, number, vertex, vertex_count, base, f"segment {label}: vertex")
+            )
+        marker = parse_int(path, number, tokens[3], f"marker of segment {label}") if markers else 0
+        if ends[0] == ends[1]:
+            raise FormatError(
+                path, number, f"segment {label} ({tokens[1]}, {tokens[2]}) has equal ends"
+            )
+        segments.append((ends[0], ends[1], marker))
+        segment_lines.append(number)
+    holes: list[Point2] = []
+    regions: list[RegionSeed] = []
+    if not lines.at_end():
+        number, tokens = lines.next("the hole count")
+        expect_exact_fields(path, number, tokens, 1, "the hole header 'count'")
+        count = parse_count(path, number, tokens[0], "hole count")
+        for index in range(count):
+            number, tokens = lines.next(f"hole {index + 1} (of {count})")
+            expect_exact_fields(path, number, tokens, 3, "a hole line 'number x y'")
+            label = parse_int(path, number, tokens[0], "hole number")
+            holes.append(
+                point2(
+                    parse_number(path, number, tokens[1], f"x of hole {label}"),
+                    parse_number(path, number, tokens[2], f"y of hole {label}"),
+                )
+            )
+    if not lines.at_end():
+        number, tokens = lines.next("the region count")
+        expect_exact_fields(path, number, tokens, 1, "the region header 'count'")
+        count = parse_count(path, number, tokens[0], "region count")
+        for index in range(count):
+            number, tokens = lines.next(f"region {index + 1} (of {count})")
+            expect_fields(path, number, tokens, 4, "a region line 'number x y attribute [area]'")
+            if len(tokens) > 5:
+                raise FormatError(
+                    path,
+                    number,
+                    f"a region line is 'number x y attribute [area]', found {len(tokens)} "
+                    "fields",
+                )
+            label = parse_int(path, number, tokens[0], "region number")
+            x = parse_number(path, number, tokens[1], f"x of region {label}")
+            y = parse_number(path, number, tokens[2], f"y of region {label}")
+            attribute = parse_number(path, number, tokens[3], f"attribute of region {label}")
+            area: Rational | None = None
+            if len(tokens) == 5:
+                area = parse_number(path, number, tokens[4], f"maximum area of region {label}")
+                if area <= 0:
+                    area = None  # Triangle: a non-positive area means "no constraint"
+            regions.append(RegionSeed(point2(x, y), attribute, area))
+    lines.expect_end("the last section (holes, then regions)")
+    return PolySections(segments, segment_lines, holes, regions)
+
+
+def read_poly(path: Path) -> tuple[Value, list[str]]:
+    """A ``.poly`` file as a PSLG (vertices from the ``.node`` beside it when its vertex
+    count is 0)."""
+    name = str(path)
+    notes: list[str] = []
+    lines = Lines(name, data_lines(read_text(path)))
+    number, tokens = lines.next("the header 'count dimension attributes markers'")
+    count, attribute_count, markers = _read_vertex_header(name, number, tokens)
+    if count == 0:
+        node_path = with_extension(file_stem(path, POLY), NODE)
+        if not node_path.exists():
+            raise FormatError(
+                name,
+                number,
+                f"the vertex count is 0, meaning 'vertices in {node_path.name}', but there "
+                "is no such file",
+            )
+        table = read_node_table(node_path)
+        notes.append(f"vertices read from {node_path}")
+    else:
+        table = _read_vertices(name, lines, count, attribute_count, bool(markers))
+    sections = _read_poly_sections(name, lines, len(table.points), table.base)
+    _note_duplicate_vertices(table, notes)
+    vertex_markers, vertex_attributes = _pslg_vertex_tables(table)
+    pslg = PSLG(
+        vertices=table.points,
+        segments=sections.segments,
+        holes=sections.holes,
+        regions=sections.regions,
+        vertex_markers=vertex_markers,
+        vertex_attributes=vertex_attributes,
+    )
+    return pslg, notes
+
+
+def _poly_sections_text(
+    segments: Sequence[tuple[int, int, int]],
+    holes: Sequence[Point2],
+    regions: Sequence[RegionSeed],
+    exact: bool,
+) -> list[str]:
+    number = number_formatter(exact)
+    out = [f"{len(segments)} 1"]
+    out.extend(f"{index} {u} {v} {marker}" for index, (u, v, marker) in enumerate(segments))
+    out.append(str(len(holes)))
+    out.extend(
+        f"{index} {number(point.x)} {number(point.y)}" for index, point in enumerate(holes)
+    )
+    out.append(str(len(regions)))
+    for index, region in enumerate(regions):
+        area = "-1" if region.max_area is None else number(region.max_area)
+        out.append(
+            f"{index} {number(region.point.x)} {number(region.point.y)} "
+            f"{number(region.attribute)} {area}"
+        )
+    return out
+
+
+def write_poly(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+    """A PSLG as one self-contained ``.poly`` file (vertices inline, 0-based)."""
+    if not isinstance(value, PSLG):
+        raise TypeError(f"the poly format writes a PSLG, not a {type(value).__name__}")
+    text = _pslg_node_text(value, exact) + "\n".join(
+        _poly_sections_text(value.segments, value.holes, value.regions, exact)
+    ) + "\n"
+    return write_files([(path, text)], overwrite=overwrite)
+
+
+# -----------------------------------------------------------------------------------------
+# format "triangle": a mesh (.node + .ele [+ .neigh] [+ .poly])
+# -----------------------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class ElementTable:
+    """The triangles of an ``.ele`` file, 0-based vertex ids in file order."""
+
+    table: TriangleTable
+    first_number: int
+
+
+def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
+    name = str(path)
+    lines = Lines(name, data_lines(read_text(path)))
+    number, tokens = lines.next("the header 'count corners attributes'")
+    if len(tokens) > 3:
+        raise FormatError(
+            name,
+            number,
+            f"the .ele header is 'count corners attributes', found {len(tokens)} fields",
+        )
+    count = parse_count(name, number, tokens[0], "triangle count")
+    corners = parse_int(name, number, tokens[1], "corners per triangle") if len(tokens) > 1 else 3
+    if corners != 3:
+        raise FormatError(
+            name, number, f"triangles have {corners} nodes; only 3-node triangles are supported"
+        )
+    attribute_count = (
+        parse_count(name, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
+    )
+    fields = 4 + attribute_count
+    vertex_count = len(nodes.points)
+    base = nodes.base
+    limit = vertex_count + base
+    triangles: list[tuple[int, int, int]] = []
+    triangle_lines: list[int | None] = []
+    attributes: list[Attributes] = []
+    first = 0
+    for index in range(count):
+        number, tokens = lines.next(f"triangle {index + first} (of {count})")
+        if len(tokens) != fields:
+            expect_exact_fields(
+                name, number, tokens, fields,
+                "a triangle line 'number a b c" + " attributes" * bool(attribute_count) + "'",
+            )
+        try:
+            label, a, b, c = int(tokens[0]), int(tokens[1]), int(tokens[2]), int(tokens[3])
+        except ValueError:
+            label = parse_int(name, number, tokens[0], "triangle number")
+            for token in tokens[1:4]:
+                parse_int(name, number, token, f"corner of triangle {label}")
+            raise  # pragma: no cover - one of the calls above raised
+        if index == 0:
+            if label not in (0, 1):
+                raise FormatError(
+                    name, number, f"the first triangle is numbered {label}; it must be 0 or 1"
+                )
+            first = label
+        elif label != index + first:
+            raise FormatError(
+                name,
+                number,
+                f"triangle numbered {label}, expected {index + first} (consecutive)",
+            )
+        if not (base <= a < limit and base <= b < limit and base <= c < limit):
+            for vertex in (a, b, c):
+                check_index(
+                    name, number, vertex, vertex_count, base, f"triangle {label}: vertex"
+                )
+        triangles.append((a - base, b - base, c - base))
+        triangle_lines.append(number)
+        if attribute_count:
+            attributes.append(
+                tuple(
+                    parse_number(name, number, token, f"attribute of triangle {label}")
+                    for token in tokens[4:]
+                )
+            )
+    lines.expect_end(f"the {counted(count, 'triangle')}")
+    table = TriangleTable(
+        path=name,
+        triangles=triangles,
+        lines=triangle_lines,
+        attributes=attributes if attribute_count else None,
+        first_number=first,
+        vertex_base=base,
+    )
+    return ElementTable(table, first)
+
+
+def _check_neigh(path: Path, elements: ElementTable) -> None:
+    name = str(path)
+    triangles = elements.table.triangles
+    count = len(triangles)
+    first = elements.first_number
+    lines = Lines(name, data_lines(read_text(path)))
+    number, tokens = lines.next("the header 'count 3'")
+    if len(tokens) > 2:
+        raise FormatError(
+            name, number, f"the .neigh header is 'count 3', found {len(tokens)} fields"
+        )
+    listed = parse_count(name, number, tokens[0], "triangle count")
+    if listed != count:
+        raise FormatError(
+            name, number, f"lists {listed} triangles, but the .ele file has {count}"
+        )
+    if len(tokens) > 1 and parse_int(name, number, tokens[1], "neighbours per triangle") != 3:
+        raise FormatError(name, number, f"neighbours per triangle is {tokens[1]}, not 3")
+    expected = expected_neighbours(triangles)
+    for index in range(count):
+        number, tokens = lines.next(f"the neighbours of triangle {index + first}")
+        if len(tokens) == 4:
+            try:
+                label, n0, n1, n2 = (
+                    int(tokens[0]), int(tokens[1]), int(tokens[2]), int(tokens[3])
+                )
+            except ValueError:
+                pass
+            else:
+                want = expected[index]
+                if label == index + first and (
+                    n0 - first if n0 != -1 else -1,
+                    n1 - first if n1 != -1 else -1,
+                    n2 - first if n2 != -1 else -1,
+                ) == want:
+                    continue
+        _neigh_problem(name, number, tokens, index, elements, expected[index])
+    lines.expect_end(f"the {counted(count, 'neighbour line')}")
+
+
+def _neigh_problem(
+    name: str,
+    number: int,
+    tokens: list[str],
+    index: int,
+    elements: ElementTable,
+    want: tuple[int, int, int],
+) -> None:
+    """Raise the FormatError describing why a neighbour line is wrong."""
+    first = elements.first_number
+    count = len(elements.table.triangles)
+    expect_exact_fields(name, number, tokens, 4, "a neighbour line 'number n0 n1 n2'")
+    label = parse_int(name, number, tokens[0], "triangle number")
+    if label != index + first:
+        raise FormatError(name, number, f"triangle numbered {label}, expected {index + first}")
+    for corner, token in enumerate(tokens[1:]):
+        neighbour = parse_int(name, number, token, f"neighbour of triangle {label}")
+        if neighbour != -1:
+            neighbour = check_index(
+                name, number, neighbour, count, first, f"triangle {label}: neighbour"
+            )
+        if neighbour != want[corner]:
+            vertex = elements.table.triangles[index][corner] + elements.table.vertex_base
+            raise FormatError(
+                name,
+                number,
+                f"triangle {label}: the neighbour opposite its vertex {vertex} is listed "
+                f"as {_show_triangle(neighbour, first)}, but in the mesh it is "
+                f"{_show_triangle(want[corner], first)}",
+            )
+    raise AssertionError("unreachable: the line was found wrong")  # pragma: no cover
+
+
+def _show_triangle(index: int, first: int) -> str:
+    return "none (-1)" if index == -1 else f"triangle {index + first}"
+
+
+def _read_mesh_segments(
+    path: Path, nodes: VertexTable, notes: list[str]
+) -> tuple[list[tuple[int, int, int]], list[int | None]]:
+    name = str(path)
+    lines = Lines(name, data_lines(read_text(path)))
+    number, tokens = lines.next("the header 'count dimension attributes markers'")
+    count, _, _ = _read_vertex_header(name, number, tokens)
+    if count != 0:
+        notes.append(f"{path} lists its own vertices; did not use its segments for the mesh")
+        return [], []
+    sections = _read_poly_sections(name, lines, len(nodes.points), nodes.base)
+    notes.append(f"read {counted(len(sections.segments), 'segment')} from {path}")
+    if sections.holes or sections.regions:
+        notes.append(f"ignored the holes and regions of {path} (a mesh has no use for them)")
+    return sections.segments, sections.segment_lines
+
+
+def _mesh_stem(path: Path) -> Path:
+    """The stem of a Triangle mesh named by any of its files (``x.1.ele``, ``x.1.node``,
+    ``x.1.neigh``) or by the stem itself (``x.1``)."""
+    for extension in (ELE, NODE, NEIGH):
+        stem = file_stem(path, extension)
+        if stem != path:
+            return stem
+    return path
+
+
+def read_triangle(path: Path) -> tuple[Value, list[str]]:
+    """A Triangle mesh named by its ``.ele`` file (or its stem)."""
+    stem = _mesh_stem(path)
+    ele_path, node_path = with_extension(stem, ELE), with_extension(stem, NODE)
+    neigh_path, poly_path = with_extension(stem, NEIGH), with_extension(stem, POLY)
+    if not ele_path.exists():
+        raise FormatError(str(ele_path), None, "no such file")
+    if not node_path.exists():
+        raise FormatError(
+            str(ele_path),
+            None,
+            f"a Triangle mesh needs its vertices in {node_path.name}, which does not exist",
+        )
+    notes: list[str] = []
+    nodes = read_node_table(node_path)
+    elements = _read_ele(ele_path, nodes)
+    segments: list[tuple[int, int, int]] = []
+    segment_lines: list[int | None] = []
+    if poly_path.exists():
+        segments, segment_lines = _read_mesh_segments(poly_path, nodes, notes)
+    mesh = build_mesh(
+        nodes.points,
+        nodes.lines,
+        elements.table,
+        point_path=str(node_path),
+        notes=notes,
+        vertex_markers=nodes.markers if nodes.has_markers else None,
+        vertex_attributes=nodes.attributes if nodes.attribute_count else None,
+        segments=segments,
+        segment_lines=segment_lines,
+        segment_path=str(poly_path),
+    )
+    if neigh_path.exists():
+        _check_neigh(neigh_path, elements)
+        notes.append(f"{neigh_path.name} agrees with the adjacency")
+    return mesh, notes
+
+
+def write_triangle(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+    """A mesh as ``stem.node``, ``stem.ele`` and ``stem.neigh`` (0-based, triangles in
+    canonical order), plus ``stem.poly`` (vertex count 0) when it has segments."""
+    if not isinstance(value, Mesh2):
+        raise TypeError(f"the triangle format writes a Mesh2, not a {type(value).__name__}")
+    mesh = value
+    stem = _mesh_stem(path)
+    number = number_formatter(exact)
+    points = [mesh.vertices[index] for index in range(mesh.vertex_count)]
+    markers = [mesh.vertex_markers.get(index, 0) for index in range(mesh.vertex_count)]
+    vertex_attributes = [mesh.vertex_attributes.get(index) for index in range(len(points))]
+    node_text = _node_text(points, markers, vertex_attributes, exact)
+    triangles = mesh.triangles()
+    count, rows = uniform_attributes(
+        [mesh.triangle_attributes.get(triangle) for triangle in triangles], "triangle"
+    )
+    ele = [f"{len(triangles)} 3 {count}"]
+    for index, (a, b, c) in enumerate(triangles):
+        ele.append(" ".join([str(index), str(a), str(b), str(c), *map(number, rows[index])]))
+    neigh = [f"{len(triangles)} 3"]
+    neigh.extend(
+        f"{index} {n0} {n1} {n2}"
+        for index, (n0, n1, n2) in enumerate(expected_neighbours(triangles))
+    )
+    files = [
+        (with_extension(stem, NODE), node_text),
+        (with_extension(stem, ELE), "\n".join(ele) + "\n"),
+        (with_extension(stem, NEIGH), "\n".join(neigh) + "\n"),
+    ]
+    segments = mesh.segment_list()
+    if segments:
+        poly = ["0 2 0 1", *_poly_sections_text(segments, (), (), exact)]
+        files.append((with_extension(stem, POLY), "\n".join(poly) + "\n"))
+    return write_files(files, overwrite=overwrite)
+

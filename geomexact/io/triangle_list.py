@@ -1,0 +1,81 @@
+"""Triangle lists: one triangle per line, ``x1 y1 x2 y2 x3 y3`` (the format of the
+LeppDelaunay course files).  Spec: ``specs/formats/trilist.md``.
+
+Vertices are the distinct exact points in order of first appearance; each triangle is
+oriented on its own (a clockwise one is reversed, and the count is noted).  Writing lists a
+mesh's triangles in canonical order, each counter-clockwise from its smallest vertex id;
+vertices in no triangle, markers, attributes and segments are not representable.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from geomexact.errors import FormatError
+from geomexact.io.files import read_text
+from geomexact.io.registry import (
+    TriangleTable,
+    Value,
+    build_mesh,
+    data_lines,
+    number_formatter,
+    parse_number,
+    write_files,
+)
+from geomexact.mesh2d import Mesh2
+from geomexact.numbers import Rational
+from geomexact.points import Point2, point2
+
+_NAMES = ("x1", "y1", "x2", "y2", "x3", "y3")
+
+
+def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
+    """A triangle-list file as a Mesh2 (vertices merged by exact coordinates)."""
+    name = str(path)
+    notes: list[str] = []
+    ids: dict[tuple[Rational, Rational], int] = {}
+    points: list[Point2] = []
+    point_lines: list[int | None] = []
+    triangles: list[tuple[int, int, int]] = []
+    triangle_lines: list[int | None] = []
+    for number, tokens in data_lines(read_text(path)):
+        if len(tokens) != 6:
+            raise FormatError(
+                name,
+                number,
+                f"a triangle line is 'x1 y1 x2 y2 x3 y3', found {len(tokens)} fields: "
+                f"{' '.join(tokens)!r}",
+            )
+        values = [
+            parse_number(name, number, token, field)
+            for token, field in zip(tokens, _NAMES, strict=True)
+        ]
+        corners = []
+        for x, y in ((values[0], values[1]), (values[2], values[3]), (values[4], values[5])):
+            vertex = ids.get((x, y))
+            if vertex is None:
+                vertex = ids[(x, y)] = len(points)
+                points.append(point2(x, y))
+                point_lines.append(number)
+            corners.append(vertex)
+        triangles.append((corners[0], corners[1], corners[2]))
+        triangle_lines.append(number)
+    if not triangles:
+        notes.append("the file lists no triangles")
+    table = TriangleTable(path=name, triangles=triangles, lines=triangle_lines)
+    mesh = build_mesh(
+        points, point_lines, table, point_path=name, notes=notes, orient_individually=True
+    )
+    return mesh, notes
+
+
+def write_triangle_list(
+    path: Path, value: Value, /, *, overwrite: bool, exact: bool
+) -> list[Path]:
+    """A Mesh2's triangles, one ``x1 y1 x2 y2 x3 y3`` line each (canonical order)."""
+    if not isinstance(value, Mesh2):
+        raise TypeError(f"the trilist format writes a Mesh2, not a {type(value).__name__}")
+    number = number_formatter(exact)
+    text = {index: f"{number(p.x)} {number(p.y)}" for index, p in value.vertices.items()}
+    out = [f"{text[a]} {text[b]} {text[c]}" for a, b, c in value.triangles()]
+    return write_files([(path, "".join(line + "\n" for line in out))], overwrite=overwrite)
