@@ -25,6 +25,7 @@ from geomexact.mesh2d import Mesh2
 from geomexact.numbers import Rational, mpq
 from geomexact.points import Point2, Point3, point2, point3
 from geomexact.predicates import Orientation, orient2d
+from geomexact.pslg import PSLG
 from geomexact.trace import Trace, trace_of
 from geomexact.transient import Transient2, mesh_from_triangles
 
@@ -479,3 +480,93 @@ def _random_step(draw: st.DrawFn, t: Transient2, kinds: Sequence[str]) -> None:
             ops.insert_centroid_in(t, u, v, kind="vertices")
     except PreconditionError:
         pass  # the drawn edge did not suit this op (boundary, non-convex…): skip it
+
+
+def triangulations(max_steps: int = 20) -> st.SearchStrategy[Mesh2]:
+    """Valid triangle meshes: the ``end`` of :func:`meshes_with_traces`."""
+    return meshes_with_traces(max_steps=max_steps).map(lambda case: case[1])
+
+
+@st.composite
+def simple_polygons(
+    draw: st.DrawFn, min_size: int = 3, max_size: int = 12, *, scale: int = 16
+) -> list[Point2]:
+    """Vertices of a simple polygon, counter-clockwise: points at strictly increasing
+    angles around the origin (rational points of the unit circle) and random rational
+    radii in [scale/4, scale], so the polygon is star-shaped and may be very non-convex."""
+    _check_int("min_size", min_size, 3)
+    _check_int("max_size", max_size, min_size)
+    _check_int("scale", scale, 1)
+    size = draw(st.integers(min_size, max_size))
+    # directions at parameters -2, 0, 2 (angles about -127°, 0°, 127°) are always present, so
+    # consecutive vertices turn by less than 180° around the origin: the polygon is simple
+    anchors = {-16, 0, 16}
+    extra = draw(st.lists(st.integers(-64, 64).filter(lambda k: k not in anchors),
+                          min_size=size - 3, max_size=size - 3, unique=True))
+    parameters = sorted(anchors | set(extra))
+    polygon = []
+    for parameter in parameters:
+        ux, uy = _circle_point(mpq(parameter, 8))
+        radius = mpq(draw(st.integers(scale, 4 * scale)), 4)
+        polygon.append(point2(radius * ux, radius * uy))
+    area = sum(
+        (p.x * q.y - q.x * p.y for p, q in zip(polygon, polygon[1:] + polygon[:1], strict=True)),
+        mpq(0),
+    )
+    return polygon if area > 0 else polygon[::-1]
+
+
+@st.composite
+def pslgs(
+    draw: st.DrawFn, max_boundary: int = 10, max_points: int = 10, holes: bool = True
+) -> PSLG:
+    """A PSLG: a simple polygon (segments with marker 1), possibly a hole polygon near its
+    centre (segments with marker 2, its seed point in ``holes``) and free points strictly
+    inside the domain.  Exact coordinates."""
+    _check_int("max_boundary", max_boundary, 3)
+    _check_int("max_points", max_points, 0)
+    outer = draw(simple_polygons(3, max_boundary, scale=16))
+    vertices = list(outer)
+    n = len(outer)
+    segments = [(i, (i + 1) % n, 1) for i in range(n)]
+    hole_seeds: list[Point2] = []
+    # the disk of radius 2 around the origin is inside the outer polygon when every outer
+    # edge's line is farther than 2 from the origin (outer radii are at least 4)
+    clear = all(_line_distance_squared_exceeds(p, q, 4) for p, q in
+                zip(outer, outer[1:] + outer[:1], strict=True))
+    if holes and clear and draw(st.booleans()):
+        hole = [point2(x, y) for x, y in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+        start = len(vertices)
+        vertices.extend(hole)
+        segments.extend((start + i, start + (i + 1) % 4, 2) for i in range(4))
+        hole_seeds.append(point2(0, 0))
+    count = draw(st.integers(0, max_points))
+    for _ in range(count):
+        candidate = point2(mpq(draw(st.integers(-64, 64)), 8), mpq(draw(st.integers(-64, 64)), 8))
+        if candidate in vertices or not _inside_simple(candidate, outer):
+            continue
+        if hole_seeds and abs(candidate.x) <= 1 and abs(candidate.y) <= 1:
+            continue
+        vertices.append(candidate)
+    return PSLG(vertices=vertices, segments=segments, holes=hole_seeds)
+
+
+def _line_distance_squared_exceeds(p: Point2, q: Point2, limit: int) -> bool:
+    cross = p.x * q.y - q.x * p.y
+    length2 = (q.x - p.x) ** 2 + (q.y - p.y) ** 2
+    return bool(cross * cross > limit * length2)
+
+
+def _inside_simple(point: Point2, polygon: Sequence[Point2]) -> bool:
+    """Strictly inside (crossing number, exact; points on the border count as outside)."""
+    inside = False
+    for p, q in zip(polygon, [*polygon[1:], polygon[0]], strict=True):
+        if orient2d(p, q, point) == Orientation.COLLINEAR and (
+            min(p.x, q.x) <= point.x <= max(p.x, q.x) and min(p.y, q.y) <= point.y <= max(p.y, q.y)
+        ):
+            return False
+        if (p.y > point.y) != (q.y > point.y):
+            x = p.x + (point.y - p.y) * (q.x - p.x) / (q.y - p.y)
+            if x > point.x:
+                inside = not inside
+    return inside
