@@ -10,7 +10,7 @@ from pathlib import Path
 import meshio
 import numpy
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from test_io_support import grid_meshes, plain, same_doubles
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq
@@ -44,7 +44,6 @@ def test_round_trip_keeps_the_doubles(tmp_path: Path, extension: str) -> None:
     assert isinstance(again, Mesh2) and same_doubles(mesh, again)
 
 
-@settings(max_examples=25)
 @given(grid_meshes(dyadic=True))
 def test_meshes_of_doubles_round_trip_exactly(mesh: Mesh2) -> None:
     """Coordinates that are doubles come back exactly (markers etc. are not written)."""

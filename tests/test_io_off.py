@@ -7,7 +7,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from test_io_support import grid_meshes, plain, write
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, point2
@@ -17,7 +17,6 @@ from geomexact.polymesh import PolygonMesh
 TRIANGLE = "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
 
 
-@settings(max_examples=40)
 @given(grid_meshes())
 def test_mesh_round_trips_exactly(mesh: Mesh2) -> None:
     """OFF keeps vertices and triangles exactly (exact=True); not markers, attributes

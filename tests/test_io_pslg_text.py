@@ -8,7 +8,7 @@ from pathlib import Path
 
 import attrs
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from test_io_support import grid_meshes, pslgs, write
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, point2
@@ -16,7 +16,6 @@ from geomexact.errors import FormatError
 from geomexact.pslg import PSLG, RegionSeed
 
 
-@settings(max_examples=50)
 @given(pslgs())
 def test_pslg_round_trips_exactly(pslg: PSLG) -> None:
     """A PSLG with markers, attributes, segments, holes and regions round-trips (vertex
@@ -29,7 +28,6 @@ def test_pslg_round_trips_exactly(pslg: PSLG) -> None:
         assert io.read(target) == pslg
 
 
-@settings(max_examples=50)
 @given(grid_meshes())
 def test_mesh_round_trips_exactly(mesh: Mesh2) -> None:
     """A mesh with markers, attributes and segments round-trips, neighbours checked."""

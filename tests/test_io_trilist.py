@@ -6,13 +6,12 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-from hypothesis import given, settings
+from hypothesis import given
 from test_io_support import geometric_triangles, grid_meshes, write
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, validate
 
 
-@settings(max_examples=40)
 @given(grid_meshes(extras=False))
 def test_round_trip_keeps_the_triangles(mesh: Mesh2) -> None:
     """Written exactly and read back: the same triangles (as exact coordinates); ids
