@@ -13,6 +13,8 @@ import struct
 from collections.abc import Sequence
 from hashlib import blake2b
 
+import gmpy2
+
 from geomexact.numbers import Rational
 
 MODULUS = 1 << 128
@@ -27,10 +29,20 @@ def _rational_text(value: Rational) -> str:
     return f"{value.numerator}/{value.denominator}"
 
 
+_ID = struct.Struct("<Q").pack
+_to_binary = gmpy2.to_binary
+
+
 def vertex_hash(vertex: int, coordinates: Sequence[Rational]) -> int:
-    """Hash of vertex ``vertex`` at the exact ``coordinates``."""
-    text = ",".join(_rational_text(c) for c in coordinates)
-    return _hash(f"v{vertex}:{text}".encode())
+    """Hash of vertex ``vertex`` at the exact ``coordinates``: BLAKE2b-128 with
+    personalisation ``b"vertex"`` of the id (little-endian u64) followed by each coordinate
+    in gmpy2's portable, self-delimiting ``to_binary`` encoding."""
+    payload = _ID(vertex)
+    for coordinate in coordinates:
+        payload += _to_binary(coordinate)
+    return int.from_bytes(
+        blake2b(payload, digest_size=16, person=b"vertex").digest(), "little"
+    )
 
 
 _CELL_FORMATS = {3: struct.Struct("<3Q").pack, 4: struct.Struct("<4Q").pack}

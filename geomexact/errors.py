@@ -35,6 +35,10 @@ class FormatError(GeomexactError, ValueError):
         self.problem = problem
 
 
+class UnsupportedValueError(GeomexactError, TypeError):
+    """A value of a kind the chosen file format cannot hold (e.g. a PSLG written as OFF)."""
+
+
 class OverwriteError(GeomexactError, FileExistsError):
     """A writer refused to replace an existing file (pass ``overwrite=True`` / ``--force``)."""
 

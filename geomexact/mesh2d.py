@@ -202,6 +202,31 @@ def walk_star(
     return result
 
 
+def next_boundary_edge(apex: Callable[[int, int], int | None], u: int, v: int) -> Edge:
+    """The boundary half-edge (v, z) that follows the boundary half-edge (u, v) (a
+    half-edge with a triangle on its left and none on its right), found by turning around
+    v.  O(degree of v)."""
+    x = apex(u, v)
+    while x is not None:
+        y = apex(x, v)
+        if y is None:
+            return v, x
+        x = y
+    raise ValueError(f"({u}, {v}) is not a boundary half-edge")
+
+
+def previous_boundary_edge(apex: Callable[[int, int], int | None], u: int, v: int) -> Edge:
+    """The boundary half-edge (z, u) that precedes the boundary half-edge (u, v).
+    O(degree of u)."""
+    x = apex(u, v)
+    while x is not None:
+        y = apex(u, x)
+        if y is None:
+            return x, u
+        x = y
+    raise ValueError(f"({u}, {v}) is not a boundary half-edge")
+
+
 def _same_triangles(a: Mapping[Edge, int], b: Mapping[Edge, int]) -> bool:
     return len(a) == len(b) and all(b.get(key) == apex for key, apex in a.items())
 

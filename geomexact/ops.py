@@ -14,7 +14,14 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from geomexact.errors import PreconditionError
-from geomexact.mesh2d import Edge, Mesh2, Triangle, walk_star
+from geomexact.mesh2d import (
+    Edge,
+    Mesh2,
+    Triangle,
+    next_boundary_edge,
+    previous_boundary_edge,
+    walk_star,
+)
 from geomexact.points import Point2, point2
 from geomexact.predicates import CircleLocation, Orientation, incircle, orient2d
 from geomexact.step import Step
@@ -105,8 +112,11 @@ def flip_in(t: Transient2, u: int, v: int) -> Edge:
     return w, x
 
 
-def _split_edge(t: Transient2, op: str, u: int, v: int, point: Point2) -> int:
-    """Insert ``point`` (strictly inside segment uv) into edge {u, v}; return its id."""
+def _split_edge(
+    t: Transient2, op: str, u: int, v: int, point: Point2, vertex: int | None = None
+) -> int:
+    """Insert ``point`` (strictly inside segment uv) into edge {u, v}: a new vertex, or the
+    isolated ``vertex`` at ``point``; return its id."""
     w, x = t.apex(u, v), t.apex(v, u)
     if w is None and x is None:
         raise PreconditionError(op, f"({u}, {v}) is not an edge of the mesh", edge=(u, v))
@@ -118,7 +128,7 @@ def _split_edge(t: Transient2, op: str, u: int, v: int, point: Point2) -> int:
             edge=(u, v),
         )
     marker = t.segment_marker(u, v)
-    n = t.add_vertex(point, marker or 0)
+    n = t.add_vertex(point, marker or 0) if vertex is None else vertex
     if w is not None:
         attributes = t.remove_triangle(u, v, w)
         t.add_triangle(u, n, w, attributes)
@@ -154,32 +164,111 @@ def insert_in_edge_in(t: Transient2, u: int, v: int, point: Point2) -> int:
     return n
 
 
-def insert_in_triangle_in(t: Transient2, triangle: Triangle, point: Point2) -> int:
-    """Insert ``point``, strictly inside triangle (a, b, c), joined to a, b and c
-    (one triangle becomes three).  Returns the new vertex id."""
+def _split_triangle(
+    t: Transient2, op: str, triangle: Triangle, point: Point2, vertex: int | None = None
+) -> int:
+    """Join ``point`` (strictly inside ``triangle``) to its corners: a new vertex, or the
+    isolated ``vertex`` at ``point``; return its id."""
     a, b, c = triangle
     if t.apex(a, b) != c:
         raise PreconditionError(
-            "insert_in_triangle",
-            f"{triangle} is not a counter-clockwise triangle of the mesh",
-            triangle=triangle,
+            op, f"{triangle} is not a counter-clockwise triangle of the mesh", triangle=triangle
         )
     pa, pb, pc = t.point(a), t.point(b), t.point(c)
     if orient2d(pa, pb, point) != CCW or orient2d(pb, pc, point) != CCW or (
         orient2d(pc, pa, point) != CCW
     ):
         raise PreconditionError(
-            "insert_in_triangle",
+            op,
             f"point ({point.x}, {point.y}) is not strictly inside triangle {triangle}",
             triangle=triangle,
         )
-    n = t.add_vertex(point)
+    n = t.add_vertex(point) if vertex is None else vertex
     attributes = t.remove_triangle(a, b, c)
     t.add_triangle(a, b, n, attributes)
     t.add_triangle(b, c, n, attributes)
     t.add_triangle(c, a, n, attributes)
-    t.record(Step("insert_in_triangle", (a, b, c, point.x, point.y)))
     return n
+
+
+def insert_in_triangle_in(t: Transient2, triangle: Triangle, point: Point2) -> int:
+    """Insert ``point``, strictly inside triangle (a, b, c), joined to a, b and c
+    (one triangle becomes three).  Returns the new vertex id."""
+    n = _split_triangle(t, "insert_in_triangle", triangle, point)
+    t.record(Step("insert_in_triangle", (*triangle, point.x, point.y)))
+    return n
+
+
+# -- attaching existing isolated vertices (used to build triangulations) -----------------
+def _require_isolated(t: Transient2, op: str, vertex: int) -> Point2:
+    if not 0 <= vertex < t.vertex_count:
+        raise PreconditionError(op, f"vertex {vertex} does not exist", vertex=vertex)
+    if t.outgoing(vertex) is not None:
+        raise PreconditionError(op, f"vertex {vertex} is already in a triangle", vertex=vertex)
+    return t.point(vertex)
+
+
+def make_triangle_in(t: Transient2, a: int, b: int, c: int) -> Triangle:
+    """Create the triangle on three distinct isolated, non-collinear vertices (ordered
+    counter-clockwise); returns it as stored."""
+    points = [_require_isolated(t, "make_triangle", v) for v in (a, b, c)]
+    if len({a, b, c}) != 3:
+        raise PreconditionError("make_triangle", f"vertices {(a, b, c)} are not distinct")
+    orientation = orient2d(*points)
+    if orientation == COLLINEAR:
+        raise PreconditionError("make_triangle", f"vertices {(a, b, c)} are collinear")
+    triangle = (a, b, c) if orientation == CCW else (a, c, b)
+    t.add_triangle(*triangle)
+    t.record(Step("make_triangle", (a, b, c)))
+    return triangle
+
+
+def attach_in_triangle_in(t: Transient2, vertex: int, triangle: Triangle) -> None:
+    """Join the isolated ``vertex``, strictly inside ``triangle``, to its corners."""
+    point = _require_isolated(t, "attach_in_triangle", vertex)
+    _split_triangle(t, "attach_in_triangle", triangle, point, vertex)
+    t.record(Step("attach_in_triangle", (vertex, *triangle)))
+
+
+def attach_in_edge_in(t: Transient2, vertex: int, u: int, v: int) -> None:
+    """Split edge {u, v} at the isolated ``vertex``, strictly inside it (constrained
+    halves keep the marker; the vertex keeps its own marker)."""
+    point = _require_isolated(t, "attach_in_edge", vertex)
+    _split_edge(t, "attach_in_edge", u, v, point, vertex)
+    t.record(Step("attach_in_edge", (vertex, u, v)))
+
+
+def attach_outside_in(t: Transient2, vertex: int, u: int, v: int) -> list[Edge]:
+    """Join the isolated ``vertex``, strictly right of the boundary half-edge (u, v), to
+    every boundary edge it sees strictly (the contiguous run of boundary half-edges around
+    (u, v) with ``vertex`` strictly on their right): each such (a, b) gets the triangle
+    (b, a, vertex).  Meant for convex boundaries (incremental construction); returns the
+    edges joined, in boundary order."""
+    point = _require_isolated(t, "attach_outside", vertex)
+    if t.apex(u, v) is None or t.apex(v, u) is not None:
+        raise PreconditionError("attach_outside", f"({u}, {v}) is not a boundary half-edge")
+
+    def sees(edge: tuple[int, int]) -> bool:
+        return orient2d(t.point(edge[0]), t.point(edge[1]), point) == Orientation.CLOCKWISE
+
+    if not sees((u, v)):
+        raise PreconditionError(
+            "attach_outside", f"vertex {vertex} is not strictly right of edge ({u}, {v})"
+        )
+    visible = [(u, v)]
+    edge = next_boundary_edge(t.apex, u, v)
+    while edge != (u, v) and sees(edge):
+        visible.append(edge)
+        edge = next_boundary_edge(t.apex, *edge)
+    if edge != (u, v):
+        edge = previous_boundary_edge(t.apex, u, v)
+        while sees(edge):
+            visible.insert(0, edge)
+            edge = previous_boundary_edge(t.apex, *edge)
+    for a, b in visible:
+        t.add_triangle(b, a, vertex)
+    t.record(Step("attach_outside", (vertex, u, v)))
+    return visible
 
 
 def _insert_quadrilateral_point(
@@ -307,7 +396,28 @@ def _apply_insert_vertex_centroid(t: Transient2, step: Step) -> None:
     insert_centroid_in(t, u, v, kind="vertices")
 
 
+def _apply_make_triangle(t: Transient2, step: Step) -> None:
+    make_triangle_in(t, *_ints(step, 3, 3))
+
+
+def _apply_attach_in_triangle(t: Transient2, step: Step) -> None:
+    vertex, a, b, c = _ints(step, 4, 4)
+    attach_in_triangle_in(t, vertex, (a, b, c))
+
+
+def _apply_attach_in_edge(t: Transient2, step: Step) -> None:
+    attach_in_edge_in(t, *_ints(step, 3, 3))
+
+
+def _apply_attach_outside(t: Transient2, step: Step) -> None:
+    attach_outside_in(t, *_ints(step, 3, 3))
+
+
 OPERATIONS: dict[str, Callable[[Transient2, Step], None]] = {
+    "make_triangle": _apply_make_triangle,
+    "attach_in_triangle": _apply_attach_in_triangle,
+    "attach_in_edge": _apply_attach_in_edge,
+    "attach_outside": _apply_attach_outside,
     "flip": _apply_flip,
     "bisect": _apply_bisect,
     "insert_in_edge": _apply_insert_in_edge,

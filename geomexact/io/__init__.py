@@ -20,7 +20,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
 
-from geomexact.errors import FormatError
+from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
@@ -156,11 +156,12 @@ def write(
     exact: bool = False,
 ) -> list[Path]:
     """Write ``value`` to ``path`` (and the other files of a multi-file format); return
-    the paths written.  ``TypeError`` when the format cannot hold this kind of value."""
+    the paths written.  ``UnsupportedValueError`` (a ``TypeError``) when the format
+    cannot hold this kind of value."""
     chosen = _format(path, format)
     if not isinstance(value, chosen.kinds):
         kinds = " or ".join(kind.__name__ for kind in chosen.kinds)
-        raise TypeError(
+        raise UnsupportedValueError(
             f"the {chosen.name} format writes a {kinds}, not a {type(value).__name__}"
         )
     return chosen.write(Path(path), value, overwrite=overwrite, exact=exact)

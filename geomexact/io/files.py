@@ -3,6 +3,7 @@ never replace an existing file unless asked."""
 
 from __future__ import annotations
 
+import errno
 import os
 import tempfile
 from pathlib import Path
@@ -42,6 +43,10 @@ def write_bytes_atomic(path: str | Path, data: bytes, *, overwrite: bool = False
     if target.exists() and not overwrite:
         raise OverwriteError(str(target))
     directory = target.parent if str(target.parent) else Path(".")
+    if not directory.is_dir():
+        raise FileNotFoundError(
+            errno.ENOENT, f"cannot write {target}: directory {directory} does not exist"
+        )
     descriptor, temporary = tempfile.mkstemp(
         prefix=f".{target.name}.", suffix=".tmp", dir=directory
     )

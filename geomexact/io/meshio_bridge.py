@@ -17,7 +17,7 @@ from io import StringIO
 from pathlib import Path
 from typing import Any
 
-from geomexact.errors import FormatError, OverwriteError, RationalParseError
+from geomexact.errors import FormatError, OverwriteError, RationalParseError, UnsupportedValueError
 from geomexact.io.files import write_bytes_atomic
 from geomexact.io.registry import TriangleTable, Value, build_mesh
 from geomexact.mesh2d import Mesh2
@@ -133,7 +133,9 @@ def write_meshio(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -
     """A Mesh2 through meshio, floats (the format is chosen by the extension)."""
     del exact  # meshio formats store doubles
     if not isinstance(value, Mesh2):
-        raise TypeError(f"the meshio format writes a Mesh2, not a {type(value).__name__}")
+        raise UnsupportedValueError(
+            f"the meshio format writes a Mesh2, not a {type(value).__name__}"
+        )
     import meshio
     import numpy
 

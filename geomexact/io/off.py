@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geomexact.errors import FormatError
+from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.files import read_text
 from geomexact.io.registry import (
     Lines,
@@ -314,7 +314,7 @@ def write_off(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> l
         points = list(value.vertices)
         faces = list(value.polygons)
     else:
-        raise TypeError(
+        raise UnsupportedValueError(
             f"the off format writes a Mesh2 or a PolygonMesh, not a {type(value).__name__}"
         )
     out = ["OFF", f"{len(points)} {len(faces)} 0"]

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import attrs
 
-from geomexact.errors import FormatError
+from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.files import read_text
 from geomexact.io.registry import (
     TriangleTable,
@@ -299,7 +299,9 @@ def write_pslg_text(path: Path, value: Value, /, *, overwrite: bool, exact: bool
     elif isinstance(value, Mesh2):
         _mesh_records(value, number, out)
     else:
-        raise TypeError(f"the pslg format writes a PSLG or a Mesh2, not a {type(value).__name__}")
+        raise UnsupportedValueError(
+            f"the pslg format writes a PSLG or a Mesh2, not a {type(value).__name__}"
+        )
     return write_files([(path, "".join(line + "\n" for line in out))], overwrite=overwrite)
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import attrs
 
-from geomexact.errors import FormatError
+from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.files import read_text
 from geomexact.io.registry import (
     Lines,
@@ -203,7 +203,9 @@ def write_node(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> 
     """The vertices of a PSLG (markers, attributes) as a ``.node`` file; its segments,
     holes and regions are not part of a ``.node`` (write a ``.poly`` for them)."""
     if not isinstance(value, PSLG):
-        raise TypeError(f"the node format writes a PSLG, not a {type(value).__name__}")
+        raise UnsupportedValueError(
+            f"the node format writes a PSLG, not a {type(value).__name__}"
+        )
     return write_files([(path, _pslg_node_text(value, exact))], overwrite=overwrite)
 
 
@@ -360,7 +362,9 @@ def _poly_sections_text(
 def write_poly(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
     """A PSLG as one self-contained ``.poly`` file (vertices inline, 0-based)."""
     if not isinstance(value, PSLG):
-        raise TypeError(f"the poly format writes a PSLG, not a {type(value).__name__}")
+        raise UnsupportedValueError(
+            f"the poly format writes a PSLG, not a {type(value).__name__}"
+        )
     text = _pslg_node_text(value, exact) + "\n".join(
         _poly_sections_text(value.segments, value.holes, value.regions, exact)
     ) + "\n"
@@ -603,7 +607,9 @@ def write_triangle(path: Path, value: Value, /, *, overwrite: bool, exact: bool)
     """A mesh as ``stem.node``, ``stem.ele`` and ``stem.neigh`` (0-based, triangles in
     canonical order), plus ``stem.poly`` (vertex count 0) when it has segments."""
     if not isinstance(value, Mesh2):
-        raise TypeError(f"the triangle format writes a Mesh2, not a {type(value).__name__}")
+        raise UnsupportedValueError(
+            f"the triangle format writes a Mesh2, not a {type(value).__name__}"
+        )
     mesh = value
     stem = _mesh_stem(path)
     number = number_formatter(exact)

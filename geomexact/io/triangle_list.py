@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geomexact.errors import FormatError
+from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.files import read_text
 from geomexact.io.registry import (
     TriangleTable,
@@ -74,7 +74,9 @@ def write_triangle_list(
 ) -> list[Path]:
     """A Mesh2's triangles, one ``x1 y1 x2 y2 x3 y3`` line each (canonical order)."""
     if not isinstance(value, Mesh2):
-        raise TypeError(f"the trilist format writes a Mesh2, not a {type(value).__name__}")
+        raise UnsupportedValueError(
+            f"the trilist format writes a Mesh2, not a {type(value).__name__}"
+        )
     number = number_formatter(exact)
     text = {index: f"{number(p.x)} {number(p.y)}" for index, p in value.vertices.items()}
     out = [f"{text[a]} {text[b]} {text[c]}" for a, b, c in value.triangles()]
