@@ -303,7 +303,19 @@ def orient2d(a: Point2, b: Point2, c: Point2) -> Orientation:
     acy = a[3] - cy
     bcx = b[2] - cx
     bcy = b[3] - cy
-    det = acx * bcy - acy * bcx
+    left = acx * bcy
+    right = acy * bcx
+    # Sign shortcut: rounding to nearest is monotonic, so a nonzero float difference has the
+    # sign of the exact difference, and a nonzero float product the sign of the exact one;
+    # products of opposite strict signs therefore fix the sign of the exact determinant.
+    if left > 0.0:
+        if right < 0.0:
+            _O2D[0] += 1
+            return _CCW
+    elif left < 0.0 and right > 0.0:
+        _O2D[0] += 1
+        return _CW
+    det = left - right
     t = abs(acx) + abs(acy) + abs(bcx) + abs(bcy) + ORIENT2D_K
     bound = t * (abs(cx) + abs(cy) + t) * ORIENT2D_C
     if det > bound:
