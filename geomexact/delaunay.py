@@ -8,6 +8,7 @@ Cocircular quadrilaterals count as Delaunay.  See ``specs/delaunay.md``.
 
 from __future__ import annotations
 
+import collections
 import gc
 import math
 import random
@@ -24,12 +25,24 @@ from geomexact.mesh2d import (
     empty_mesh,
     next_boundary_edge,
     previous_boundary_edge,
+    walk_star,
+)
+from geomexact.ops import (
+    carve_exterior_in,
+    carve_in,
+    constrain_in,
+    containing_triangle,
+    exterior_triangles,
+    flip_in,
+    insert_in_edge_in,
+    set_region_in,
 )
 from geomexact.points import Point2
 from geomexact.predicates import CircleLocation, Orientation, incircle, orient2d
 from geomexact.pslg import PSLG
+from geomexact.segments import crossing_point, meeting_pairs, within_box
 from geomexact.step import Step
-from geomexact.trace import Trace
+from geomexact.trace import Trace, trace_of
 from geomexact.transient import Transient2
 
 _MASK = MODULUS - 1
@@ -387,3 +400,218 @@ def triangulate_points(
                   {"algorithm": "delaunay", "seed": seed,
                    "merge_duplicates": merge_duplicates}, __version__)
     return Construction(start, mesh, trace, tuple(duplicates))
+
+
+# ---------------------------------------------------------------------------------------
+# Lawson flips, segment recovery, constrained Delaunay triangulation of a PSLG
+# ---------------------------------------------------------------------------------------
+def make_delaunay_in(t: Transient2) -> int:
+    """Lawson's flip algorithm on a transient: flip every unconstrained interior edge that
+    is not locally Delaunay (a strict incircle test: cocircular quadrilaterals are left
+    alone) until none is left; edges are examined from a stack seeded with all edges in
+    sorted order, and the four outer edges of each flipped quadrilateral are pushed back.
+    Terminates (each flip lifts the triangulation strictly, Lawson 1977).  Returns the
+    number of flips."""
+    pending = sorted(t.iter_edges(), reverse=True)
+    flips = 0
+    while pending:
+        u, v = pending.pop()
+        w, x = t.apex(u, v), t.apex(v, u)
+        if w is None or x is None or t.segment_marker(u, v) is not None:
+            continue
+        pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
+        if incircle(pu, pv, pw, px) != INSIDE:
+            continue
+        if orient2d(px, pw, pu) != CCW or orient2d(pw, px, pv) != CCW:
+            continue
+        if t.triangle_attributes((u, v, w)) != t.triangle_attributes((v, u, x)):
+            continue
+        flip_in(t, u, v)
+        flips += 1
+        pending.extend(sorted([(min(a, b), max(a, b)) for a, b in
+                               ((u, x), (x, v), (v, w), (w, u))], reverse=True))
+    return flips
+
+
+def make_delaunay(mesh: Mesh2) -> tuple[Mesh2, Trace]:
+    """The (constrained) Delaunay triangulation of the same vertices, segments and
+    domain as ``mesh``, by Lawson flips; the trace records the flips."""
+    transient = Transient2(mesh)
+    make_delaunay_in(transient)
+    result = transient.seal()
+    return result, trace_of(mesh, transient, {"algorithm": "lawson"})
+
+
+class SegmentError(PreconditionError):
+    """Input segments that cross each other or pass through a vertex, when splitting them
+    is not allowed; ``pairs`` lists the offending (segment, segment-or-vertex) pairs."""
+
+
+def _crossing_report(pslg: PSLG) -> str:
+    points = pslg.vertices
+    pairs = meeting_pairs(points, [(u, v) for u, v, _ in pslg.segments])
+    through = []
+    for u, v, _ in pslg.segments:
+        for w in range(len(points)):
+            if w not in (u, v) and orient2d(points[u], points[v], points[w]) == COLLINEAR \
+                    and within_box(points[w], points[u], points[v]):
+                through.append(((u, v), w))
+                if len(through) > 20:
+                    break
+    lines = [f"segments {a} and {b} meet" for a, b in pairs[:20]]
+    lines += [f"segment {s} passes through vertex {w}" for s, w in through[:20]]
+    return "; ".join(lines) or "segments meet"
+
+
+def _insert_segment(t: Transient2, u: int, v: int, marker: int, split: bool,
+                    pslg: PSLG) -> None:
+    """Make {u, v} (a union of) constrained edges: split at vertices on it and (when
+    ``split``) at crossings with constrained edges, then flip away the edges it crosses
+    (Sloan 1993)."""
+    work = [(u, v)]
+    while work:
+        a, b = work.pop()
+        if a == b:
+            continue
+        if t.apex(a, b) is not None or t.apex(b, a) is not None:
+            if t.segment_marker(a, b) is None:
+                constrain_in(t, a, b, marker)
+            continue
+        crossed, stop = _crossed_edges(t, a, b)
+        if stop is not None:
+            kind, data = stop
+            if not split:
+                raise SegmentError("triangulate", "segments cross or pass through vertices "
+                                   "(pass split_segments=True / --split-segments to split them "
+                                   "there): " + _crossing_report(pslg))
+            if kind == "vertex":
+                w = data[0]
+            else:  # a constrained edge (p, q) crosses ab: split both at the crossing
+                p, q = data
+                point = crossing_point(t.point(a), t.point(b), t.point(p), t.point(q))
+                w = insert_in_edge_in(t, p, q, point)
+            work.append((w, b))
+            work.append((a, w))
+            continue
+        _flip_out(t, a, b, crossed)
+        constrain_in(t, a, b, marker)
+
+
+def _crossed_edges(
+    t: Transient2, a: int, b: int
+) -> tuple[list[tuple[int, int]], tuple[str, tuple[int, ...]] | None]:
+    """Edges crossed by segment ab, walking from a; or a stop: ("vertex", (w,)) for the
+    first vertex w strictly inside ab, ("constrained", (p, q)) for the first constrained
+    edge crossed."""
+    pa, pb = t.point(a), t.point(b)
+    current: tuple[int, int] | None = None  # (vertex left of ab, vertex right of ab)
+    for _, first, second in walk_star(t.apex, a, t.outgoing(a)):
+        side = orient2d(pa, pb, t.point(first))
+        if side == COLLINEAR and within_box(t.point(first), pa, pb):
+            return [], ("vertex", (first,))
+        if side == CW and orient2d(pa, pb, t.point(second)) == CCW:
+            current = (second, first)
+            break
+    if current is None:
+        raise PreconditionError("triangulate", f"segment ({a}, {b}) leaves the mesh at {a}")
+    crossed: list[tuple[int, int]] = []
+    while True:
+        left, right = current
+        if t.segment_marker(left, right) is not None:
+            return crossed, ("constrained", (left, right))
+        crossed.append(current)
+        c = t.apex(left, right)
+        if c is None:
+            raise PreconditionError("triangulate", f"segment ({a}, {b}) leaves the mesh")
+        if c == b:
+            return crossed, None
+        side = orient2d(pa, pb, t.point(c))
+        if side == COLLINEAR:
+            return crossed, ("vertex", (c,))
+        current = (c, right) if side == CCW else (left, c)
+
+
+def _flip_out(t: Transient2, a: int, b: int, crossed: list[tuple[int, int]]) -> None:
+    """Flip the edges crossing ab until ab is an edge (Sloan's queue: an edge whose
+    quadrilateral is not strictly convex waits at the back)."""
+    pa, pb = t.point(a), t.point(b)
+    queue = collections.deque(crossed)
+    stalled = 0
+    while queue:
+        u, v = queue.popleft()
+        w, x = t.apex(u, v), t.apex(v, u)
+        assert w is not None and x is not None  # crossing edges are interior
+        pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
+        if orient2d(px, pw, pu) != CCW or orient2d(pw, px, pv) != CCW:
+            queue.append((u, v))
+            stalled += 1
+            if stalled > len(queue) + 1:
+                raise PreconditionError("triangulate", f"cannot recover segment ({a}, {b})")
+            continue
+        stalled = 0
+        flip_in(t, u, v)
+        if {w, x} == {a, b}:
+            continue
+        sw, sx = orient2d(pa, pb, pw), orient2d(pa, pb, px)
+        if sw * sx < 0:
+            queue.append((w, x) if sw == CCW else (x, w))
+
+
+def triangulate(
+    pslg: PSLG | Sequence[Point2],
+    *,
+    keep_convex_hull: bool = False,
+    split_segments: bool = False,
+    merge_duplicates: bool = False,
+    seed: int = 0,
+) -> Construction:
+    """The constrained Delaunay triangulation of a PSLG (a point set gives its Delaunay
+    triangulation).
+
+    1. :func:`triangulate_points` on all vertices;
+    2. each segment, in input order, is recovered by flips (Sloan) and constrained; a
+       vertex lying on a segment or two crossing segments raise :class:`SegmentError`
+       listing them, unless ``split_segments`` (then the segment is split at the vertex, and
+       crossing segments at their exact crossing point, a new vertex);
+    3. Lawson flips make it constrained Delaunay;
+    4. unless ``keep_convex_hull``, triangles outside the segments are removed (when the
+       PSLG has segments), then each hole seed's region, then regional attributes are set.
+
+    Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
+    vertices) to ``mesh``.
+    """
+    pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
+    points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed)
+    if not (pslg.segments or pslg.holes or pslg.regions):
+        return points_run
+    remap = dict(points_run.duplicates)
+    transient = Transient2(points_run.mesh)
+    previous = gc.isenabled()
+    gc.disable()
+    try:
+        for u, v, marker in pslg.segments:
+            _insert_segment(transient, remap.get(u, u), remap.get(v, v), marker,
+                            split_segments, pslg)
+        make_delaunay_in(transient)
+        if pslg.segments and not keep_convex_hull and exterior_triangles(transient):
+            carve_exterior_in(transient)
+        for hole in pslg.holes:
+            if containing_triangle(transient, hole) is not None:
+                carve_in(transient, hole.x, hole.y)
+        for region in pslg.regions:
+            if containing_triangle(transient, region.point) is not None:
+                set_region_in(transient, region.point.x, region.point.y, (region.attribute,))
+    finally:
+        if previous:
+            gc.enable()
+    mesh = transient.seal()
+    first = points_run.trace
+    trace = Trace(
+        first.input_digest,
+        (*first.steps, *transient.steps),
+        (*first.digests, *transient.step_digests),
+        {**dict(first.parameters), "keep_convex_hull": keep_convex_hull,
+         "split_segments": split_segments},
+        first.version,
+    )
+    return Construction(points_run.start, mesh, trace, points_run.duplicates)

@@ -18,6 +18,7 @@ from geomexact.mesh2d import (
     Edge,
     Mesh2,
     Triangle,
+    canonical_triangle,
     next_boundary_edge,
     previous_boundary_edge,
     walk_star,
@@ -348,6 +349,104 @@ def legalize_in(t: Transient2, vertex: int) -> list[Step]:
     return flips
 
 
+# -- constraints and regions (used to build constrained triangulations) ------------------
+def constrain_in(t: Transient2, u: int, v: int, marker: int = 0) -> None:
+    """Make the existing, unconstrained edge {u, v} a constrained segment with ``marker``."""
+    if t.apex(u, v) is None and t.apex(v, u) is None:
+        raise PreconditionError("constrain", f"({u}, {v}) is not an edge of the mesh")
+    if t.segment_marker(u, v) is not None:
+        raise PreconditionError("constrain", f"edge ({u}, {v}) is already constrained")
+    t.set_segment(u, v, marker)
+    t.record(Step("constrain", (u, v, marker)))
+
+
+def containing_triangle(t: Transient2, point: Point2) -> Triangle | None:
+    """The triangle (canonical form) whose closure contains ``point``: the smallest such
+    triangle when the point is on an edge or a vertex; None outside the mesh.  O(n)."""
+    best: Triangle | None = None
+    for (a, b), c in t.halfedges_snapshot().items():
+        if not (a < b and a < c) or (best is not None and (a, b, c) >= best):
+            continue
+        pa, pb, pc = t.point(a), t.point(b), t.point(c)
+        if (orient2d(pa, pb, point) != Orientation.CLOCKWISE
+                and orient2d(pb, pc, point) != Orientation.CLOCKWISE
+                and orient2d(pc, pa, point) != Orientation.CLOCKWISE):
+            best = (a, b, c)
+    return best
+
+
+def _flood(t: Transient2, seeds: list[Triangle]) -> list[Triangle]:
+    """Triangles reachable from ``seeds`` across unconstrained edges, sorted."""
+    seen = set(seeds)
+    stack = list(seeds)
+    while stack:
+        a, b, c = stack.pop()
+        for u, v in ((a, b), (b, c), (c, a)):
+            if t.segment_marker(u, v) is not None:
+                continue
+            w = t.apex(v, u)
+            if w is None:
+                continue
+            neighbour = canonical_triangle(v, u, w)
+            if neighbour not in seen:
+                seen.add(neighbour)
+                stack.append(neighbour)
+    return sorted(seen)
+
+
+def _region_of_point(t: Transient2, op: str, x: object, y: object) -> list[Triangle]:
+    point = point2(x, y)
+    seed = containing_triangle(t, point)
+    if seed is None:
+        raise PreconditionError(op, f"point ({point.x}, {point.y}) is in no triangle")
+    return _flood(t, [seed])
+
+
+def carve_in(t: Transient2, x: object, y: object) -> int:
+    """Remove the region containing point (x, y): the triangle containing it (see
+    :func:`containing_triangle`) and every triangle reachable from it without crossing a
+    constrained segment — Triangle's hole seeds.  Returns the number removed."""
+    point = point2(x, y)
+    region = _region_of_point(t, "carve", point.x, point.y)
+    for triangle in region:
+        t.remove_triangle(*triangle)
+    t.record(Step("carve", (point.x, point.y)))
+    return len(region)
+
+
+def exterior_triangles(t: Transient2) -> list[Triangle]:
+    """Triangles reachable from an unconstrained boundary edge without crossing a
+    constrained segment (the part of a convex-hull triangulation outside the PSLG)."""
+    halfedges = t.halfedges_snapshot()
+    seeds = sorted(
+        canonical_triangle(u, v, w)
+        for (u, v), w in halfedges.items()
+        if (v, u) not in halfedges and t.segment_marker(u, v) is None
+    )
+    return _flood(t, seeds) if seeds else []
+
+
+def carve_exterior_in(t: Transient2) -> int:
+    """Remove :func:`exterior_triangles`; returns the number removed."""
+    region = exterior_triangles(t)
+    for triangle in region:
+        t.remove_triangle(*triangle)
+    t.record(Step("carve_exterior", ()))
+    return len(region)
+
+
+def set_region_in(t: Transient2, x: object, y: object, attributes: tuple[object, ...]) -> int:
+    """Give ``attributes`` (exact rationals) to the region containing (x, y), bounded by
+    constrained segments (Triangle's regional attributes).  Returns the triangles set."""
+    values = tuple(point2(value, 0).x for value in attributes)
+    region = _region_of_point(t, "set_region", x, y)
+    for triangle in region:
+        t.set_triangle_attributes(triangle, values)
+    point = point2(x, y)
+    t.record(Step("set_region", (point.x, point.y, *values)))
+    return len(region)
+
+
 # ---------------------------------------------------------------------------------------
 # steps
 # ---------------------------------------------------------------------------------------
@@ -413,7 +512,33 @@ def _apply_attach_outside(t: Transient2, step: Step) -> None:
     attach_outside_in(t, *_ints(step, 3, 3))
 
 
+def _apply_constrain(t: Transient2, step: Step) -> None:
+    constrain_in(t, *_ints(step, 3, 3))
+
+
+def _apply_carve(t: Transient2, step: Step) -> None:
+    if len(step.args) != 2:
+        raise PreconditionError("carve", f"expects 2 arguments, got {len(step.args)}: {step}")
+    carve_in(t, *step.args)
+
+
+def _apply_carve_exterior(t: Transient2, step: Step) -> None:
+    if step.args:
+        raise PreconditionError("carve_exterior", f"takes no arguments: {step}")
+    carve_exterior_in(t)
+
+
+def _apply_set_region(t: Transient2, step: Step) -> None:
+    if len(step.args) < 3:
+        raise PreconditionError("set_region", f"expects x, y and attributes: {step}")
+    set_region_in(t, step.args[0], step.args[1], tuple(step.args[2:]))
+
+
 OPERATIONS: dict[str, Callable[[Transient2, Step], None]] = {
+    "constrain": _apply_constrain,
+    "carve": _apply_carve,
+    "carve_exterior": _apply_carve_exterior,
+    "set_region": _apply_set_region,
     "make_triangle": _apply_make_triangle,
     "attach_in_triangle": _apply_attach_in_triangle,
     "attach_in_edge": _apply_attach_in_edge,

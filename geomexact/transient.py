@@ -218,6 +218,14 @@ class Transient2:
                 return attributes
         return None
 
+    def set_triangle_attributes(self, triangle: Triangle, attributes: Attributes) -> None:
+        """Replace the attributes of an existing triangle (any rotation); ``()`` clears."""
+        self._check_open()
+        a, b, c = triangle
+        old = self.remove_triangle(a, b, c)
+        del old
+        self.add_triangle(a, b, c, tuple(attributes) or None)
+
     def set_segment(self, u: int, v: int, marker: int = 0) -> None:
         """Mark {u, v} as a constrained segment with ``marker`` (replacing any marker)."""
         self._check_open()
@@ -260,17 +268,17 @@ class Transient2:
         if not broken:
             self.stale_outgoing.clear()
             return
-        # rare (triangles removed without replacement, e.g. carving a hole): one scan
+        # rare (triangles removed without replacement, e.g. carving a hole): one scan; the
+        # new hint is the smallest neighbour, so it does not depend on the table's order
         wanted = set(broken)
         for vertex in broken:
             del outgoing[vertex]
-        for key in self.halfedges_snapshot():
-            u = key[0]
-            if u in wanted:
-                outgoing[u] = key[1]
-                wanted.discard(u)
-                if not wanted:
-                    break
+        best: dict[int, int] = {}
+        for u, w in self.halfedges_snapshot():
+            if u in wanted and (u not in best or w < best[u]):
+                best[u] = w
+        for vertex, w in best.items():
+            outgoing[vertex] = w
         self.stale_outgoing.clear()
 
     def seal(self) -> Mesh2:

@@ -13,8 +13,8 @@ from geomexact.errors import InvalidMeshError
 from geomexact.measures import boundary_enclosed_area, total_area
 from geomexact.mesh2d import Mesh2, canonical_triangle, full_digest
 from geomexact.numbers import format_rational
-from geomexact.points import Point2
 from geomexact.predicates import Orientation, orient2d
+from geomexact.segments import meeting_pairs
 
 
 @attrs.frozen(slots=True)
@@ -142,57 +142,11 @@ def check(mesh: Mesh2) -> Mesh2:
 
 
 def _boundary_crossings(mesh: Mesh2) -> list[Violation]:
-    """Pairs of boundary edges that intersect anywhere but at a shared endpoint (a sweep
-    over x; exact)."""
-    vertices = mesh.vertices
-    edges = sorted(
-        (min(vertices[u].x, vertices[v].x), u, v) for u, v in mesh.boundary_edges()
-    )
-    found: list[Violation] = []
-    active: list[tuple[int, int]] = []
-    for low_x, u, v in edges:
-        active = [(a, b) for a, b in active if max(vertices[a].x, vertices[b].x) >= low_x]
-        for a, b in active:
-            if _segments_meet_improperly(mesh, (u, v), (a, b)):
-                found.append(Violation(
-                    "overlap", f"boundary edges ({a}, {b}) and ({u}, {v}) intersect",
-                    (a, b, u, v)))
-        active.append((u, v))
-    return found
-
-
-def _segments_meet_improperly(mesh: Mesh2, first: tuple[int, int],
-                              second: tuple[int, int]) -> bool:
-    (u, v), (a, b) = first, second
-    pu, pv, pa, pb = (mesh.vertices[i] for i in (u, v, a, b))
-    shared = {u, v} & {a, b}
-    if len(shared) == 2:
-        return True  # the same edge on the boundary twice
-    o1, o2 = orient2d(pu, pv, pa), orient2d(pu, pv, pb)
-    o3, o4 = orient2d(pa, pb, pu), orient2d(pa, pb, pv)
-    if shared:
-        # collinear and overlapping beyond the shared endpoint
-        if o1 == o2 == Orientation.COLLINEAR:
-            common = shared.pop()
-            other_first = v if common == u else u
-            other_second = b if common == a else a
-            pc, p1, p2 = (mesh.vertices[i] for i in (common, other_first, other_second))
-            dot = (p1.x - pc.x) * (p2.x - pc.x) + (p1.y - pc.y) * (p2.y - pc.y)
-            return bool(dot > 0)
-        return False
-    if o1 * o2 < 0 and o3 * o4 < 0:
-        return True
-    # touching: an endpoint of one on the other (closed segments)
-    return any(
-        orientation == Orientation.COLLINEAR and _within_box(p, q, r)
-        for orientation, p, q, r in (
-            (o1, pa, pu, pv), (o2, pb, pu, pv), (o3, pu, pa, pb), (o4, pv, pa, pb)
-        )
-    )
-
-
-def _within_box(p: Point2, q: Point2, r: Point2) -> bool:
-    return bool(min(q.x, r.x) <= p.x <= max(q.x, r.x) and min(q.y, r.y) <= p.y <= max(q.y, r.y))
+    """Pairs of boundary edges that meet anywhere but at a shared endpoint."""
+    return [
+        Violation("overlap", f"boundary edges {first} and {second} intersect", (*first, *second))
+        for first, second in meeting_pairs(mesh.vertices, mesh.boundary_edges())
+    ]
 
 
 def _stacked_components(mesh: Mesh2, triangles: list[tuple[int, int, int]]) -> list[Violation]:
