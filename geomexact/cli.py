@@ -1,6 +1,7 @@
 """The ``geomexact`` command: parses arguments, calls the library, prints.
 
-Commands: ``info``, ``check``, ``convert``, ``replay``, ``demo`` (see ``docs/cli.md``).
+Commands: ``info``, ``check``, ``convert``, ``replay``, ``triangulate``, ``demo`` (see
+``docs/cli.md``).
 Exit codes: 0 success; 1 a check failed or a trace diverged; 2 bad input or usage.  Every
 error geomexact raises on purpose (:class:`~geomexact.errors.GeomexactError`) and every
 ``OSError`` is reported as one line ``geomexact: error: …`` on stderr, never as a
@@ -13,6 +14,7 @@ import argparse
 import json
 import os
 import sys
+import time
 from collections.abc import Callable, Sequence
 from importlib import resources
 from pathlib import Path
@@ -21,13 +23,14 @@ from typing import Any, NoReturn, TypeAlias
 import attrs
 
 from geomexact import __version__, io
+from geomexact.delaunay import is_delaunay, make_delaunay, triangulate, vertices_mesh
 from geomexact.errors import GeomexactError, OverwriteError, TraceError
 from geomexact.mesh2d import Mesh2
 from geomexact.numbers import format_rational
 from geomexact.polymesh import PolygonMesh
 from geomexact.pslg import PSLG
 from geomexact.summary import mesh_summary
-from geomexact.trace import read_trace, replay
+from geomexact.trace import read_trace, replay, write_trace
 from geomexact.validate import validate
 
 EXIT_OK = 0
@@ -271,8 +274,15 @@ def command_convert(args: argparse.Namespace) -> int:
 
 
 def command_replay(args: argparse.Namespace) -> int:
-    """Replay a trace on its input mesh, checking every digest, and write the result."""
-    start = _load_mesh(args.input, args.format, args.verbose, "replay")
+    """Replay a trace on its input mesh (or on the PSLG a triangulation trace started
+    from), checking every digest, and write the result."""
+    loaded = _load(args.input, args.format, args.verbose)
+    if isinstance(loaded.value, PSLG):
+        start = vertices_mesh(loaded.value)
+    elif isinstance(loaded.value, Mesh2):
+        start = loaded.value
+    else:
+        raise UsageProblem(f"{args.input}: replay needs a triangle mesh or a PSLG")
     trace = read_trace(args.trace)
     try:
         result = replay(start, trace, until=args.until)
@@ -314,6 +324,59 @@ def command_replay(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def command_triangulate(args: argparse.Namespace) -> int:
+    """(Constrained) Delaunay triangulation of a point set or PSLG, or Lawson flips of a
+    triangle mesh into a Delaunay one; writes the mesh and optionally the trace."""
+    loaded = _load(args.input, args.format, args.verbose)
+    started = time.perf_counter()
+    if isinstance(loaded.value, Mesh2):
+        mesh, trace = make_delaunay(loaded.value)
+        algorithm = "lawson flips"
+    elif isinstance(loaded.value, PSLG):
+        construction = triangulate(
+            loaded.value,
+            keep_convex_hull=args.keep_convex_hull,
+            split_segments=args.split_segments,
+            merge_duplicates=args.merge_duplicates,
+        )
+        mesh, trace = construction.mesh, construction.trace
+        algorithm = "constrained delaunay" if loaded.value.segments else "delaunay"
+    else:
+        raise UsageProblem(f"{args.input}: a polygon mesh cannot be triangulated here")
+    seconds = time.perf_counter() - started
+    written: list[Path] = []
+    if args.output:
+        written += _write(args.output, mesh, args.to, overwrite=args.force, exact=args.exact)
+    if args.trace:
+        trace_path = Path(args.trace)
+        write_trace(trace_path, trace, overwrite=args.force)
+        written.append(trace_path)
+    violations = validate(mesh) if args.check else []
+    delaunay_ok = is_delaunay(mesh)
+    report = {
+        "input": args.input,
+        "algorithm": algorithm,
+        **mesh_summary(mesh),
+        "steps": len(trace),
+        "seconds": round(seconds, 6),
+        "valid": not violations,
+        "written": [str(path) for path in written],
+    }
+    if args.json:
+        _print_json(report)
+    else:
+        _print_table(f"{args.input}: {algorithm} in {seconds:.3f} s, {len(trace)} steps",
+                     {k: v for k, v in report.items() if k not in {"input", "algorithm",
+                                                                    "written", "seconds"}})
+        for path in written:
+            print(f"wrote {path}")
+        for violation in violations:
+            print(f"  {violation}")
+    if args.check and (violations or not delaunay_ok):
+        return EXIT_FAILED
+    return EXIT_OK
+
+
 # -- demo: the README's main job ----------------------------------------------------------
 DEMO_INPUT = "superior.poly"
 DEMO_SOURCE = "Unity-Technologies/triangle.net @ 730f6c4, Data/superior.poly"
@@ -326,6 +389,7 @@ class DemoRun:
     directory: Path
     force: bool
     pslg: PSLG | None = None
+    mesh: Mesh2 | None = None
     report: dict[str, Any] = attrs.Factory(dict)
     written: list[Path] = attrs.Factory(list)
 
@@ -363,10 +427,33 @@ def _demo_write_input(run: DemoRun) -> None:
     run.write("superior.poly", run.pslg, "poly")
 
 
+def _demo_triangulate(run: DemoRun) -> None:
+    if run.pslg is None:
+        raise RuntimeError("the demo's read step must run before triangulate")
+    started = time.perf_counter()
+    construction = triangulate(run.pslg)
+    run.mesh = construction.mesh
+    run.report["triangulation"] = {
+        **mesh_summary(construction.mesh),
+        "steps": len(construction.trace),
+        "seconds": round(time.perf_counter() - started, 6),
+    }
+    run.write("superior.1.ele", construction.mesh, "triangle")
+    trace_path = run.directory / "superior.1.trace.jsonl"
+    write_trace(trace_path, construction.trace, overwrite=run.force)
+    run.written.append(trace_path)
+
+
 DEMO_STEPS: tuple[DemoStep, ...] = (
     DemoStep("read", (), _demo_read),
     DemoStep("write-input", ("superior.node", "superior.poly"), _demo_write_input),
-    # later issues: ("triangulate", …), ("refine", …), ("draw", …)
+    DemoStep(
+        "triangulate",
+        ("superior.1.node", "superior.1.ele", "superior.1.neigh", "superior.1.poly",
+         "superior.1.trace.jsonl"),
+        _demo_triangulate,
+    ),
+    # later issues: ("refine", …), ("draw", …)
 )
 
 
@@ -389,6 +476,8 @@ def command_demo(args: argparse.Namespace) -> int:
         return EXIT_OK
     summary = {k: v for k, v in run.report["input"].items() if k not in {"file", "source"}}
     _print_table(f"Lake Superior PSLG ({DEMO_INPUT}, from {DEMO_SOURCE})", summary)
+    if "triangulation" in run.report:
+        _print_table("constrained Delaunay triangulation", run.report["triangulation"])
     for path in run.written:
         print(f"wrote {path}")
     return EXIT_OK
@@ -501,6 +590,32 @@ def build_parser() -> argparse.ArgumentParser:
     replay_.add_argument("--force", action="store_true", help="replace existing files")
     json_flag(replay_)
     verbose(replay_)
+
+    triangulate_ = add(
+        "triangulate", command_triangulate,
+        "(constrained) Delaunay triangulation of points / a PSLG, or Lawson flips of a mesh",
+    )
+    triangulate_.add_argument("input", metavar="INPUT",
+                              help=".node, .poly, PSLG text or a triangle mesh (OFF, .ele…)")
+    triangulate_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
+    triangulate_.add_argument("--format", choices=formats, metavar="F", help=format_help)
+    triangulate_.add_argument("--to", choices=formats, metavar="F",
+                              help="format of OUT (default: by its extension)")
+    triangulate_.add_argument("--keep-convex-hull", action="store_true",
+                              help="keep the triangles between the segments and the convex hull")
+    triangulate_.add_argument("--split-segments", action="store_true",
+                              help="split segments at vertices on them and at crossings "
+                                   "(default: such input is an error)")
+    triangulate_.add_argument("--merge-duplicates", action="store_true",
+                              help="keep the first of duplicate points (default: an error)")
+    triangulate_.add_argument("--check", action="store_true",
+                              help="validate the result and check Delaunay-ness (exit 1 if not)")
+    triangulate_.add_argument("--trace", metavar="FILE", help="write the trace (JSON Lines)")
+    triangulate_.add_argument("--exact", action="store_true",
+                              help="write exact coordinates (p/q) instead of doubles")
+    triangulate_.add_argument("--force", action="store_true", help="replace existing files")
+    json_flag(triangulate_)
+    verbose(triangulate_)
 
     demo = add("demo", command_demo, "run the main job on the bundled Lake Superior PSLG")
     demo.add_argument(

@@ -436,7 +436,12 @@ def test_demo_writes_exact_copies_and_refuses_to_overwrite(
     assert code == 0
     assert report["input"]["vertices"] == 518
     assert report["input"]["holes"] == 6
-    assert sorted(Path(p).name for p in report["written"]) == ["superior.node", "superior.poly"]
+    assert sorted(Path(p).name for p in report["written"]) == [
+        "superior.1.ele", "superior.1.neigh", "superior.1.node", "superior.1.poly",
+        "superior.1.trace.jsonl", "superior.node", "superior.poly",
+    ]
+    assert report["triangulation"]["triangles"] == 528
+    assert report["triangulation"]["is_delaunay"] is True
     pslg = io.read(directory / "superior.poly")
     assert isinstance(pslg, PSLG)
     assert len(pslg.vertices) == 518 and len(pslg.segments) == 518 and len(pslg.holes) == 6
@@ -479,3 +484,49 @@ def test_python_m_geomexact_version() -> None:
     )
     assert completed.returncode == 0, completed.stderr
     assert completed.stdout.strip() == f"geomexact {__version__}"
+
+
+def test_triangulate_superior_writes_mesh_and_a_replayable_trace(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """triangulate superior.poly: 518 vertices, 528 triangles, every segment constrained;
+    the trace replays on the .poly itself to the same digest."""
+    bundled = Path(__file__).resolve().parent.parent / "geomexact" / "data" / "superior.poly"
+    out, trace = tmp_path / "superior.1.ele", tmp_path / "superior.trace"
+    code, report = run_json(capsys, "triangulate", bundled, "-o", out, "--trace", trace,
+                            "--check", "--exact")
+    assert code == 0, report
+    assert (report["vertices"], report["triangles"], report["constrained_edges"]) == (
+        518, 528, 518)
+    assert report["is_delaunay"] and report["valid"]
+    code, replayed = run_json(capsys, "replay", bundled, trace, "-o", tmp_path / "r.ele",
+                              "--exact")
+    assert code == 0
+    assert replayed["final_digest"] == report["digest"]
+    mesh = io.read(out)
+    assert isinstance(mesh, Mesh2) and mesh.digest_text == report["digest"]
+
+
+def test_triangulate_makes_a_mesh_delaunay(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """A non-Delaunay mesh (a thin quadrilateral split along its long diagonal) is flipped."""
+    path = tmp_path / "thin.off"
+    path.write_text("OFF\n4 2 0\n0 0 0\n10 -1 0\n20 0 0\n10 1 0\n3 0 1 2\n3 0 2 3\n")
+    code, report = run_json(capsys, "triangulate", path, "-o", tmp_path / "d.off")
+    assert code == 0
+    assert report["algorithm"] == "lawson flips" and report["steps"] == 1
+    assert report["is_delaunay"] is True
+
+
+def test_triangulate_crossing_segments_is_bad_input_unless_split(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    path = tmp_path / "cross.poly"
+    path.write_text("4 2 0 0\n1 0 0\n2 2 2\n3 0 2\n4 2 0\n2 0\n1 1 2\n2 3 4\n0\n")
+    code, out, err = run(capsys, "triangulate", path)
+    assert code == 2 and out == ""
+    assert_one_line_error(err, "cross", "--split-segments")
+    code, report = run_json(capsys, "triangulate", path, "--split-segments")
+    assert code == 0
+    assert report["vertices"] == 5 and report["constrained_edges"] == 4
