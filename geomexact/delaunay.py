@@ -101,6 +101,29 @@ def vertices_mesh(pslg: PSLG) -> Mesh2:
     return transient.seal()
 
 
+def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
+    """Pairs (later id, first id) of points with equal exact coordinates, in id order.
+    Points are bucketed by their doubles (exact coordinates when a double is not finite)
+    and compared exactly within a bucket.  Expected O(n)."""
+    buckets: dict[tuple[object, object], list[int]] = {}
+    duplicates: list[tuple[int, int]] = []
+    for index, point in enumerate(points):
+        key: tuple[object, object] = (point.fx, point.fy)
+        if not (math.isfinite(point.fx) and math.isfinite(point.fy)):
+            key = (point.x, point.y)
+        bucket = buckets.get(key)
+        if bucket is None:
+            buckets[key] = [index]
+            continue
+        for kept in bucket:
+            if points[kept] == point:
+                duplicates.append((index, kept))
+                break
+        else:
+            bucket.append(index)
+    return duplicates
+
+
 def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     """A biased randomized insertion order (Amenta–Choi–Rote): a seeded shuffle cut into
     rounds of doubling size, each round sorted along a snake (boustrophedon) curve over a
@@ -297,12 +320,13 @@ class _DelaunayBuilder:
             if incircle(points[a], points[b], p, points[q]) != INSIDE:
                 continue
             # flip (a, b): triangles (a, b, vertex), (b, a, q) -> (q, vertex, a), (vertex, q, b)
-            for key in (
-                (a, b, vertex) if a < b and a < vertex else
-                (b, vertex, a) if b < vertex else (vertex, a, b),
-                (b, a, q) if b < a and b < q else (a, q, b) if a < q else (q, b, a),
-            ):
-                digest = (digest - hashes.pop(key)) & _MASK
+            old1 = ((a, b, vertex) if a < b and a < vertex else
+                    (b, vertex, a) if b < vertex else (vertex, a, b))
+            old2 = (b, a, q) if b < a and b < q else (a, q, b) if a < q else (q, b, a)
+            new1 = ((q, vertex, a) if q < vertex and q < a else
+                    (vertex, a, q) if vertex < a else (a, q, vertex))
+            new2 = ((vertex, q, b) if vertex < q and vertex < b else
+                    (q, b, vertex) if q < b else (b, vertex, q))
             del apex[(a, b)]
             del apex[(b, a)]
             apex[(q, vertex)] = a
@@ -311,14 +335,9 @@ class _DelaunayBuilder:
             apex[(vertex, q)] = b
             apex[(q, b)] = vertex
             apex[(b, vertex)] = q
-            for key in (
-                (q, vertex, a) if q < vertex and q < a else
-                (vertex, a, q) if vertex < a else (a, q, vertex),
-                (vertex, q, b) if vertex < q and vertex < b else
-                (q, b, vertex) if q < b else (b, vertex, q),
-            ):
-                value = hashes[key] = cell_hash(key)
-                digest = (digest + value) & _MASK
+            hash1 = hashes[new1] = cell_hash(new1)
+            hash2 = hashes[new2] = cell_hash(new2)
+            digest = (digest + hash1 + hash2 - hashes.pop(old1) - hashes.pop(old2)) & _MASK
             steps.append(Step("flip", (a, b)))
             digests.append(digest)
             pending.append((q, b))
@@ -354,12 +373,7 @@ def triangulate_points(
     """
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
-    first_copy: dict[Point2, int] = {}
-    duplicates: list[tuple[int, int]] = []
-    for index, point in enumerate(vertices):
-        kept = first_copy.setdefault(point, index)
-        if kept != index:
-            duplicates.append((index, kept))
+    duplicates = duplicate_points(vertices)
     if duplicates and not merge_duplicates:
         shown = ", ".join(f"{d} = {k}" for d, k in duplicates[:10])
         more = f" and {len(duplicates) - 10} more" if len(duplicates) > 10 else ""

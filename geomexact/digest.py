@@ -45,16 +45,47 @@ def vertex_hash(vertex: int, coordinates: Sequence[Rational]) -> int:
     )
 
 
-_CELL_FORMATS = {3: struct.Struct("<3Q").pack, 4: struct.Struct("<4Q").pack}
+# Cell hashes mix per-vertex 64-bit keys (BLAKE2b of the id, computed once per id and
+# cached) with fixed odd 128-bit multipliers, then a xorshift-multiply finaliser: about half
+# the cost of hashing the packed ids with BLAKE2b, and cells are hashed on every step.
+_POSITION_MULTIPLIERS = (
+    0x9E3779B97F4A7C15F39CC0605CEDC835,
+    0xC2B2AE3D27D4EB4F165667B19E3779F9,
+    0xD6E8FEB86659FD93A1E5B0C2E1B7C2D9,
+    0xA0761D6478BD642FE7037ED1A0B428DB,
+)
+_M0, _M1, _M2, _M3 = _POSITION_MULTIPLIERS
+_FINAL_MULTIPLIER = 0x94D049BB133111EBBF58476D1CE4E5B9
+_VERTEX_KEYS: list[int] = []
+
+
+def vertex_key(vertex: int) -> int:
+    """The 64-bit key of a vertex id: the first 8 bytes (little endian) of BLAKE2b with
+    personalisation ``b"vkey"`` of the id as a little-endian u64."""
+    keys = _VERTEX_KEYS
+    while len(keys) <= vertex:
+        keys.append(int.from_bytes(
+            blake2b(_ID(len(keys)), digest_size=8, person=b"vkey").digest(), "little"))
+    return keys[vertex]
 
 
 def cell_hash(cell: Sequence[int]) -> int:
-    """Hash of a canonical cell (triangle or tetrahedron vertex tuple): BLAKE2b-128 with
-    personalisation ``b"cell"`` of the ids as little-endian unsigned 64-bit integers."""
-    return int.from_bytes(
-        blake2b(_CELL_FORMATS[len(cell)](*cell), digest_size=16, person=b"cell").digest(),
-        "little",
-    )
+    """Hash of a canonical cell (triangle or tetrahedron vertex tuple):
+    ``x = Σ key(cell[i])·M_i mod 2^128; x ^= x >> 61; h = x·M_f mod 2^128`` (constants in
+    ``specs/snapshot.md``)."""
+    keys = _VERTEX_KEYS
+    try:
+        if len(cell) == 3:
+            a, b, c = cell
+            x = (keys[a] * _M0 + keys[b] * _M1 + keys[c] * _M2) & _MASK
+        else:
+            x = sum(keys[v] * m for v, m in zip(cell, _POSITION_MULTIPLIERS, strict=True))
+            x &= _MASK
+    except IndexError:
+        vertex_key(max(cell))
+        return cell_hash(cell)
+    x ^= x >> 61
+    return (x * _FINAL_MULTIPLIER) & _MASK
 
 
 def segment_hash(u: int, v: int, marker: int) -> int:
