@@ -9,7 +9,6 @@ Cocircular quadrilaterals count as Delaunay.  See ``specs/delaunay.md``.
 from __future__ import annotations
 
 import collections
-import gc
 import math
 import random
 from collections.abc import Sequence
@@ -17,6 +16,7 @@ from collections.abc import Sequence
 import attrs
 import immutables
 
+from geomexact.collector import collector_paused
 from geomexact.digest import MODULUS, cell_hash
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d import (
@@ -398,21 +398,16 @@ def triangulate_points(
     start = vertices_mesh(pslg)
     builder = _DelaunayBuilder(vertices, start.digest)
     c = order.pop(third)
-    builder.make_triangle(a, b, c)
-    previous = gc.isenabled()
-    gc.disable()  # millions of small tuples: the cyclic collector would walk them all
-    try:
-        for vertex in order[2:]:
-            builder.insert(vertex)
-    finally:
-        if previous:
-            gc.enable()
-    mesh = builder.seal(start)
     from geomexact import __version__
 
-    trace = Trace(start.digest, builder.steps, builder.digests,
-                  {"algorithm": "delaunay", "seed": seed,
-                   "merge_duplicates": merge_duplicates}, __version__)
+    with collector_paused():
+        builder.make_triangle(a, b, c)
+        for vertex in order[2:]:
+            builder.insert(vertex)
+        mesh = builder.seal(start)
+        trace = Trace(start.digest, builder.steps, builder.digests,
+                      {"algorithm": "delaunay", "seed": seed,
+                       "merge_duplicates": merge_duplicates}, __version__)
     return Construction(start, mesh, trace, tuple(duplicates))
 
 
@@ -600,9 +595,7 @@ def triangulate(
         return points_run
     remap = dict(points_run.duplicates)
     transient = Transient2(points_run.mesh)
-    previous = gc.isenabled()
-    gc.disable()
-    try:
+    with collector_paused():
         for u, v, marker in pslg.segments:
             _insert_segment(transient, remap.get(u, u), remap.get(v, v), marker,
                             split_segments, pslg)
@@ -615,10 +608,7 @@ def triangulate(
         for region in pslg.regions:
             if containing_triangle(transient, region.point) is not None:
                 set_region_in(transient, region.point.x, region.point.y, (region.attribute,))
-    finally:
-        if previous:
-            gc.enable()
-    mesh = transient.seal()
+        mesh = transient.seal()
     first = points_run.trace
     trace = Trace(
         first.input_digest,

@@ -20,12 +20,13 @@ from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
 
+from geomexact.collector import collector_paused
 from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
 from geomexact.io.pslg_text import read_pslg_text, write_pslg_text
-from geomexact.io.registry import Format, Value, collector_paused
+from geomexact.io.registry import Format, Value
 from geomexact.io.triangle import (
     read_node,
     read_poly,

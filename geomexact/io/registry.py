@@ -20,9 +20,7 @@ written once (``specs/formats/registry.md``):
 
 from __future__ import annotations
 
-import gc
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Protocol, TypeAlias
 
@@ -78,23 +76,6 @@ class Format:
 # -----------------------------------------------------------------------------------------
 # reading text
 # -----------------------------------------------------------------------------------------
-@contextmanager
-def collector_paused() -> Iterator[None]:
-    """Pause Python's cyclic garbage collector while a reader builds a large value.
-
-    A reader creates hundreds of thousands of small acyclic objects (rationals, tuples,
-    map nodes); each automatic collection walks all of them, which measured here doubles
-    the time to read a 100k-triangle mesh.  The collector's state is restored on exit.
-    """
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
-
-
 def data_lines(text: str) -> list[NumberedLine]:
     """The non-blank lines of ``text`` as (1-based line number, tokens), with everything
     from a ``#`` to the end of its line removed.  Lines are split on ``\\n`` only (so line

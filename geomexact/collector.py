@@ -1,0 +1,25 @@
+"""Pausing Python's cyclic garbage collector during batch work.
+
+Building a large mesh creates millions of small acyclic objects (rationals, tuples, map
+nodes, steps); every automatic collection walks all live objects, so long runs slow down
+quadratically (measured here: 2× for reading a 100k-triangle mesh, more for a 10^5-point
+Delaunay triangulation).  Batch builders run inside :func:`collector_paused`.
+"""
+
+from __future__ import annotations
+
+import gc
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+
+@contextmanager
+def collector_paused() -> Iterator[None]:
+    """Disable the cyclic collector for the block; restore its previous state after."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
