@@ -133,8 +133,9 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     random.Random(seed).shuffle(order)
     if not points:
         return order
-    xs = [points[i].fx for i in order]
-    ys = [points[i].fy for i in order]
+    # halved doubles: differences of halves never overflow near the double limit
+    xs = [points[i].fx * 0.5 for i in order]
+    ys = [points[i].fy * 0.5 for i in order]
     finite_x = [x for x in xs if math.isfinite(x)] or [0.0]
     finite_y = [y for y in ys if math.isfinite(y)] or [0.0]
     low_x, low_y = min(finite_x), min(finite_y)
@@ -153,8 +154,8 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
         keyed = []
         for vertex in chunk:
             point = points[vertex]
-            x = point.fx if math.isfinite(point.fx) else low_x
-            y = point.fy if math.isfinite(point.fy) else low_y
+            x = point.fx * 0.5 if math.isfinite(point.fx) else low_x
+            y = point.fy * 0.5 if math.isfinite(point.fy) else low_y
             column = min(cells - 1, int((x - low_x) * scale))
             keyed.append((column, (y - low_y) if column % 2 == 0 else (low_y - y), vertex))
         keyed.sort()
@@ -453,23 +454,36 @@ def make_delaunay(mesh: Mesh2) -> tuple[Mesh2, Trace]:
 
 class SegmentError(PreconditionError):
     """Input segments that cross each other or pass through a vertex, when splitting them
-    is not allowed; ``pairs`` lists the offending (segment, segment-or-vertex) pairs."""
+    is not allowed.  ``pairs`` lists the offending pairs: ((u, v), (a, b)) for two
+    segments that meet, ((u, v), w) for a segment through vertex w."""
+
+    def __init__(self, pairs: list[tuple[tuple[int, int], object]]) -> None:
+        shown = "; ".join(
+            f"segments {first} and {second} meet" if isinstance(second, tuple)
+            else f"segment {first} passes through vertex {second}"
+            for first, second in pairs[:20]
+        )
+        more = f" (and {len(pairs) - 20} more)" if len(pairs) > 20 else ""
+        super().__init__(
+            "triangulate",
+            "segments cross or pass through vertices (pass split_segments=True / "
+            f"--split-segments to split them there): {shown or 'segments meet'}{more}",
+            pairs=tuple(pairs),
+        )
+        self.pairs = tuple(pairs)
 
 
-def _crossing_report(pslg: PSLG) -> str:
+def _offending_pairs(pslg: PSLG) -> list[tuple[tuple[int, int], object]]:
+    """Pairs of input segments that meet improperly, then segments through vertices."""
     points = pslg.vertices
-    pairs = meeting_pairs(points, [(u, v) for u, v, _ in pslg.segments])
-    through = []
-    for u, v, _ in pslg.segments:
+    segments = [(u, v) for u, v, _ in pslg.segments]
+    found: list[tuple[tuple[int, int], object]] = list(meeting_pairs(points, segments))
+    for u, v in segments:
         for w in range(len(points)):
             if w not in (u, v) and orient2d(points[u], points[v], points[w]) == COLLINEAR \
                     and within_box(points[w], points[u], points[v]):
-                through.append(((u, v), w))
-                if len(through) > 20:
-                    break
-    lines = [f"segments {a} and {b} meet" for a, b in pairs[:20]]
-    lines += [f"segment {s} passes through vertex {w}" for s, w in through[:20]]
-    return "; ".join(lines) or "segments meet"
+                found.append(((u, v), w))
+    return found
 
 
 def _insert_segment(t: Transient2, u: int, v: int, marker: int, split: bool,
@@ -490,9 +504,7 @@ def _insert_segment(t: Transient2, u: int, v: int, marker: int, split: bool,
         if stop is not None:
             kind, data = stop
             if not split:
-                raise SegmentError("triangulate", "segments cross or pass through vertices "
-                                   "(pass split_segments=True / --split-segments to split them "
-                                   "there): " + _crossing_report(pslg))
+                raise SegmentError(_offending_pairs(pslg))
             if kind == "vertex":
                 w = data[0]
             else:  # a constrained edge (p, q) crosses ab: split both at the crossing
@@ -516,9 +528,11 @@ def _crossed_edges(
     current: tuple[int, int] | None = None  # (vertex left of ab, vertex right of ab)
     for _, first, second in walk_star(t.apex, a, t.outgoing(a)):
         side = orient2d(pa, pb, t.point(first))
-        if side == COLLINEAR and within_box(t.point(first), pa, pb):
-            return [], ("vertex", (first,))
-        if side == CW and orient2d(pa, pb, t.point(second)) == CCW:
+        other = orient2d(pa, pb, t.point(second))
+        for vertex, orientation in ((first, side), (second, other)):
+            if orientation == COLLINEAR and within_box(t.point(vertex), pa, pb):
+                return [], ("vertex", (vertex,))
+        if side == CW and other == CCW:
             current = (second, first)
             break
     if current is None:
