@@ -9,7 +9,16 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-from geomexact.delaunay import is_delaunay, non_delaunay_edges
+from geomexact.delaunay import (
+    Construction,
+    SegmentError,
+    is_delaunay,
+    make_delaunay,
+    non_delaunay_edges,
+    triangulate,
+    triangulate_points,
+    vertices_mesh,
+)
 from geomexact.errors import (
     FormatError,
     GeomexactError,
@@ -59,6 +68,7 @@ __all__ = [
     "PSLG",
     "CircleLocation",
     "Comparison",
+    "Construction",
     "FormatError",
     "GeomexactError",
     "InvalidMeshError",
@@ -69,6 +79,7 @@ __all__ = [
     "Point3",
     "PreconditionError",
     "RationalParseError",
+    "SegmentError",
     "SphereLocation",
     "Step",
     "Trace",
@@ -92,6 +103,7 @@ __all__ = [
     "insphere",
     "is_delaunay",
     "legalize",
+    "make_delaunay",
     "mesh_from_triangles",
     "mesh_summary",
     "mpq",
@@ -108,6 +120,9 @@ __all__ = [
     "total_area",
     "trace_of",
     "triangle_area",
+    "triangulate",
+    "triangulate_points",
     "validate",
+    "vertices_mesh",
     "write_trace",
 ]

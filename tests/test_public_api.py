@@ -1,0 +1,23 @@
+"""The public facade: every name in ``geomexact.__all__`` resolves, and the documented
+entry points are importable from the top level."""
+
+from __future__ import annotations
+
+import importlib
+
+import geomexact
+
+
+def test_every_name_in_all_resolves() -> None:
+    for name in geomexact.__all__:
+        assert hasattr(geomexact, name), name
+
+
+def test_all_has_no_duplicates_and_is_sorted_like_ruff_wants() -> None:
+    assert len(set(geomexact.__all__)) == len(geomexact.__all__)
+
+
+def test_submodules_named_in_docs_import() -> None:
+    for module in ("numbers", "predicates", "mesh2d", "transient", "ops", "trace", "io",
+                   "delaunay", "validate", "strategies", "segments", "collector"):
+        importlib.import_module(f"geomexact.{module}")
