@@ -22,6 +22,7 @@ from geomexact.errors import PreconditionError
 from geomexact.mesh2d import (
     Edge,
     Mesh2,
+    canonical_triangle,
     empty_mesh,
     next_boundary_edge,
     previous_boundary_edge,
@@ -54,8 +55,11 @@ INSIDE = CircleLocation.INSIDE
 
 def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
     """Sorted (u, v), u < v, of the unconstrained interior edges that are not locally
-    Delaunay.  O(n) exact incircle tests."""
+    Delaunay.  Edges between triangles with different attributes are exempt like
+    constrained ones (they bound regions; no flip may cross them).  O(n) exact incircle
+    tests."""
     halfedges, vertices, segments = mesh.halfedges, mesh.vertices, mesh.segments
+    attributes = mesh.triangle_attributes
     found = []
     for key, w in halfedges.items():
         u, v = key
@@ -63,6 +67,10 @@ def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
             continue
         x = halfedges.get((v, u))
         if x is None:
+            continue
+        if len(attributes) and attributes.get(canonical_triangle(u, v, w)) != attributes.get(
+            canonical_triangle(v, u, x)
+        ):
             continue
         location = incircle(vertices[u], vertices[v], vertices[w], vertices[x])
         if location == CircleLocation.INSIDE:
