@@ -1,7 +1,7 @@
 """The ``geomexact`` command: parses arguments, calls the library, prints.
 
-Commands: ``info``, ``check``, ``convert``, ``replay``, ``triangulate``, ``demo`` (see
-``docs/cli.md``).
+Commands: ``info``, ``check``, ``convert``, ``replay``, ``triangulate``, ``view``,
+``serve``, ``demo`` (see ``docs/cli.md``).
 Exit codes: 0 success; 1 a check failed or a trace diverged; 2 bad input or usage.  Every
 error geomexact raises on purpose (:class:`~geomexact.errors.GeomexactError`) and every
 ``OSError`` is reported as one line ``geomexact: error: …`` on stderr, never as a
@@ -30,7 +30,7 @@ from geomexact.numbers import format_rational
 from geomexact.polymesh import PolygonMesh
 from geomexact.pslg import PSLG
 from geomexact.summary import mesh_summary
-from geomexact.trace import read_trace, replay, write_trace
+from geomexact.trace import Trace, read_trace, replay, write_trace
 from geomexact.validate import validate
 
 EXIT_OK = 0
@@ -377,6 +377,96 @@ def command_triangulate(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+# -- view and serve: pictures, the HTML viewer, the local server (geomexact.viz) -----------
+VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
+
+
+def command_view(args: argparse.Namespace) -> int:
+    """Write the HTML viewer (``.html``) or a picture (``.png``, ``.svg``, ``.pdf``) of a
+    mesh, PSLG or polygon mesh; with ``--trace``, of the trace replayed on it."""
+    from geomexact.io.files import write_text_atomic
+    from geomexact.viz import pictures, viewer
+    from geomexact.viz.scene import DEFAULT_EXACT_BUDGET
+
+    output = Path(args.output)
+    suffix = output.suffix.lower()
+    if suffix not in (".html", ".htm", *pictures.PICTURE_FORMATS):
+        raise UsageProblem(f"{output}: the output must end in .html, .png, .svg or .pdf")
+    if args.step is not None and not args.trace:
+        raise UsageProblem("--step needs --trace")
+    loaded = _load(args.input, args.format, args.verbose)
+    trace = read_trace(args.trace) if args.trace else None
+    fill = args.color_by.replace("-", "_")
+    try:
+        if suffix in (".html", ".htm"):
+            text = viewer.viewer_html(
+                loaded.value, trace=trace, title=args.title, source=Path(args.input).name,
+                trace_source=Path(args.trace).name if args.trace else None, fill=fill,
+                step=args.step, exact_budget=0 if args.no_exact else DEFAULT_EXACT_BUDGET,
+                notes=loaded.notes,
+            )
+            write_text_atomic(output, text, overwrite=args.force)
+        elif trace is not None:
+            pictures.plot_step(loaded.value, trace, args.step, output, overwrite=args.force,
+                               title=args.title, color_by=fill)
+        else:
+            pictures.plot(loaded.value, output, overwrite=args.force, title=args.title,
+                          color_by=fill)
+    except (TypeError, ValueError) as error:
+        if isinstance(error, GeomexactError):
+            raise
+        raise UsageProblem(f"{args.input}: {error}") from None
+    report = {
+        "input": args.input,
+        "format": loaded.format,
+        "kind": loaded.kind,
+        "trace": args.trace,
+        "steps": len(trace) if trace is not None else None,
+        "step": args.step if args.step is not None else (
+            len(trace) if trace is not None else None),
+        "output": str(output),
+        "bytes": output.stat().st_size,
+    }
+    if args.json:
+        _print_json(report)
+    else:
+        print(f"wrote {output}")
+    return EXIT_OK
+
+
+def command_serve(args: argparse.Namespace) -> int:
+    """Serve a directory's meshes in the viewer, and refine uploads, until Ctrl-C."""
+    from geomexact.viz import serve as serving
+
+    options = serving.ServeOptions(
+        Path(args.directory), host=args.host, port=args.port,
+        max_upload_bytes=int(args.max_upload_mb * 1024 * 1024),
+        time_limit=args.time_limit, jobs=args.jobs,
+    )
+    if not serving.is_loopback(args.host):
+        print(f"geomexact: warning: listening on {args.host}: other machines can read the "
+              "served files and run jobs (there is no authentication)", file=sys.stderr)
+
+    def announce(url: str) -> None:
+        print(f"serving {options.directory} at {url} (Ctrl-C stops)", flush=True)
+
+    try:
+        serving.serve(options, announce=announce)
+    except KeyboardInterrupt:
+        print("stopped", file=sys.stderr)
+    return EXIT_OK
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"{text} is not a positive number")
+    return value
+
+
 # -- demo: the README's main job ----------------------------------------------------------
 DEMO_INPUT = "superior.poly"
 DEMO_SOURCE = "Unity-Technologies/triangle.net @ 730f6c4, Data/superior.poly"
@@ -390,6 +480,8 @@ class DemoRun:
     force: bool
     pslg: PSLG | None = None
     mesh: Mesh2 | None = None
+    start: Mesh2 | None = None  # where the trace of the last stage starts (for the viewer)
+    trace: Trace | None = None  # the trace of the last stage, ending at ``mesh``
     report: dict[str, Any] = attrs.Factory(dict)
     written: list[Path] = attrs.Factory(list)
 
@@ -433,6 +525,7 @@ def _demo_triangulate(run: DemoRun) -> None:
     started = time.perf_counter()
     construction = triangulate(run.pslg)
     run.mesh = construction.mesh
+    run.start, run.trace = construction.start, construction.trace
     run.report["triangulation"] = {
         **mesh_summary(construction.mesh),
         "steps": len(construction.trace),
@@ -444,6 +537,35 @@ def _demo_triangulate(run: DemoRun) -> None:
     run.written.append(trace_path)
 
 
+def _demo_draw(run: DemoRun) -> None:
+    """A PNG (filled by smallest angle) and the HTML viewer of the last mesh made, the
+    viewer with the last stage's trace when it ends at that mesh."""
+    if run.mesh is None:
+        raise RuntimeError("the demo's triangulate step must run before draw")
+    from geomexact.io.files import write_text_atomic
+    from geomexact.viz import plot, viewer_html
+
+    picture = run.directory / "superior.png"
+    plot(run.mesh, picture, overwrite=run.force, color_by="min_angle",
+         title=f"Lake Superior: {run.mesh.triangle_count:,} triangles, filled by smallest angle")
+    run.written.append(picture)
+    replayable = (run.start is not None and run.trace is not None
+                  and run.trace.final_digest == run.mesh.digest)
+    page = run.directory / "superior.html"
+    text = viewer_html(
+        run.start if replayable and run.start is not None else run.mesh,
+        trace=run.trace if replayable else None,
+        title="Lake Superior", source="superior.poly",
+    )
+    write_text_atomic(page, text, overwrite=run.force)
+    run.written.append(page)
+    run.report["draw"] = {
+        "picture": str(picture),
+        "viewer": str(page),
+        "trace_steps": len(run.trace) if replayable and run.trace is not None else 0,
+    }
+
+
 DEMO_STEPS: tuple[DemoStep, ...] = (
     DemoStep("read", (), _demo_read),
     DemoStep("write-input", ("superior.node", "superior.poly"), _demo_write_input),
@@ -453,7 +575,8 @@ DEMO_STEPS: tuple[DemoStep, ...] = (
          "superior.1.trace.jsonl"),
         _demo_triangulate,
     ),
-    # later issues: ("refine", …), ("draw", …)
+    # a refine step (later issue) goes here, before draw: draw shows the last mesh made
+    DemoStep("draw", ("superior.png", "superior.html"), _demo_draw),
 )
 
 
@@ -616,6 +739,45 @@ def build_parser() -> argparse.ArgumentParser:
     triangulate_.add_argument("--force", action="store_true", help="replace existing files")
     json_flag(triangulate_)
     verbose(triangulate_)
+
+    view = add("view", command_view,
+               "write the offline HTML viewer or a PNG/SVG/PDF picture of a mesh (and trace)")
+    view.add_argument("input", metavar="INPUT",
+                      help="mesh, PSLG or polygon mesh (with --trace: the trace's input)")
+    view.add_argument("-o", "--output", required=True, metavar="OUT",
+                      help="OUT.html: the viewer; OUT.png, .svg or .pdf: a picture")
+    view.add_argument("--trace", metavar="TRACE",
+                      help="a trace recorded on INPUT: the viewer gets a step slider")
+    view.add_argument("--step", type=_non_negative, metavar="K",
+                      help="with --trace: the step shown first (viewer) or drawn (picture); "
+                           "default: the last")
+    view.add_argument("--color-by", choices=VIEW_FILL_CHOICES, default="none",
+                      help="fill triangles by smallest angle, area or region attribute")
+    view.add_argument("--title", help="title of the page or picture")
+    view.add_argument("--no-exact", action="store_true",
+                      help="leave the exact coordinates out of the page (smaller file)")
+    view.add_argument("--format", choices=formats, metavar="F", help=format_help)
+    view.add_argument("--force", action="store_true", help="replace an existing OUT")
+    json_flag(view)
+    verbose(view)
+
+    serve_ = add("serve", command_serve,
+                 "serve a directory's meshes in the viewer and refine uploads (local HTTP)")
+    serve_.add_argument("directory", nargs="?", default=".", metavar="DIR",
+                        help="directory whose mesh files are listed (default: .)")
+    serve_.add_argument("--host", default="127.0.0.1",
+                        help="interface to listen on (default 127.0.0.1, this machine only; "
+                             "0.0.0.0 or an address opens it to the network)")
+    serve_.add_argument("--port", type=_non_negative, default=8765,
+                        help="port (default 8765; 0 picks a free one)")
+    serve_.add_argument("--max-upload-mb", type=_positive_float, default=16, metavar="MB",
+                        help="largest upload accepted (default 16)")
+    serve_.add_argument("--time-limit", type=_positive_float, default=60, metavar="SECONDS",
+                        help="a job (reading, refining, building a page) is stopped after "
+                             "this long (default 60)")
+    serve_.add_argument("--jobs", type=_non_negative, default=2, metavar="N",
+                        help="jobs run at once; more requests are told the server is busy "
+                             "(default 2)")
 
     demo = add("demo", command_demo, "run the main job on the bundled Lake Superior PSLG")
     demo.add_argument(

@@ -438,7 +438,8 @@ def test_demo_writes_exact_copies_and_refuses_to_overwrite(
     assert report["input"]["holes"] == 6
     assert sorted(Path(p).name for p in report["written"]) == [
         "superior.1.ele", "superior.1.neigh", "superior.1.node", "superior.1.poly",
-        "superior.1.trace.jsonl", "superior.node", "superior.poly",
+        "superior.1.trace.jsonl", "superior.html", "superior.node", "superior.png",
+        "superior.poly",
     ]
     assert report["triangulation"]["triangles"] == 528
     assert report["triangulation"]["is_delaunay"] is True

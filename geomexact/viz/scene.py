@@ -1,0 +1,494 @@
+"""What the pictures and the viewer draw: a :class:`Scene` (vertex doubles, cells, segments)
+made from a mesh, PSLG or polygon mesh, and a :class:`History` (which triangles each step
+of a trace added and removed) made by replaying the trace.
+
+Both are display data: coordinates are the doubles nearest to the exact vertices (the
+exact text travels beside them, for reading only).  Nothing here computes geometry with
+floats; :mod:`geomexact.viz.pictures` and the viewer do, to draw.
+
+Scenes are built by one function per kind of value, registered in :data:`SCENE_BUILDERS`
+(3D tetrahedral meshes add their builder there).  Specification: ``specs/viewer.md``.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from array import array
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any, TypeAlias
+
+import attrs
+
+from geomexact.delaunay import vertices_mesh
+from geomexact.errors import TraceError
+from geomexact.mesh2d import Edge, Mesh2, Triangle, canonical_triangle
+from geomexact.numbers import format_rational, to_float
+from geomexact.ops import apply_in
+from geomexact.points import Point2
+from geomexact.polymesh import PolygonMesh
+from geomexact.predicates import Orientation, orient2d
+from geomexact.pslg import PSLG
+from geomexact.step import Step
+from geomexact.summary import mesh_summary
+from geomexact.trace import Trace
+from geomexact.transient import Transient2
+
+Viewable: TypeAlias = Mesh2 | PSLG | PolygonMesh
+
+INDEX_TYPE = next(code for code in ("I", "L") if array(code).itemsize == 4)
+"""The ``array`` type code of unsigned 32-bit integers on this platform."""
+
+DEFAULT_EXACT_BUDGET = 4_000_000
+"""Characters of exact coordinate text a scene carries at most (beyond it: none)."""
+
+
+def indices(values: Iterable[int] = ()) -> array[int]:
+    """An array of unsigned 32-bit integers."""
+    return array(INDEX_TYPE, values)
+
+
+def doubles(values: Iterable[float] = ()) -> array[float]:
+    """An array of doubles."""
+    return array("d", values)
+
+
+def little_endian(values: array[Any]) -> bytes:
+    """The array's bytes in little-endian order (the viewer's typed arrays expect it)."""
+    if sys.byteorder == "little":
+        return values.tobytes()
+    swapped = array(values.typecode, values)
+    swapped.byteswap()
+    return swapped.tobytes()
+
+
+# ---------------------------------------------------------------------------------------
+# scenes
+# ---------------------------------------------------------------------------------------
+@attrs.frozen(eq=False)
+class Scene:
+    """A value ready to draw.
+
+    - ``kind``: ``"triangles"`` (a :class:`Mesh2`), ``"polygons"`` (a
+      :class:`PolygonMesh`) or ``"pslg"`` (points, segments, holes);
+    - ``xy``: the doubles of the vertices, x0 y0 x1 y1 …; ``exact``: their exact text
+      ``"x y"`` per vertex, or None when over the budget;
+    - ``triangles``: vertex triples (counter-clockwise, canonical, sorted); ``regions``:
+      each triangle's first attribute as a double (None when no triangle has one);
+    - ``polygon_offsets`` / ``polygon_vertices``: polygon i is
+      ``polygon_vertices[offsets[i]:offsets[i+1]]``; ``nonconvex``: ids of polygons that
+      are not convex (exact test);
+    - ``segments``: vertex pairs of constrained edges (PSLG segments); ``holes`` and
+      ``seeds``: hole and region seed points (doubles);
+    - ``summary``: the statistics of ``geomexact info`` (JSON values);
+    - ``dimension``: 2 (a 3D scene will say 3).
+    """
+
+    kind: str
+    xy: array[float]
+    exact: tuple[str, ...] | None
+    triangles: array[int] = attrs.field(factory=indices)
+    regions: array[float] | None = None
+    polygon_offsets: array[int] = attrs.field(factory=indices)
+    polygon_vertices: array[int] = attrs.field(factory=indices)
+    nonconvex: array[int] = attrs.field(factory=indices)
+    segments: array[int] = attrs.field(factory=indices)
+    holes: array[float] = attrs.field(factory=doubles)
+    seeds: array[float] = attrs.field(factory=doubles)
+    summary: dict[str, Any] = attrs.field(factory=dict)
+    dimension: int = 2
+
+    @property
+    def vertex_count(self) -> int:
+        return len(self.xy) // 2
+
+    @property
+    def triangle_count(self) -> int:
+        return len(self.triangles) // 3
+
+    @property
+    def polygon_count(self) -> int:
+        return max(len(self.polygon_offsets) - 1, 0)
+
+    def polygon(self, index: int) -> tuple[int, ...]:
+        """The vertex ids of polygon ``index``."""
+        start, end = self.polygon_offsets[index], self.polygon_offsets[index + 1]
+        return tuple(self.polygon_vertices[start:end])
+
+
+def _points_xy(points: Iterable[Point2]) -> array[float]:
+    xy = doubles()
+    for point in points:
+        xy.append(point.fx if math.isfinite(point.fx) else to_float(point.x))
+        xy.append(point.fy if math.isfinite(point.fy) else to_float(point.y))
+    return xy
+
+
+def exact_text(
+    points: Sequence[Point2], budget: int = DEFAULT_EXACT_BUDGET
+) -> tuple[str, ...] | None:
+    """``"x y"`` exact text of each point, or None when it would exceed ``budget``
+    characters in all."""
+    texts = []
+    used = 0
+    for point in points:
+        text = f"{format_rational(point.x)} {format_rational(point.y)}"
+        used += len(text) + 3
+        if used > budget:
+            return None
+        texts.append(text)
+    return tuple(texts)
+
+
+def _mesh_points(mesh: Mesh2) -> list[Point2]:
+    return [mesh.vertices[vertex] for vertex in range(mesh.vertex_count)]
+
+
+def mesh_scene(mesh: Mesh2, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
+               summary: bool = True) -> Scene:
+    """The scene of a triangle mesh: its triangles in sorted canonical order, its
+    constrained segments, its regions (first triangle attribute)."""
+    points = _mesh_points(mesh)
+    triangles = indices()
+    regions = doubles()
+    has_regions = bool(len(mesh.triangle_attributes))
+    for triangle in mesh.triangles():
+        triangles.extend(triangle)
+        if has_regions:
+            values = mesh.triangle_attributes.get(triangle)
+            regions.append(to_float(values[0]) if values else math.nan)
+    segments = indices()
+    for u, v, _ in mesh.segment_list():
+        segments.extend((u, v))
+    return Scene(
+        kind="triangles",
+        xy=_points_xy(points),
+        exact=exact_text(points, exact_budget),
+        triangles=triangles,
+        regions=regions if has_regions else None,
+        segments=segments,
+        summary=mesh_summary(mesh) if summary else {},
+    )
+
+
+def pslg_scene(pslg: PSLG, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
+               summary: bool = True) -> Scene:
+    """The scene of a PSLG: its vertices, segments, hole and region seeds."""
+    segments = indices()
+    for u, v, _ in pslg.segments:
+        segments.extend((u, v))
+    return Scene(
+        kind="pslg",
+        xy=_points_xy(pslg.vertices),
+        exact=exact_text(pslg.vertices, exact_budget),
+        segments=segments,
+        holes=_points_xy(pslg.holes),
+        seeds=_points_xy(region.point for region in pslg.regions),
+        summary={
+            "vertices": len(pslg.vertices),
+            "segments": len(pslg.segments),
+            "holes": len(pslg.holes),
+            "regions": len(pslg.regions),
+        } if summary else {},
+    )
+
+
+def is_convex_polygon(points: Sequence[Point2], polygon: Sequence[int]) -> bool:
+    """True when the counter-clockwise ``polygon`` turns left or goes straight at every
+    corner and has no repeated vertex (exact orientation tests)."""
+    if len(set(polygon)) != len(polygon):
+        return False
+    count = len(polygon)
+    for index in range(count):
+        a = points[polygon[index - 1]]
+        b = points[polygon[index]]
+        c = points[polygon[(index + 1) % count]]
+        if orient2d(a, b, c) == Orientation.CLOCKWISE:
+            return False
+    return True
+
+
+def polygon_mesh_scene(mesh: PolygonMesh, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
+                       summary: bool = True) -> Scene:
+    """The scene of a polygon mesh (e.g. Polylla output), with its non-convex polygons
+    found exactly."""
+    offsets = indices([0])
+    vertices = indices()
+    nonconvex = indices()
+    for index, polygon in enumerate(mesh.polygons):
+        vertices.extend(polygon)
+        offsets.append(len(vertices))
+        if not is_convex_polygon(mesh.vertices, polygon):
+            nonconvex.append(index)
+    sizes = [len(polygon) for polygon in mesh.polygons]
+    return Scene(
+        kind="polygons",
+        xy=_points_xy(mesh.vertices),
+        exact=exact_text(mesh.vertices, exact_budget),
+        polygon_offsets=offsets,
+        polygon_vertices=vertices,
+        nonconvex=nonconvex,
+        summary={
+            "vertices": len(mesh.vertices),
+            "polygons": len(mesh.polygons),
+            "nonconvex_polygons": len(nonconvex),
+            "min_polygon_size": min(sizes, default=None),
+            "max_polygon_size": max(sizes, default=None),
+        } if summary else {},
+    )
+
+
+SceneBuilder: TypeAlias = Callable[..., Scene]
+
+SCENE_BUILDERS: dict[type, SceneBuilder] = {
+    Mesh2: mesh_scene,
+    PSLG: pslg_scene,
+    PolygonMesh: polygon_mesh_scene,
+}
+"""Kind of value -> its scene builder (``builder(value, *, exact_budget, summary)``).
+A 3D mesh type registers its own builder here (its scene has ``dimension`` 3)."""
+
+
+def scene_of(value: object, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
+             summary: bool = True) -> Scene:
+    """The scene of a :class:`Mesh2`, :class:`PSLG` or :class:`PolygonMesh` (or of any
+    type registered in :data:`SCENE_BUILDERS`); ``TypeError`` for anything else."""
+    for kind, builder in SCENE_BUILDERS.items():
+        if isinstance(value, kind):
+            return builder(value, exact_budget=exact_budget, summary=summary)
+    known = ", ".join(sorted(kind.__name__ for kind in SCENE_BUILDERS))
+    raise TypeError(f"cannot draw a {type(value).__name__} (drawable: {known})")
+
+
+# ---------------------------------------------------------------------------------------
+# histories
+# ---------------------------------------------------------------------------------------
+@attrs.frozen(eq=False)
+class History:
+    """What each step of a trace changed, for the viewer's step slider.
+
+    Every triangle that exists at some step gets a *slot* (``cells[3s:3s+3]``, canonical
+    vertex triple; a triangle removed and later re-created keeps its slot).  ``start``
+    lists the slots alive before step 1.  Step k (1-based) removes the slots
+    ``removed[removed_offsets[k-1]:removed_offsets[k]]`` and then adds
+    ``added[added_offsets[k-1]:added_offsets[k]]``; a slot in both lists is a triangle the
+    step re-created (e.g. a new regional attribute).  Constrained segments use the same
+    scheme with vertex pairs (``segment_cells`` …).  ``vertex_counts[k]`` is the number of
+    vertices after k steps (vertex ids only grow).  ``final`` is the mesh after the last
+    step.
+    """
+
+    labels: tuple[str, ...]
+    cells: array[int]
+    start: array[int]
+    added_offsets: array[int]
+    added: array[int]
+    removed_offsets: array[int]
+    removed: array[int]
+    segment_cells: array[int]
+    segment_start: array[int]
+    segment_added_offsets: array[int]
+    segment_added: array[int]
+    segment_removed_offsets: array[int]
+    segment_removed: array[int]
+    vertex_counts: array[int]
+    input_digest: str
+    final_digest: str
+    final: Mesh2
+
+    @property
+    def steps(self) -> int:
+        return len(self.labels)
+
+    def _alive(self, start: array[int], added_offsets: array[int], added: array[int],
+               removed_offsets: array[int], removed: array[int], step: int) -> set[int]:
+        if not 0 <= step <= self.steps:
+            raise ValueError(f"step {step} is outside 0..{self.steps}")
+        alive = set(start)
+        for index in range(step):
+            alive.difference_update(removed[removed_offsets[index]:removed_offsets[index + 1]])
+            alive.update(added[added_offsets[index]:added_offsets[index + 1]])
+        return alive
+
+    def triangles_at(self, step: int) -> list[Triangle]:
+        """The triangles (canonical, sorted) after ``step`` steps.  O(changes)."""
+        alive = self._alive(self.start, self.added_offsets, self.added,
+                            self.removed_offsets, self.removed, step)
+        cells = self.cells
+        return sorted((cells[3 * s], cells[3 * s + 1], cells[3 * s + 2]) for s in alive)
+
+    def segments_at(self, step: int) -> list[Edge]:
+        """The constrained segments (u < v, sorted) after ``step`` steps."""
+        alive = self._alive(self.segment_start, self.segment_added_offsets,
+                            self.segment_added, self.segment_removed_offsets,
+                            self.segment_removed, step)
+        cells = self.segment_cells
+        return sorted((cells[2 * s], cells[2 * s + 1]) for s in alive)
+
+    def step_changes(self, step: int) -> tuple[list[Triangle], list[Triangle]]:
+        """(added, removed) triangles of step number ``step`` (1-based)."""
+        if not 1 <= step <= self.steps:
+            raise ValueError(f"step {step} is outside 1..{self.steps}")
+        cells = self.cells
+
+        def triples(slots: Iterable[int]) -> list[Triangle]:
+            return sorted((cells[3 * s], cells[3 * s + 1], cells[3 * s + 2]) for s in slots)
+
+        added = triples(self.added[self.added_offsets[step - 1]:self.added_offsets[step]])
+        removed = triples(
+            self.removed[self.removed_offsets[step - 1]:self.removed_offsets[step]]
+        )
+        return added, removed
+
+
+class _Slots:
+    """Slot numbering of cells (triangles or segments) in order of first appearance, and
+    the net change of one step."""
+
+    def __init__(self, width: int) -> None:
+        self.width = width
+        self.ids: dict[tuple[int, ...], int] = {}
+        self.cells = indices()
+        self.start = indices()
+        self.added_offsets = indices([0])
+        self.added = indices()
+        self.removed_offsets = indices([0])
+        self.removed = indices()
+        self.first: dict[tuple[int, ...], bool] = {}  # alive before the step?
+        self.last: dict[tuple[int, ...], bool] = {}  # alive after it?
+
+    def slot(self, cell: tuple[int, ...]) -> int:
+        found = self.ids.get(cell)
+        if found is None:
+            found = len(self.ids)
+            self.ids[cell] = found
+            self.cells.extend(cell)
+        return found
+
+    def event(self, cell: tuple[int, ...], alive_after: bool) -> None:
+        if cell not in self.first:
+            self.first[cell] = not alive_after
+        self.last[cell] = alive_after
+
+    def close_step(self) -> int:
+        """Record the step's net changes; return (added - removed) cells."""
+        added = sorted(self.slot(cell) for cell, alive in self.last.items() if alive)
+        removed = sorted(self.slot(cell) for cell, alive in self.first.items() if alive)
+        self.added.extend(added)
+        self.removed.extend(removed)
+        self.added_offsets.append(len(self.added))
+        self.removed_offsets.append(len(self.removed))
+        self.first.clear()
+        self.last.clear()
+        return len(added) - len(removed)
+
+
+class _RecordingTransient(Transient2):
+    """A transient that also reports every triangle and segment it adds or removes."""
+
+    __slots__ = ("segment_slots", "triangle_slots")
+
+    def __init__(self, mesh: Mesh2, triangles: _Slots, segments: _Slots) -> None:
+        super().__init__(mesh)
+        self.triangle_slots = triangles
+        self.segment_slots = segments
+
+    def add_triangle(self, a: int, b: int, c: int,
+                     attributes: tuple[Any, ...] | None = None) -> None:
+        super().add_triangle(a, b, c, attributes)
+        self.triangle_slots.event(canonical_triangle(a, b, c), True)
+
+    def remove_triangle(self, a: int, b: int, c: int) -> tuple[Any, ...] | None:
+        attributes = super().remove_triangle(a, b, c)
+        self.triangle_slots.event(canonical_triangle(a, b, c), False)
+        return attributes
+
+    def set_segment(self, u: int, v: int, marker: int = 0) -> None:
+        key = (u, v) if u < v else (v, u)
+        existed = self.segment_marker(u, v) is not None
+        super().set_segment(u, v, marker)
+        if existed:
+            self.segment_slots.event(key, False)
+        self.segment_slots.event(key, True)
+
+    def remove_segment(self, u: int, v: int) -> int:
+        marker = super().remove_segment(u, v)
+        self.segment_slots.event((u, v) if u < v else (v, u), False)
+        return marker
+
+
+def step_label(step: Step) -> str:
+    """``op(arg, …)`` with rationals as exact text (decimal when finite)."""
+    shown = [str(a) if isinstance(a, int) else format_rational(a) for a in step.args]
+    return f"{step.op}({', '.join(shown)})"
+
+
+def history_of(start: Mesh2, trace: Trace) -> History:
+    """Replay ``trace`` on ``start`` once, checking every digest (as
+    :func:`geomexact.trace.replay` does), and record what each step changed and the final
+    mesh.
+    O(total changes); raises :class:`TraceError` when ``start`` is not the trace's input
+    or a step diverges."""
+    if start.digest != trace.input_digest:
+        raise TraceError(
+            f"this trace was recorded on a mesh with digest {trace.input_digest:032x}, "
+            f"but the given mesh has digest {start.digest:032x}: it is not the trace's input"
+        )
+    triangles, segments = _Slots(3), _Slots(2)
+    for triangle in start.triangles():
+        triangles.start.append(triangles.slot(triangle))
+    for u, v, _ in start.segment_list():
+        segments.start.append(segments.slot((u, v)))
+    transient = _RecordingTransient(start, triangles, segments)
+    vertex_counts = indices([start.vertex_count])
+    labels = []
+    alive = start.triangle_count
+    for index, step in enumerate(trace.steps):
+        try:
+            apply_in(transient, step)
+        except ValueError as error:
+            raise TraceError(
+                f"step {index + 1} ({step}) cannot be applied: {error}", index + 1
+            ) from error
+        if transient.digest != trace.digests[index]:
+            raise TraceError(
+                f"step {index + 1} ({step}) gave digest {transient.digest:032x}, "
+                f"the trace recorded {trace.digests[index]:032x}",
+                index + 1,
+            )
+        alive += triangles.close_step()
+        segments.close_step()
+        if alive != transient.triangle_count:  # an op edited the tables behind our back
+            raise RuntimeError(f"step {index + 1} ({step}) changed triangles unrecorded")
+        vertex_counts.append(transient.vertex_count)
+        labels.append(step_label(step))
+    return History(
+        labels=tuple(labels),
+        cells=triangles.cells,
+        start=triangles.start,
+        added_offsets=triangles.added_offsets,
+        added=triangles.added,
+        removed_offsets=triangles.removed_offsets,
+        removed=triangles.removed,
+        segment_cells=segments.cells,
+        segment_start=segments.start,
+        segment_added_offsets=segments.added_offsets,
+        segment_added=segments.added,
+        segment_removed_offsets=segments.removed_offsets,
+        segment_removed=segments.removed,
+        vertex_counts=vertex_counts,
+        input_digest=f"{trace.input_digest:032x}",
+        final_digest=f"{trace.final_digest:032x}",
+        final=transient.seal(),
+    )
+
+
+def trace_start(value: Viewable) -> Mesh2:
+    """The mesh a trace on ``value`` starts from: the mesh itself, or for a PSLG the mesh
+    of its isolated vertices (where a triangulation trace starts)."""
+    if isinstance(value, Mesh2):
+        return value
+    if isinstance(value, PSLG):
+        return vertices_mesh(value)
+    raise TypeError(f"a trace cannot start from a {type(value).__name__}")
+
