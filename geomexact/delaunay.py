@@ -157,14 +157,13 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     result: list[int] = []
     for chunk in reversed(rounds):
         cells = max(1, int(math.sqrt(len(chunk) / 2)))
-        scale = cells / span
 
         keyed = []
         for vertex in chunk:
             point = points[vertex]
             x = point.fx * 0.5 if math.isfinite(point.fx) else low_x
             y = point.fy * 0.5 if math.isfinite(point.fy) else low_y
-            column = min(cells - 1, int((x - low_x) * scale))
+            column = min(cells - 1, int((x - low_x) / span * cells))  # ratio in [0, 1]
             keyed.append((column, (y - low_y) if column % 2 == 0 else (low_y - y), vertex))
         keyed.sort()
         result.extend(vertex for _, _, vertex in keyed)
