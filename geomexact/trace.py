@@ -89,12 +89,12 @@ def replay_iter(start: Mesh2, trace: Trace, until: int | None = None) -> Iterato
     """Yield the mesh after each of the first ``until`` steps (all when None), checking
     every digest.  Raises :class:`TraceError` when ``start`` is not the trace's input or a
     step's result differs from the recorded digest."""
-    _check_start(start, trace)
+    check_start(start, trace)
     count = _count(trace, until)
     mesh = start
     for index in range(count):
         transient = Transient2(mesh)
-        _apply_checked(transient, trace, index)
+        apply_checked(transient, trace, index)
         mesh = transient.seal()
         yield mesh
 
@@ -102,15 +102,16 @@ def replay_iter(start: Mesh2, trace: Trace, until: int | None = None) -> Iterato
 def replay(start: Mesh2, trace: Trace, until: int | None = None) -> Mesh2:
     """The mesh after the first ``until`` steps of ``trace`` (all when None), replayed on
     ``start`` in one batch and checked step by step against the recorded digests."""
-    _check_start(start, trace)
+    check_start(start, trace)
     count = _count(trace, until)
     transient = Transient2(start)
     for index in range(count):
-        _apply_checked(transient, trace, index)
+        apply_checked(transient, trace, index)
     return transient.seal()
 
 
-def _check_start(start: Mesh2, trace: Trace) -> None:
+def check_start(start: Mesh2, trace: Trace) -> None:
+    """Raise :class:`TraceError` unless ``start`` is the mesh ``trace`` was recorded on."""
     if start.digest != trace.input_digest:
         raise TraceError(
             f"this trace was recorded on a mesh with digest {trace.input_digest:032x}, "
@@ -126,7 +127,9 @@ def _count(trace: Trace, until: int | None) -> int:
     return until
 
 
-def _apply_checked(transient: Transient2, trace: Trace, index: int) -> None:
+def apply_checked(transient: Transient2, trace: Trace, index: int) -> None:
+    """Apply step ``index`` (0-based) of ``trace`` to ``transient`` and check the digest
+    after it; :class:`TraceError` names the step when it cannot be applied or diverges."""
     step = trace.steps[index]
     try:
         apply_in(transient, step)

@@ -21,17 +21,15 @@ from typing import Any, TypeAlias
 import attrs
 
 from geomexact.delaunay import vertices_mesh
-from geomexact.errors import TraceError
 from geomexact.mesh2d import Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.numbers import format_rational, to_float
-from geomexact.ops import apply_in
 from geomexact.points import Point2
 from geomexact.polymesh import PolygonMesh
 from geomexact.predicates import Orientation, orient2d
 from geomexact.pslg import PSLG
 from geomexact.step import Step
 from geomexact.summary import mesh_summary
-from geomexact.trace import Trace
+from geomexact.trace import Trace, apply_checked, check_start
 from geomexact.transient import Transient2
 
 Viewable: TypeAlias = Mesh2 | PSLG | PolygonMesh
@@ -429,11 +427,7 @@ def history_of(start: Mesh2, trace: Trace) -> History:
     mesh.
     O(total changes); raises :class:`TraceError` when ``start`` is not the trace's input
     or a step diverges."""
-    if start.digest != trace.input_digest:
-        raise TraceError(
-            f"this trace was recorded on a mesh with digest {trace.input_digest:032x}, "
-            f"but the given mesh has digest {start.digest:032x}: it is not the trace's input"
-        )
+    check_start(start, trace)
     triangles, segments = _Slots(3), _Slots(2)
     for triangle in start.triangles():
         triangles.start.append(triangles.slot(triangle))
@@ -444,18 +438,7 @@ def history_of(start: Mesh2, trace: Trace) -> History:
     labels = []
     alive = start.triangle_count
     for index, step in enumerate(trace.steps):
-        try:
-            apply_in(transient, step)
-        except ValueError as error:
-            raise TraceError(
-                f"step {index + 1} ({step}) cannot be applied: {error}", index + 1
-            ) from error
-        if transient.digest != trace.digests[index]:
-            raise TraceError(
-                f"step {index + 1} ({step}) gave digest {transient.digest:032x}, "
-                f"the trace recorded {trace.digests[index]:032x}",
-                index + 1,
-            )
+        apply_checked(transient, trace, index)
         alive += triangles.close_step()
         segments.close_step()
         if alive != transient.triangle_count:  # an op edited the tables behind our back
