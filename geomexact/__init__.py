@@ -9,6 +9,11 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
+from geomexact.convex import (
+    ConvexDecomposition,
+    ConvexDecompositionError,
+    convex_decomposition,
+)
 from geomexact.delaunay import (
     Construction,
     SegmentError,
@@ -47,6 +52,20 @@ from geomexact.ops import (
     legalize,
 )
 from geomexact.points import Point2, Point3, point2, point3
+from geomexact.polylla import (
+    EdgeLabels,
+    PolyllaError,
+    PolyllaRun,
+    label_edges,
+    polylla,
+    polylla_run,
+)
+from geomexact.polymesh import (
+    PolygonMesh,
+    check_polygon_mesh,
+    mesh_stats,
+    validate_polygon_mesh,
+)
 from geomexact.predicates import (
     CircleLocation,
     Comparison,
@@ -69,6 +88,9 @@ __all__ = [
     "CircleLocation",
     "Comparison",
     "Construction",
+    "ConvexDecomposition",
+    "ConvexDecompositionError",
+    "EdgeLabels",
     "FormatError",
     "GeomexactError",
     "InvalidMeshError",
@@ -77,6 +99,9 @@ __all__ = [
     "OverwriteError",
     "Point2",
     "Point3",
+    "PolygonMesh",
+    "PolyllaError",
+    "PolyllaRun",
     "PreconditionError",
     "RationalParseError",
     "SegmentError",
@@ -92,6 +117,8 @@ __all__ = [
     "bisect",
     "canonical_triangle",
     "check",
+    "check_polygon_mesh",
+    "convex_decomposition",
     "empty_mesh",
     "first_divergence",
     "flip",
@@ -102,9 +129,11 @@ __all__ = [
     "insert_in_triangle",
     "insphere",
     "is_delaunay",
+    "label_edges",
     "legalize",
     "make_delaunay",
     "mesh_from_triangles",
+    "mesh_stats",
     "mesh_summary",
     "mpq",
     "non_delaunay_edges",
@@ -113,6 +142,8 @@ __all__ = [
     "parse_rational",
     "point2",
     "point3",
+    "polylla",
+    "polylla_run",
     "read_trace",
     "replay",
     "signed_area",
@@ -123,6 +154,7 @@ __all__ = [
     "triangulate",
     "triangulate_points",
     "validate",
+    "validate_polygon_mesh",
     "vertices_mesh",
     "write_trace",
 ]

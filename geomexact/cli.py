@@ -1,7 +1,7 @@
 """The ``geomexact`` command: parses arguments, calls the library, prints.
 
-Commands: ``info``, ``check``, ``convert``, ``replay``, ``triangulate``, ``view``,
-``serve``, ``demo`` (see ``docs/cli.md``).
+Commands: ``info``, ``check``, ``convert``, ``replay``, ``triangulate``, ``polylla``,
+``view``, ``serve``, ``demo`` (see ``docs/cli.md``).
 Exit codes: 0 success; 1 a check failed or a trace diverged; 2 bad input or usage.  Every
 error geomexact raises on purpose (:class:`~geomexact.errors.GeomexactError`) and every
 ``OSError`` is reported as one line ``geomexact: error: …`` on stderr, never as a
@@ -377,6 +377,85 @@ def command_triangulate(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+# -- polylla: polygonal meshes and their convex decomposition ----------------------------
+def command_polylla(args: argparse.Namespace) -> int:
+    """Polylla polygon mesh of a triangle mesh (a PSLG is triangulated first), optionally
+    decomposed into convex polygons; writes the polygons and optionally a picture."""
+    from geomexact.convex import convex_decomposition
+    from geomexact.polylla import polylla_run
+    from geomexact.polymesh import mesh_stats, nonconvex_polygons
+
+    loaded = _load(args.input, args.format, args.verbose)
+    if isinstance(loaded.value, PSLG):
+        mesh = triangulate(loaded.value).mesh
+    elif isinstance(loaded.value, Mesh2):
+        mesh = loaded.value
+    else:
+        raise UsageProblem(f"{args.input}: is already a polygon mesh; polylla needs a "
+                           "triangle mesh (or a PSLG, which is triangulated first)")
+    convex = args.convex or args.no_opt
+    for path in (args.output, args.picture):
+        if path and Path(path).exists() and not args.force:
+            raise OverwriteError(str(path))
+    started = time.perf_counter()
+    run = polylla_run(mesh)
+    result = run.mesh
+    inserted: tuple[tuple[int, int], ...] = ()
+    if convex:
+        decomposition = convex_decomposition(run.mesh, criterion_one=not args.no_opt)
+        result, inserted = decomposition.mesh, decomposition.inserted_edges
+    seconds = time.perf_counter() - started
+    violations = result.validate(mesh) if args.check else []
+    written: list[Path] = []
+    if args.output:
+        written += _write(args.output, result, args.to, overwrite=args.force, exact=args.exact)
+    if args.picture:
+        from geomexact.viz import pictures
+
+        if Path(args.picture).suffix.lower() not in pictures.PICTURE_FORMATS:
+            raise UsageProblem(f"{args.picture}: the picture must end in .png, .svg or .pdf")
+        title = f"{Path(args.input).name}: {'convex ' if convex else ''}Polylla mesh"
+        pictures.plot(result, args.picture, overwrite=args.force, title=title,
+                      highlight_edges=inserted)
+        written.append(Path(args.picture))
+    nonconvex = len(nonconvex_polygons(run.mesh))
+    report = {
+        "input": args.input,
+        "triangulated": isinstance(loaded.value, PSLG),
+        "vertices": mesh.vertex_count,
+        "triangles": mesh.triangle_count,
+        "regions": run.regions,
+        "barrier_tips": len(run.barrier_tips),
+        "repair_edges": len(run.repair_edges),
+        "polygons": len(run.mesh.polygons),
+        "nonconvex": nonconvex,
+        "convex_decomposition": convex,
+        "criterion_one": convex and not args.no_opt,
+        "inserted_edges": len(inserted) if convex else None,
+        "polygons_after": len(result.polygons) if convex else None,
+        "nonconvex_after": len(nonconvex_polygons(result)) if convex else None,
+        "seconds": round(seconds, 6),
+        "valid": not violations if args.check else None,
+        "stats": mesh_stats(result, inserted_edges=len(inserted) if convex else None),
+        "written": [str(path) for path in written],
+    }
+    if args.json:
+        report["violations"] = [{"kind": v.kind, "message": v.message,
+                                 "elements": list(v.elements)} for v in violations]
+        _print_json(report)
+    else:
+        what = "Polylla + convex decomposition" if convex else "Polylla"
+        rows = {key: value for key, value in report.items()
+                if key not in {"input", "stats", "written", "seconds", "convex_decomposition"}
+                and value is not None}
+        _print_table(f"{args.input}: {what} in {seconds:.3f} s", rows)
+        for path in written:
+            print(f"wrote {path}")
+        for violation in violations:
+            print(f"  {violation}")
+    return EXIT_FAILED if violations else EXIT_OK
+
+
 # -- view and serve: pictures, the HTML viewer, the local server (geomexact.viz) -----------
 VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
 
@@ -739,6 +818,33 @@ def build_parser() -> argparse.ArgumentParser:
     triangulate_.add_argument("--force", action="store_true", help="replace existing files")
     json_flag(triangulate_)
     verbose(triangulate_)
+
+    polylla_ = add("polylla", command_polylla,
+                   "Polylla polygon mesh of a triangle mesh, optionally made convex")
+    polylla_.add_argument("input", metavar="INPUT",
+                          help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
+    polylla_.add_argument("-o", "--output", metavar="OUT",
+                          help="polygon mesh file to write (e.g. OUT.off)")
+    polylla_.add_argument("--convex", action="store_true",
+                          help="split every polygon into convex ones by edges of the "
+                               "triangulation")
+    polylla_.add_argument("--no-opt", action="store_true",
+                          help="convex decomposition without criterion 1 (angle-first mode; "
+                               "implies --convex)")
+    polylla_.add_argument("--picture", metavar="PNG",
+                          help="draw the result (.png, .svg or .pdf; inserted edges in "
+                               "orange, non-convex polygons filled)")
+    polylla_.add_argument("--check", action="store_true",
+                          help="validate the polygons against the triangulation (exit 1 if "
+                               "invalid)")
+    polylla_.add_argument("--format", choices=formats, metavar="F", help=format_help)
+    polylla_.add_argument("--to", choices=formats, metavar="F",
+                          help="format of OUT (default: by its extension)")
+    polylla_.add_argument("--exact", action="store_true",
+                          help="write exact coordinates (p/q) instead of doubles")
+    polylla_.add_argument("--force", action="store_true", help="replace existing files")
+    json_flag(polylla_)
+    verbose(polylla_)
 
     view = add("view", command_view,
                "write the offline HTML viewer or a PNG/SVG/PDF picture of a mesh (and trace)")
