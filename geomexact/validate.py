@@ -5,14 +5,13 @@ property tests and ``geomexact check``.  Invariants: ``specs/snapshot.md``.
 
 from __future__ import annotations
 
+import itertools
 from collections import Counter
 
 import attrs
 
 from geomexact.errors import InvalidMeshError
-from geomexact.measures import boundary_enclosed_area, total_area
 from geomexact.mesh2d import Mesh2, canonical_triangle, full_digest
-from geomexact.numbers import format_rational
 from geomexact.predicates import Orientation, orient2d
 from geomexact.segments import meeting_pairs
 
@@ -40,9 +39,10 @@ def validate(
     triangle is strictly counter-clockwise (exact); the triangle count; each vertex of a
     triangle has a valid ``outgoing`` hint; boundary edges form closed loops through
     manifold vertices; every constrained segment is an edge; attributes and markers refer
-    to existing elements; the triangles cover exactly the area enclosed by the boundary (no
-    fold-over); boundary edges meet only at shared endpoints and no connected component lies
-    on another (no overlap); the digest equals its recomputation.  Vertices in no triangle
+    to existing elements; the triangles around each vertex turn exactly once (interior
+    vertex) or less than once (boundary vertex) — no fold-over; boundary edges meet only
+    at shared endpoints and no connected component lies on another (no overlap); the
+    digest equals its recomputation.  Vertices in no triangle
     (Triangle keeps unused duplicates and vertices inside holes) are reported as
     ``isolated-vertex`` only when ``allow_isolated`` is false.
     """
@@ -117,10 +117,7 @@ def validate(
                 found.append(Violation("attribute", f"marker or attributes of missing "
                                        f"vertex {vertex}", (vertex,)))
     if not found:
-        area, enclosed = total_area(mesh), boundary_enclosed_area(mesh)
-        if area != enclosed:
-            found.append(Violation("fold-over", f"triangles cover area {format_rational(area)}"
-                                   f" but the boundary encloses {format_rational(enclosed)}"))
+        found.extend(_folded_vertices(mesh))
         found.extend(_boundary_crossings(mesh))
         if not found:
             found.extend(_stacked_components(mesh, triangles))
@@ -139,6 +136,47 @@ def check(mesh: Mesh2) -> Mesh2:
     if violations:
         raise InvalidMeshError(violations)
     return mesh
+
+
+def _quadrant(dx: object, dy: object) -> int:
+    """Quadrant of a non-zero direction: 0 for angles in [0°, 90°), 1 for [90°, 180°),
+    2 for [180°, 270°), 3 for [270°, 360°)."""
+    if dy >= 0 and dx > 0:  # type: ignore[operator]
+        return 0
+    if dx <= 0 and dy > 0:  # type: ignore[operator]
+        return 1
+    if dy <= 0 and dx < 0:  # type: ignore[operator]
+        return 2
+    return 3
+
+
+def _folded_vertices(mesh: Mesh2) -> list[Violation]:
+    """Vertices whose triangles turn around them more than once (interior: exactly once
+    required; boundary: less than once).  Exact: each triangle's angle at the vertex is
+    below 180° (orientation is already checked), so summing quadrant changes along the star
+    counts quarter turns; an interior star must make exactly 4.  O(n)."""
+    found: list[Violation] = []
+    vertices = mesh.vertices
+    for vertex in sorted(mesh.outgoing):
+        star = mesh.star(vertex)
+        if not star:
+            continue
+        p = vertices[vertex]
+        directions = [(vertices[w].x - p.x, vertices[w].y - p.y) for _, w, _ in star]
+        last = vertices[star[-1][2]]
+        directions.append((last.x - p.x, last.y - p.y))
+        quadrants = [_quadrant(dx, dy) for dx, dy in directions]
+        turns = sum((b - a) % 4 for a, b in itertools.pairwise(quadrants))
+        closed = star[-1][2] == star[0][1]
+        if closed:
+            wraps = turns != 4
+        else:
+            (fx, fy), (lx, ly) = directions[0], directions[-1]
+            wraps = turns > 4 or (turns == 4 and fx * ly - fy * lx >= 0)
+        if wraps:
+            found.append(Violation("fold-over", f"the triangles around vertex {vertex} wrap "
+                                   "around it more than once", (vertex,)))
+    return found
 
 
 def _boundary_crossings(mesh: Mesh2) -> list[Violation]:

@@ -329,3 +329,13 @@ class SnapshotMachine(RuleBasedStateMachine):
 
 TestSnapshotMachine = SnapshotMachine.TestCase
 TestSnapshotMachine.settings = settings(max_examples=30, stateful_step_count=20, deadline=None)
+
+
+def test_validate_finds_a_star_wrapped_twice_around_a_vertex() -> None:
+    """Five triangles around vertex 0 turning 144° each (a pentagram fan): every triangle
+    is counter-clockwise and every interior edge has two triangles, but the fan wraps twice
+    around the centre; validate reports the fold-over."""
+    ring = [(10, 0), (-8, 6), (3, -10), (3, 10), (-8, -6)]  # angles 0, 143, 287, 73, 217
+    mesh = mesh_from_triangles([(0, 0), *ring], [(0, i, i % 5 + 1) for i in range(1, 6)])
+    kinds = {violation.kind for violation in validate(mesh)}
+    assert "fold-over" in kinds
