@@ -158,3 +158,32 @@ __all__ = [
     "vertices_mesh",
     "write_trace",
 ]
+
+# -- Lepp refinement (geomexact.refine; issue 4) ---------------------------------------------
+# Kept as one block: importing geomexact.refine also registers the step
+# ``insert_in_quadrilateral`` (geomexact.centroids), so that refinement traces replay after
+# a plain ``import geomexact``.
+from geomexact.criteria import (
+    AverageAreaFactor,
+    MaxArea,
+    MaxEdgeLength,
+    MinAngle,
+)
+from geomexact.lepp import Lepp, lepp
+from geomexact.refine import RefineStats, Result, refine
+from geomexact.regions import Circle, Polygon, Rectangle
+
+__all__ += [
+    "AverageAreaFactor",
+    "Circle",
+    "Lepp",
+    "MaxArea",
+    "MaxEdgeLength",
+    "MinAngle",
+    "Polygon",
+    "Rectangle",
+    "RefineStats",
+    "Result",
+    "lepp",
+    "refine",
+]

@@ -3,6 +3,9 @@ paths and their terminal edges (``specs/lepp.md``)."""
 
 from __future__ import annotations
 
+import doctest
+import sys
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -32,6 +35,12 @@ def square(constrained: bool = False) -> Mesh2:
 def squared(mesh: Mesh2, u: int, v: int) -> object:
     p, q = mesh.point(u), mesh.point(v)
     return (q.x - p.x) ** 2 + (q.y - p.y) ** 2
+
+
+def test_module_doctest() -> None:
+    """The example in the module docstring holds (``geomexact.lepp`` the attribute is the
+    function, so the module comes from ``sys.modules``)."""
+    assert doctest.testmod(sys.modules["geomexact.lepp"]).failed == 0
 
 
 # -- edge order -----------------------------------------------------------------------------

@@ -1,0 +1,286 @@
+"""Lepp refinement time, size and quality of geomexact against Triangle (C), in the same run.
+
+Usage::
+
+    .venv/bin/python benchmarks/bench_refine.py [--only square-1e-5 ...] [--repeat 3]
+        [--repeat-large 1] [--json]
+
+Workloads:
+
+* ``square-1e-5`` / ``square-1e-6``: the unit square (two triangles, boundary segments) to
+  max area 1e-5 / 1e-6.  geomexact: Lepp-bisection, with Delaunay legalization (the
+  default) and without (``--no-delaunay``); Triangle: ``pa0.00001`` (max area only, the same
+  job) and, for reference, ``pqa…`` (also 20.7° quality, which it happens to do faster).
+* ``superior-30`` … ``superior-35``: Lake Superior (the bundled PSLG), constrained Delaunay
+  then min angle θ: geomexact centroid and quasi methods (from its constrained Delaunay
+  triangulation, timed: refinement only) against Triangle ``pq<θ>`` (from the PSLG:
+  triangulation and refinement).
+
+Every measurement runs in a fresh child process (so each peak memory is its own: the
+child's maximum resident set size) and is the best of ``--repeat`` runs (``--repeat-large``
+for 1e-6); wall time (``perf_counter``) and CPU time (``process_time``) are both reported,
+because this machine is shared and wall times are noisy.  Triangle children run with a 3 GB
+address-space limit and a time limit: at 35° on Superior Triangle does not terminate (it
+exhausts memory), which is reported as such.
+
+Targets (issue 4): square 1e-5 in <= 5x Triangle's time, 1e-6 in <= 8x with < 4 GB, and
+fewer triangles than Triangle at equal max area.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import importlib.resources
+import json
+import math
+import platform
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+TARGETS = {"square-1e-5": 5.0, "square-1e-6": 8.0}
+MEMORY_LIMIT_BYTES = 4 * 1024**3
+TRIANGLE_ADDRESS_LIMIT = 3 * 1024**3
+TRIANGLE_TIME_LIMIT = 60.0
+
+
+# --- inputs ---------------------------------------------------------------------------------
+def superior_pslg() -> Any:
+    from geomexact import io
+
+    source = importlib.resources.files("geomexact") / "data" / "superior.poly"
+    with importlib.resources.as_file(source) as path:
+        return io.read(path, format="poly")
+
+
+def unit_square() -> Any:
+    from geomexact import mesh_from_triangles
+
+    return mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],
+                               [(0, 1, 1), (1, 2, 1), (2, 3, 1), (3, 0, 1)])
+
+
+def min_angle_degrees(points: list[tuple[float, float]], triangles: list[Any]) -> float:
+    """Smallest angle of a float mesh (for Triangle's output and ours alike)."""
+    smallest = 180.0
+    for a, b, c in triangles:
+        for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
+            ux, uy = points[q][0] - points[p][0], points[q][1] - points[p][1]
+            vx, vy = points[r][0] - points[p][0], points[r][1] - points[p][1]
+            angle = math.degrees(math.atan2(abs(ux * vy - uy * vx), ux * vx + uy * vy))
+            smallest = min(smallest, angle)
+    return smallest
+
+
+# --- workers (run in child processes) ---------------------------------------------------------
+def timed(run: Any, repeat: int) -> tuple[Any, float, float]:
+    best_wall = best_cpu = math.inf
+    result = None
+    for _ in range(repeat):
+        result = None
+        gc.collect()
+        wall, cpu = time.perf_counter(), time.process_time()
+        result = run()
+        best_wall = min(best_wall, time.perf_counter() - wall)
+        best_cpu = min(best_cpu, time.process_time() - cpu)
+    return result, best_wall, best_cpu
+
+
+def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
+    from geomexact.criteria import MaxArea, MinAngle
+    from geomexact.delaunay import triangulate
+    from geomexact.refine import refine
+
+    if spec["input"] == "square":
+        start = unit_square()
+        criterion: Any = MaxArea(spec["area"])
+        options = {"method": "bisection", "delaunay": spec["delaunay"]}
+    else:
+        start = triangulate(superior_pslg()).mesh
+        criterion = MinAngle(spec["degrees"])
+        options = {"method": spec["method"]}
+    result, wall, cpu = timed(lambda: refine(start, criterion, **options), spec["repeat"])
+    mesh = result.mesh
+    points = [(float(p.x), float(p.y)) for _, p in sorted(mesh.vertices.items())]
+    report = {
+        "triangles": mesh.triangle_count,
+        "vertices": mesh.vertex_count,
+        "steps": len(result.trace),
+        "status": result.status,
+        "wall": wall,
+        "cpu": cpu,
+        "left": len(result.stats.left),
+    }
+    if spec["input"] == "superior":
+        left = set(result.stats.left)
+        report["min_angle"] = min_angle_degrees(points, mesh.triangles())
+        report["min_angle_outside_left"] = min_angle_degrees(
+            points, [t for t in mesh.triangles() if t not in left])
+    return report
+
+
+def work_triangle(spec: dict[str, Any]) -> dict[str, Any]:
+    import numpy as np
+    import triangle
+
+    resource.setrlimit(resource.RLIMIT_AS, (TRIANGLE_ADDRESS_LIMIT, TRIANGLE_ADDRESS_LIMIT))
+    if spec["input"] == "square":
+        data = {"vertices": np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=float),
+                "segments": np.array([[0, 1], [1, 2], [2, 3], [3, 0]])}
+    else:
+        pslg = superior_pslg()
+        data = {"vertices": np.array([[float(p.x), float(p.y)] for p in pslg.vertices]),
+                "segments": np.array([[u, v] for u, v, _ in pslg.segments]),
+                "holes": np.array([[float(h.x), float(h.y)] for h in pslg.holes])}
+    output, wall, cpu = timed(lambda: triangle.triangulate(data, spec["switches"]),
+                              spec["repeat"])
+    report = {"triangles": len(output["triangles"]), "vertices": len(output["vertices"]),
+              "wall": wall, "cpu": cpu, "status": "complete"}
+    if spec["input"] == "superior":
+        report["min_angle"] = min_angle_degrees(
+            [tuple(p) for p in output["vertices"].tolist()], output["triangles"].tolist())
+    return report
+
+
+def worker(spec: dict[str, Any]) -> None:
+    report = work_triangle(spec) if spec["engine"] == "triangle" else work_geomexact(spec)
+    report["max_rss_bytes"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    print(json.dumps(report))
+
+
+def measure(spec: dict[str, Any], timeout: float | None) -> dict[str, Any]:
+    """Run one measurement in a child process; a failure or timeout is a report too."""
+    command = [sys.executable, __file__, "--worker", json.dumps(spec)]
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=timeout,
+                              check=False)
+    except subprocess.TimeoutExpired:
+        return {"status": f"did not finish in {timeout:.0f} s"}
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or ["?"])[-1]
+        return {"status": f"failed ({last[:80]})"}
+    result: dict[str, Any] = json.loads(done.stdout.strip().splitlines()[-1])
+    return result
+
+
+# --- the benchmark ----------------------------------------------------------------------------
+def square_runs(name: str, area: str, repeat: int) -> list[dict[str, Any]]:
+    runs = []
+    for delaunay in (True, False):
+        label = "geomexact bisection" + ("" if delaunay else " --no-delaunay")
+        spec = {"engine": "geomexact", "input": "square", "area": area,
+                "delaunay": delaunay, "repeat": repeat}
+        runs.append({"workload": name, "program": label, **measure(spec, None)})
+    for switches in (f"pa{area}", f"pqa{area}"):
+        spec = {"engine": "triangle", "input": "square", "switches": switches,
+                "repeat": repeat}
+        runs.append({"workload": name, "program": f"triangle -{switches}",
+                     **measure(spec, TRIANGLE_TIME_LIMIT)})
+    return runs
+
+
+def superior_runs(degrees: int, repeat: int) -> list[dict[str, Any]]:
+    name = f"superior-{degrees}"
+    runs = []
+    for method in ("centroid", "quasi"):
+        spec = {"engine": "geomexact", "input": "superior", "degrees": degrees,
+                "method": method, "repeat": repeat}
+        runs.append({"workload": name, "program": f"geomexact {method}",
+                     **measure(spec, None)})
+    spec = {"engine": "triangle", "input": "superior", "switches": f"pq{degrees}",
+            "repeat": repeat}
+    runs.append({"workload": name, "program": f"triangle -pq{degrees}",
+                 **measure(spec, TRIANGLE_TIME_LIMIT)})
+    return runs
+
+
+def verdicts(runs: list[dict[str, Any]]) -> list[str]:
+    lines = []
+    for workload, limit in TARGETS.items():
+        ours = [r for r in runs if r["workload"] == workload and r["program"].startswith(
+            "geomexact") and "wall" in r]
+        reference = next((r for r in runs if r["workload"] == workload
+                          and r["program"].startswith("triangle -pa") and "wall" in r), None)
+        if not ours or reference is None:
+            continue
+        for run in ours:
+            ratio = run["wall"] / reference["wall"]
+            cpu_ratio = run["cpu"] / reference["cpu"]
+            fewer = run["triangles"] < reference["triangles"]
+            memory = run["max_rss_bytes"] < MEMORY_LIMIT_BYTES
+            verdict = "meets" if ratio <= limit and fewer and memory else "MISSES"
+            lines.append(
+                f"{workload}: {run['program']} {verdict} the target: {ratio:.1f}x Triangle's "
+                f"wall time ({cpu_ratio:.1f}x CPU; target <= {limit:.0f}x), "
+                f"{run['triangles']:,} vs {reference['triangles']:,} triangles "
+                f"({'fewer' if fewer else 'NOT fewer'}), peak memory "
+                f"{run['max_rss_bytes'] / 1024**3:.2f} GB")
+    return lines
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--worker", help=argparse.SUPPRESS)
+    parser.add_argument("--only", nargs="+", metavar="WORKLOAD",
+                        help="square-1e-5, square-1e-6, superior-30 … superior-35")
+    parser.add_argument("--repeat", type=int, default=3, help="best of N (default 3)")
+    parser.add_argument("--repeat-large", type=int, default=1,
+                        help="best of N for square-1e-6 (default 1)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    args = parser.parse_args()
+    if args.worker:
+        worker(json.loads(args.worker))
+        return 0
+    workloads = args.only or ["square-1e-5", "square-1e-6",
+                              *(f"superior-{d}" for d in range(30, 36))]
+    runs: list[dict[str, Any]] = []
+    for workload in workloads:
+        if workload == "square-1e-5":
+            runs += square_runs(workload, "0.00001", args.repeat)
+        elif workload == "square-1e-6":
+            runs += square_runs(workload, "0.000001", args.repeat_large)
+        elif workload.startswith("superior-"):
+            runs += superior_runs(int(workload.split("-")[1]), args.repeat)
+        else:
+            parser.error(f"unknown workload {workload}")
+        if not args.json:
+            for run in runs:
+                if run.get("printed"):
+                    continue
+                run["printed"] = True
+                print(format_run(run), flush=True)
+    for run in runs:
+        run.pop("printed", None)
+    from geomexact import __version__
+
+    report = {"geomexact": __version__, "python": platform.python_version(),
+              "machine": platform.machine(), "runs": runs, "verdicts": verdicts(runs)}
+    if args.json:
+        print(json.dumps(report, indent=2))
+    else:
+        for line in report["verdicts"]:
+            print(line)
+    return 0
+
+
+def format_run(run: dict[str, Any]) -> str:
+    if "wall" not in run:
+        return f"{run['workload']:<12} {run['program']:<32} {run['status']}"
+    text = (f"{run['workload']:<12} {run['program']:<32} {run['wall']:9.3f} s wall "
+            f"{run['cpu']:9.3f} s cpu {run['triangles']:>10,} triangles "
+            f"{run['max_rss_bytes'] / 1024**2:8.0f} MB")
+    if "min_angle" in run:
+        text += f"  min angle {run['min_angle']:.2f}°"
+        if "min_angle_outside_left" in run:
+            text += f" ({run['min_angle_outside_left']:.2f}° outside {run['left']} left)"
+    return text
+
+
+if __name__ == "__main__":
+    sys.exit(main())

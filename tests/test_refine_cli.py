@@ -1,0 +1,303 @@
+"""``geomexact refine``: criteria, regions, methods, outputs (mesh, trace, every step),
+JSON summary, progress on stderr, status and exit codes (0 ok, 1 a check failed, 2 bad
+input or usage)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from geomexact import Mesh2, io, mpq, total_area
+from geomexact.cli import main
+from geomexact.trace import read_trace
+
+SQUARE_OFF = """OFF
+4 2 0
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+3 0 1 2
+3 0 2 3
+"""
+
+PENTAGON_POLY = """# a pentagon with two inner points
+7 2 0 0
+1 0 0
+2 8 0
+3 9 3
+4 4 5
+5 -1 3
+6 3 1
+7 5 2
+5 0
+1 1 2
+2 2 3
+3 3 4
+4 4 5
+5 5 1
+0
+"""
+
+SUMMARY_KEYS = {
+    "vertices", "triangles", "edges", "boundary_edges", "constrained_edges",
+    "min_angle_deg", "max_angle_deg", "min_area", "max_area", "mean_area", "total_area",
+    "is_delaunay", "digest",
+}
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str | Path) -> tuple[int, str, str]:
+    code = main([str(a) for a in argv])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def one_line_error(err: str, *fragments: str) -> None:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("geomexact: error: "), err
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+@pytest.fixture
+def square(tmp_path: Path) -> Path:
+    path = tmp_path / "square.off"
+    path.write_text(SQUARE_OFF)
+    return path
+
+
+@pytest.fixture
+def pentagon(tmp_path: Path) -> Path:
+    path = tmp_path / "pentagon.poly"
+    path.write_text(PENTAGON_POLY)
+    return path
+
+
+def test_refine_max_area_writes_the_mesh_and_a_json_summary(
+    capsys: pytest.CaptureFixture[str], square: Path, tmp_path: Path
+) -> None:
+    """--max-area 1/64 on the unit square: 64 triangles; the JSON has the info keys plus
+    steps, seconds and status."""
+    out_path = tmp_path / "out.off"
+    code, out, err = run(capsys, "refine", square, "--max-area", "1/64", "-o", out_path,
+                         "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    assert SUMMARY_KEYS | {"steps", "seconds", "status"} <= set(report)
+    assert report["triangles"] == 64 and report["status"] == "complete"
+    assert report["criterion"] == {"kind": "max_area", "area": "0.015625"}  # exact 1/64
+    mesh = io.read(out_path)
+    assert isinstance(mesh, Mesh2) and mesh.triangle_count == 64
+    assert total_area(mesh) == 1
+
+
+def test_refine_table_summary(capsys: pytest.CaptureFixture[str], square: Path) -> None:
+    """Without --json: a table with the mesh statistics, the steps and the status."""
+    code, out, _ = run(capsys, "refine", square, "--max-edge", "0.3", "--method", "centroid")
+    assert code == 0
+    assert "Lepp-centroid refinement" in out and "complete" in out
+    assert "min angle deg" in out and "mean area" in out
+
+
+def test_refine_a_pslg_writes_a_trace_that_replays_from_the_pslg(
+    capsys: pytest.CaptureFixture[str], pentagon: Path, tmp_path: Path
+) -> None:
+    """A PSLG is triangulated first; the trace starts at its vertices and `replay` on the
+    PSLG reproduces the refined mesh (same digest)."""
+    trace_path = tmp_path / "run.jsonl"
+    code, out, err = run(capsys, "refine", pentagon, "--min-angle", "30", "--method", "quasi",
+                         "--trace", trace_path, "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["triangulated"] is True
+    trace = read_trace(trace_path)
+    assert trace.parameter("method") == "quasi"
+    assert trace.parameter("triangulation_steps") > 0
+    code, out, err = run(capsys, "replay", pentagon, trace_path, "-o", tmp_path / "r.ele",
+                         "--json")
+    assert code == 0, err
+    assert json.loads(out)["final_digest"] == report["digest"]
+
+
+@pytest.mark.parametrize(
+    "region",
+    [["--circle", "0.5", "0.5", "0.2"], ["--rectangle", "0", "0", "0.25", "0.5"]],
+)
+def test_refine_in_a_region(
+    capsys: pytest.CaptureFixture[str], square: Path, region: list[str]
+) -> None:
+    """Circle and rectangle regions are parsed exactly and reported."""
+    code, out, err = run(capsys, "refine", square, "--max-area", "0.001", *region, "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["region"]["kind"] == region[0][2:]
+    whole = json.loads(run(capsys, "refine", square, "--max-area", "0.001", "--json")[1])
+    assert report["triangles"] < whole["triangles"]
+
+
+def test_refine_in_a_polygon_file_region(
+    capsys: pytest.CaptureFixture[str], square: Path, tmp_path: Path
+) -> None:
+    """--polygon reads an OFF polygon (one face) or a PSLG loop."""
+    off = tmp_path / "region.off"
+    off.write_text("OFF\n4 1 0\n0 0 0\n0.5 0 0\n0.5 0.25 0\n0 0.25 0\n4 0 1 2 3\n")
+    poly = tmp_path / "region.poly"
+    poly.write_text("4 2 0 0\n1 0 0\n2 0.5 0\n3 0.5 0.25\n4 0 0.25\n4 0\n1 1 2\n2 2 3\n"
+                    "3 3 4\n4 4 1\n0\n")
+    reports = []
+    for region in (off, poly):
+        code, out, err = run(capsys, "refine", square, "--max-area", "0.001", "--polygon",
+                             region, "--json")
+        assert code == 0, err
+        reports.append(json.loads(out))
+    assert reports[0]["digest"] == reports[1]["digest"]
+    assert reports[0]["region"]["kind"] == "polygon"
+
+
+def test_refine_pikachu_in_its_polygon(
+    capsys: pytest.CaptureFixture[str], shared_data: Path
+) -> None:
+    """The shared Pikachu mesh with the shared polygon.off region."""
+    folder = shared_data / "polylla-refinement"
+    code, out, err = run(capsys, "refine", folder / "pikachu_triangle.off", "--max-area",
+                         "50000", "--polygon", folder / "polygon.off", "--method", "centroid",
+                         "--check", "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["valid"] is True and report["status"] == "complete"
+
+
+def test_min_angle_with_bisection_is_refused_without_a_step_limit(
+    capsys: pytest.CaptureFixture[str], pentagon: Path
+) -> None:
+    """Bisection does not raise angles: exit 2 with the explanation; allowed with a
+    limit, which stops the run with status step-limit (said on stderr)."""
+    code, _, err = run(capsys, "refine", pentagon, "--min-angle", "30")
+    assert code == 2
+    one_line_error(err, "does not raise angles", "--max-steps")
+    code, out, err = run(capsys, "refine", pentagon, "--min-angle", "30", "--max-steps", "3",
+                         "--json")
+    assert code == 0
+    report = json.loads(out)
+    assert report["status"] == "step-limit" and report["steps"] == 3
+    assert "step limit" in err
+
+
+def test_progress_goes_to_stderr_and_json_stays_one_object(
+    capsys: pytest.CaptureFixture[str], square: Path
+) -> None:
+    """--progress with --json: stdout is exactly one JSON object, the bar is on stderr."""
+    code, out, err = run(capsys, "refine", square, "--max-area", "1/256", "--progress",
+                         "--json")
+    assert code == 0
+    assert json.loads(out)["triangles"] == 256
+    assert "refine [" in err and "256 triangles" in err
+
+
+def test_check_delaunay_fails_for_a_non_delaunay_result(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """A non-Delaunay input that needs no refinement: --check-delaunay exits 1 and says
+    so (refinement legalizes only around new vertices)."""
+    path = tmp_path / "kite.off"
+    path.write_text("OFF\n4 2 0\n0 0 0\n4 0 0\n2 1 0\n2 -1 0\n3 0 1 2\n3 1 0 3\n")
+    code, out, err = run(capsys, "refine", path, "--max-area", "100", "--check-delaunay",
+                         "--json")
+    assert code == 1
+    assert json.loads(out)["is_delaunay"] is False
+    assert "not Delaunay" in err
+
+
+def test_print_iter_writes_every_step(
+    capsys: pytest.CaptureFixture[str], square: Path, tmp_path: Path
+) -> None:
+    """--print-iter DIR: the input and the mesh after each step, exact OFF files."""
+    directory = tmp_path / "steps"
+    code, out, _ = run(capsys, "refine", square, "--max-area", "1/16", "--print-iter",
+                       directory, "--json")
+    assert code == 0
+    steps = json.loads(out)["steps"]
+    files = sorted(directory.glob("step-*.off"))
+    assert len(files) == steps + 1
+    last = io.read(files[-1])
+    assert isinstance(last, Mesh2) and last.triangle_count == 16
+    code, _, err = run(capsys, "refine", square, "--max-area", "1/16", "--print-iter",
+                       directory)
+    assert code == 2 and "exists" in err
+
+
+def test_existing_outputs_are_not_replaced_without_force(
+    capsys: pytest.CaptureFixture[str], square: Path, tmp_path: Path
+) -> None:
+    """An existing OUT or trace: exit 2 before any work; --force replaces it."""
+    out_path = tmp_path / "out.off"
+    out_path.write_text("keep")
+    code, _, err = run(capsys, "refine", square, "--max-area", "0.1", "-o", out_path)
+    assert code == 2 and out_path.read_text() == "keep"
+    one_line_error(err, "exists")
+    code, _, _ = run(capsys, "refine", square, "--max-area", "0.1", "-o", out_path, "--force")
+    assert code == 0 and out_path.read_text() != "keep"
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["--max-area", "abc"], "cannot read 'abc'"),
+        (["--max-area", "-1"], "positive"),
+        (["--min-angle", "75", "--method", "centroid"], "between 0 and 60"),
+        (["--max-area", "0.1", "--circle", "0", "0", "0"], "radius"),
+    ],
+)
+def test_bad_values_are_one_line_errors(
+    capsys: pytest.CaptureFixture[str], square: Path, argv: list[str], fragment: str
+) -> None:
+    """Unreadable or out-of-range numbers: exit 2, one line on stderr."""
+    code, _, err = run(capsys, "refine", square, *argv)
+    assert code == 2
+    one_line_error(err, fragment)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [[], ["--max-area", "1", "--min-angle", "30"], ["--max-area", "1", "--method", "newest"],
+     ["--max-area", "1", "--circle", "0", "0", "1", "--rectangle", "0", "0", "1", "1"]],
+)
+def test_usage_errors(capsys: pytest.CaptureFixture[str], square: Path,
+                      argv: list[str]) -> None:
+    """No criterion, two criteria, an unknown method, two regions: usage error, exit 2."""
+    code, _, err = run(capsys, "refine", square, *argv)
+    assert code == 2
+    assert "usage:" in err
+
+
+def test_a_polygon_mesh_cannot_be_refined(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """A polygon mesh input (a quad face): exit 2."""
+    path = tmp_path / "quad.off"
+    path.write_text("OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n")
+    code, _, err = run(capsys, "refine", path, "--max-area", "0.1")
+    assert code == 2
+    one_line_error(err, "polygon mesh")
+
+
+def test_factor_and_left_triangles_are_reported(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """--factor halves the mean area; a sharp input corner is reported as left."""
+    path = tmp_path / "wedge.poly"
+    path.write_text("4 2 0 0\n1 0 0\n2 10 0\n3 12 1\n4 10 1.76\n4 0\n1 1 2\n2 2 3\n3 3 4\n"
+                    "4 4 1\n0\n")
+    code, out, err = run(capsys, "refine", path, "--min-angle", "25", "--method", "centroid",
+                         "--json")
+    assert code == 0, err
+    report: dict[str, Any] = json.loads(out)
+    assert report["left"] and all(0 in triangle for triangle in report["left"])
+    assert "left below the minimum angle" in err
+    code, out, _ = run(capsys, "refine", path, "--factor", "0.5", "--json")
+    assert code == 0
+    report = json.loads(out)
+    assert mpq(report["total_area"]) / report["triangles"] <= mpq("10.88") / 2 / 2
