@@ -856,6 +856,33 @@ def _demo_triangulate(run: DemoRun) -> None:
     run.written.append(trace_path)
 
 
+DEMO_MIN_ANGLE = 30
+
+
+def _demo_refine(run: DemoRun) -> None:
+    """Lepp-centroid (Delaunay) refinement of the triangulation to a 30° minimum angle,
+    and the Polylla polygon mesh of the result."""
+    from geomexact.criteria import MinAngle
+    from geomexact.polylla import polylla
+    from geomexact.refine import refine
+
+    if run.mesh is None:
+        raise RuntimeError("the demo's triangulate step must run before refine")
+    result = refine(run.mesh, MinAngle(DEMO_MIN_ANGLE), method="centroid")
+    run.mesh, run.start, run.trace = result.mesh, result.start, result.trace
+    run.report["refinement"] = {
+        "method": "centroid", "min_angle": DEMO_MIN_ANGLE,
+        **mesh_summary(result.mesh), **result.stats.as_dict(),
+    }
+    run.write("superior.2.ele", result.mesh, "triangle")
+    trace_path = run.directory / "superior.2.trace.jsonl"
+    write_trace(trace_path, result.trace, overwrite=run.force)
+    run.written.append(trace_path)
+    polygons = polylla(result.mesh)
+    run.report["polylla"] = {"polygons": len(polygons.polygons)}
+    run.write("superior.2.polylla.off", polygons, "off")
+
+
 def _demo_draw(run: DemoRun) -> None:
     """A PNG (filled by smallest angle) and the HTML viewer of the last mesh made, the
     viewer with the last stage's trace when it ends at that mesh."""
@@ -894,7 +921,12 @@ DEMO_STEPS: tuple[DemoStep, ...] = (
          "superior.1.trace.jsonl"),
         _demo_triangulate,
     ),
-    # a refine step (later issue) goes here, before draw: draw shows the last mesh made
+    DemoStep(
+        "refine",
+        ("superior.2.node", "superior.2.ele", "superior.2.neigh", "superior.2.poly",
+         "superior.2.trace.jsonl", "superior.2.polylla.off"),
+        _demo_refine,
+    ),
     DemoStep("draw", ("superior.png", "superior.html"), _demo_draw),
 )
 
@@ -920,6 +952,9 @@ def command_demo(args: argparse.Namespace) -> int:
     _print_table(f"Lake Superior PSLG ({DEMO_INPUT}, from {DEMO_SOURCE})", summary)
     if "triangulation" in run.report:
         _print_table("constrained Delaunay triangulation", run.report["triangulation"])
+    if "refinement" in run.report:
+        _print_table(f"Lepp-centroid refinement to a {DEMO_MIN_ANGLE}° minimum angle",
+                     run.report["refinement"])
     for path in run.written:
         print(f"wrote {path}")
     return EXIT_OK

@@ -438,11 +438,16 @@ def test_demo_writes_exact_copies_and_refuses_to_overwrite(
     assert report["input"]["holes"] == 6
     assert sorted(Path(p).name for p in report["written"]) == [
         "superior.1.ele", "superior.1.neigh", "superior.1.node", "superior.1.poly",
-        "superior.1.trace.jsonl", "superior.html", "superior.node", "superior.png",
-        "superior.poly",
+        "superior.1.trace.jsonl", "superior.2.ele", "superior.2.neigh", "superior.2.node",
+        "superior.2.poly", "superior.2.polylla.off", "superior.2.trace.jsonl",
+        "superior.html", "superior.node", "superior.png", "superior.poly",
     ]
     assert report["triangulation"]["triangles"] == 528
     assert report["triangulation"]["is_delaunay"] is True
+    refined = report["refinement"]
+    assert refined["status"] == "complete" and refined["is_delaunay"] is True
+    assert refined["total_area"] == report["triangulation"]["total_area"]  # exact
+    assert refined["triangles"] > 528 and report["polylla"]["polygons"] > 0
     pslg = io.read(directory / "superior.poly")
     assert isinstance(pslg, PSLG)
     assert len(pslg.vertices) == 518 and len(pslg.segments) == 518 and len(pslg.holes) == 6
