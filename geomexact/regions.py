@@ -24,6 +24,7 @@ from geomexact.errors import PreconditionError
 from geomexact.numbers import Rational, format_rational, to_rational
 from geomexact.points import Point2, point2
 from geomexact.predicates import Orientation, orient2d
+from geomexact.segments import within_box
 
 __all__ = [
     "CallableRegion",
@@ -179,7 +180,7 @@ class Polygon:
         previous = vertices[-1]
         for current in vertices:
             side = orient2d(previous, current, point)
-            if side == Orientation.COLLINEAR and _within_box(point, previous, current):
+            if side == Orientation.COLLINEAR and within_box(point, previous, current):
                 return True
             upward = current[1] > py
             if (previous[1] > py) != upward and (side == Orientation.COUNTERCLOCKWISE) == (
@@ -196,12 +197,6 @@ class Polygon:
             "kind": "polygon",
             "vertices": [[format_rational(p.x), format_rational(p.y)] for p in self.vertices],
         }
-
-
-def _within_box(p: Point2, q: Point2, r: Point2) -> bool:
-    return bool(
-        min(q[0], r[0]) <= p[0] <= max(q[0], r[0]) and min(q[1], r[1]) <= p[1] <= max(q[1], r[1])
-    )
 
 
 @attrs.frozen(slots=True)
