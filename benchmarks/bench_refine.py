@@ -164,7 +164,9 @@ def measure(spec: dict[str, Any], timeout: float | None) -> dict[str, Any]:
         return {"status": f"did not finish in {timeout:.0f} s"}
     if done.returncode != 0:
         last = (done.stderr.strip().splitlines() or ["?"])[-1]
-        return {"status": f"failed ({last[:80]})"}
+        limit = ("" if spec["engine"] != "triangle"
+                 else f" within {TRIANGLE_ADDRESS_LIMIT // 1024**3} GB of address space")
+        return {"status": f"failed{limit} ({last[:70]})"}
     result: dict[str, Any] = json.loads(done.stdout.strip().splitlines()[-1])
     return result
 

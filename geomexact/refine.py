@@ -1125,7 +1125,9 @@ def refine(
 
     Every decision is exact and every tie is broken by vertex ids (``specs/refine.md``),
     so the trace is the same on every machine.  Cost: O(steps × Lepp length) exact
-    predicates; the cyclic garbage collector is paused during the run.
+    predicates.  The cyclic garbage collector is paused during the run; afterwards, when it
+    was enabled, every tracked object is moved to its oldest generation (``gc.freeze()``
+    then ``gc.unfreeze()``), so the new mesh is not scanned by young collections.
     """
     rule = as_criterion(criterion)
     area = as_region(region)
@@ -1184,6 +1186,11 @@ def refine(
         del run  # its work tables go now, before the collector would scan them
     finally:
         if collecting:
+            # The objects made by the run (the new mesh's tables, points and steps) are
+            # long-lived: put them straight into the oldest generation (freeze, then
+            # unfreeze) instead of letting the first young collections scan them all.
+            gc.freeze()
+            gc.unfreeze()
             gc.enable()
     from geomexact import __version__
 

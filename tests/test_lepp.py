@@ -4,6 +4,7 @@ paths and their terminal edges (``specs/lepp.md``)."""
 from __future__ import annotations
 
 import doctest
+import itertools
 import sys
 
 import pytest
@@ -180,7 +181,7 @@ def test_lepp_edges_grow_strictly_and_end_at_a_terminal_edge(
     assert len(set(path.path)) == len(path.path)
     assert path.path[0] == canonical_triangle(*triangle)
     lengths = [squared(mesh, *longest_edge(mesh, t)) for t in path.path]
-    assert all(a < b for a, b in zip(lengths, lengths[1:], strict=False))
+    assert all(a < b for a, b in itertools.pairwise(lengths))
     u, v = path.terminal_edge
     assert longest_edge(mesh, path.path[-1]) == (u, v)
     if path.kind == "interior":
