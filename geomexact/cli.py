@@ -608,7 +608,7 @@ def command_refine(args: argparse.Namespace) -> int:
     else:
         raise UsageProblem(f"{args.input}: a polygon mesh cannot be refined; give a triangle "
                            "mesh or a PSLG")
-    outputs = [args.output, args.trace]
+    outputs = [args.output, args.trace, args.polylla]
     for path in outputs:
         if path and Path(path).exists() and not args.force:
             raise OverwriteError(str(path))
@@ -638,6 +638,11 @@ def command_refine(args: argparse.Namespace) -> int:
     if args.trace:
         _write_trace_stream(Path(args.trace), trace, overwrite=args.force)
         written.append(Path(args.trace))
+    if args.polylla:
+        from geomexact.polylla import polylla
+
+        written += _write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
+                          exact=args.exact)
     if args.print_iter:
         from geomexact.trace import replay_iter
 
@@ -1159,6 +1164,8 @@ def build_parser() -> argparse.ArgumentParser:
                          help="stop after N steps (status 'step-limit')")
     refine_.add_argument("--trace", metavar="FILE",
                          help="write the trace (JSON Lines; from a PSLG: from its vertices)")
+    refine_.add_argument("--polylla", metavar="OFF",
+                         help="also write the Polylla polygon mesh of the result (OFF)")
     refine_.add_argument("--print-iter", metavar="DIR",
                          help="write the mesh before and after every step to "
                               "DIR/step-NNNNNN.off (exact)")

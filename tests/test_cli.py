@@ -15,6 +15,7 @@ from geomexact import __version__, io
 from geomexact.cli import main
 from geomexact.mesh2d import Mesh2
 from geomexact.ops import bisect, bisect_in, flip, flip_in, insert_centroid_in
+from geomexact.polymesh import PolygonMesh
 from geomexact.pslg import PSLG
 from geomexact.trace import trace_of, write_trace
 from geomexact.transient import Transient2
@@ -536,3 +537,24 @@ def test_triangulate_crossing_segments_is_bad_input_unless_split(
     code, report = run_json(capsys, "triangulate", path, "--split-segments")
     assert code == 0
     assert report["vertices"] == 5 and report["constrained_edges"] == 4
+
+
+def test_refine_writes_the_polylla_mesh_of_the_result(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """refine … --polylla OFF writes a polygon mesh covering the refined mesh exactly."""
+    bundled = Path(__file__).resolve().parent.parent / "geomexact" / "data" / "superior.poly"
+    out, polygons = tmp_path / "r.ele", tmp_path / "r.off"
+    code, report = run_json(capsys, "refine", bundled, "--min-angle", "25", "--method",
+                            "centroid", "-o", out, "--polylla", polygons, "--exact")
+    assert code == 0 and report["status"] == "complete"
+    assert str(polygons) in report["written"]
+    mesh, polygon_mesh = io.read(out), io.read(polygons)
+    assert isinstance(mesh, Mesh2) and isinstance(polygon_mesh, PolygonMesh)
+    assert polygon_mesh.total_area() == report_area(report)
+
+
+def report_area(report: dict[str, Any]) -> object:
+    from geomexact.numbers import parse_rational
+
+    return parse_rational(report["total_area"])
