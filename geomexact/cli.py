@@ -694,8 +694,8 @@ def command_refine(args: argparse.Namespace) -> int:
         print(f"geomexact: refine stopped at the step limit ({args.max_steps} steps): some "
               "triangles may not meet the criterion", file=sys.stderr)
     if stats.left:
-        print(f"geomexact: {len(stats.left)} triangle(s) left below the minimum angle: their "
-              "small angles lie between input segments", file=sys.stderr)
+        print(f"geomexact: {len(stats.left)} triangle(s) left below the minimum angle at "
+              "input angles sharper than it", file=sys.stderr)
     if not_delaunay:
         print("geomexact: the result is not Delaunay", file=sys.stderr)
     return EXIT_FAILED if violations or not_delaunay else EXIT_OK

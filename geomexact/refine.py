@@ -49,7 +49,7 @@ from geomexact import digest as _digest
 from geomexact.centroids import insert_in_quadrilateral_in, rounded_area_centroid
 from geomexact.criteria import Criterion, as_criterion
 from geomexact.errors import PreconditionError
-from geomexact.lepp import _before
+from geomexact.lepp import _before, is_constraint_edge
 from geomexact.mesh2d import MAX_VERTICES, Attributes, Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.numbers import Rational, mpq
 from geomexact.ops import (
@@ -96,6 +96,11 @@ _LESS = Comparison.LESS
 _INSIDE = CircleLocation.INSIDE
 _MASK = _digest.MODULUS - 1
 
+TIP_DEPTH = 10
+"""Minimum-angle refinement never splits a constraint edge that bounds an input angle below
+the threshold once the edge is shorter than 2^-TIP_DEPTH of the shortest input constraint
+edge at that corner (``specs/refine.md``, small input angles)."""
+
 
 # ---------------------------------------------------------------------------------------
 # results
@@ -123,9 +128,11 @@ class RefineStats:
     edge midpoints inserted; ``centroids``: quadrilateral centroids inserted; ``flips``:
     legalization and quasi-Delaunay flips; ``targets``: bad triangles taken from the
     queue; ``lepp_searches`` / ``lepp_triangles``: Lepp paths computed and their total
-    length in triangles; ``left``: bad triangles of the final mesh left alone because each
-    of their angles below the threshold lies between two constraint edges meeting at less
-    than the threshold (an input angle; sorted, canonical); ``seconds``: wall time."""
+    length in triangles; ``left``: bad triangles of the final mesh left alone at input
+    angles below the minimum angle — those with an angle below it inside such an input
+    angle, and those whose Lepp step would split a constraint edge of such an input angle
+    shorter than 2^-TIP_DEPTH of its input length (sorted, canonical); ``seconds``: wall
+    time."""
 
     status: Status
     steps: int
@@ -244,6 +251,7 @@ class _Refinement:
 
     def __init__(
         self,
+        start: Mesh2,
         criterion: Criterion,
         region: Region,
         method: Method,
@@ -252,6 +260,8 @@ class _Refinement:
         constraint_midpoints: bool,
         on_step: Callable[[Progress], None] | None,
     ) -> None:
+        self.start = start
+        self.tip_limits: dict[int, Rational | None] = {}
         self.criterion = criterion
         self.region = region
         self.whole = isinstance(region, Whole)
@@ -333,36 +343,46 @@ class _Refinement:
         return self.attributed and self.different_attributes(u, v, w, x)
 
     def unimprovable(self, a: int, b: int, c: int) -> bool:
-        """True when every angle of (a, b, c) below the threshold lies in a sector between
-        two consecutive constraint edges around its vertex that meet at less than the
-        threshold (no triangulation of that sector can do better)."""
+        """True when an angle of (a, b, c) below the threshold lies inside an *input angle*
+        below the threshold: the sector between the two consecutive constraint edges
+        around its vertex that enclose the triangle (Rivara & Rodríguez's non-improvable
+        triangles; no triangulation of that sector has an angle >= θ at the vertex, and
+        refining there would never end)."""
         threshold = self.threshold
         assert threshold is not None
         point = self.point
-        small = False
         for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
-            pp, pq, pr = point(p), point(q), point(r)
-            if compare_angle(pq, pp, pr, threshold) != _LESS:
+            pp = point(p)
+            if compare_angle(point(q), pp, point(r), threshold) != _LESS:
                 continue
-            small = True
-            first = q  # clockwise from p->q to a constraint edge
-            while not self.constraint(p, first):
-                previous = self.get((first, p))
-                assert previous is not None
-                first = previous
-                if first == r:
-                    return False  # all the way round: p is an interior vertex
-            last = r  # counter-clockwise from p->r to a constraint edge
-            while not self.constraint(p, last):
-                following = self.get((p, last))
-                assert following is not None
-                last = following
-            p_first, p_last = point(first), point(last)
-            if orient2d(pp, p_first, p_last) != _CCW:
-                return False  # a sector of 180° or more
-            if compare_angle(p_first, pp, p_last, threshold) != _LESS:
-                return False
-        return small
+            sector = self.constraint_sector(p, q, r)
+            if sector is None:
+                continue
+            first, last = point(sector[0]), point(sector[1])
+            if orient2d(pp, first, last) == _CCW and (
+                compare_angle(first, pp, last, threshold) == _LESS
+            ):
+                return True
+        return False
+
+    def constraint_sector(self, p: int, q: int, r: int) -> Edge | None:
+        """For the triangle (p, q, r): the far ends (s, t) of the constraint edges p-s and
+        p-t met first turning clockwise from p->q and counter-clockwise from p->r (the
+        sector from p->s counter-clockwise to p->t holds the triangle), or None when p has
+        fewer than two constraint edges (no sector)."""
+        first = q
+        while not self.constraint(p, first):
+            previous = self.get((first, p))
+            assert previous is not None
+            first = previous
+            if first == r:
+                return None  # all the way round
+        last = r
+        while not self.constraint(p, last):
+            following = self.get((p, last))
+            assert following is not None
+            last = following
+        return first, last
 
     def account(self) -> None:
         """Update the region's doubled area and triangle count by the last action."""
@@ -432,36 +452,100 @@ class _Refinement:
         return (v, w) if _before(pv, pw, v, w, pw, pu, w, u) else (w, u)
 
     # -- actions ------------------------------------------------------------------------
+    def sharp(self, p: int, q: int, r: int) -> bool:
+        """True when the triangle (p, q, r) lies in a sector at p between two constraint
+        edges that meet at less than the threshold (an input angle below θ)."""
+        threshold = self.threshold
+        assert threshold is not None
+        sector = self.constraint_sector(p, q, r)
+        if sector is None:
+            return False
+        point = self.point
+        pp, first, last = point(p), point(sector[0]), point(sector[1])
+        return orient2d(pp, first, last) == _CCW and (
+            compare_angle(first, pp, last, threshold) == _LESS
+        )
+
+    def tip_limit(self, vertex: int) -> Rational | None:
+        """(2^-TIP_DEPTH × the shortest constraint edge at ``vertex`` in the input)²,
+        or None for a vertex with fewer than two constraint edges in the input."""
+        if vertex in self.tip_limits:
+            return self.tip_limits[vertex]
+        limit = None
+        start = self.start
+        if vertex < start.vertex_count:
+            star = start.star(vertex)
+            ends = [w for _, w, _ in star]
+            if star and start.apex(vertex, star[-1][2]) is None:
+                ends.append(star[-1][2])  # a boundary vertex: the last edge of the fan
+            lengths = [
+                _squared(start.point(vertex), start.point(w)) for w in ends
+                if is_constraint_edge(start, vertex, w)
+            ]
+            if len(lengths) >= 2:
+                limit = min(lengths) / 4**TIP_DEPTH
+        self.tip_limits[vertex] = limit
+        return limit
+
+    def protected(self, u: int, v: int) -> bool:
+        """Minimum-angle criteria: True when the constraint edge {u, v} bounds an input
+        angle below the threshold at u or v and is shorter than that corner's tip limit
+        (splitting it would only push a cascade of bad triangles into the corner)."""
+        if self.threshold is None:
+            return False
+        length = None
+        for p, s in ((u, v), (v, u)):
+            limit = self.tip_limit(p)
+            if limit is None:
+                continue
+            if length is None:
+                length = _squared(self.point(u), self.point(v))
+            if length >= limit:
+                continue
+            left, right = self.get((p, s)), self.get((s, p))
+            if left is not None and self.sharp(p, s, left):
+                return True
+            if right is not None and self.sharp(p, right, s):
+                return True
+        return False
+
     def insert_midpoint(self, u: int, v: int) -> None:
         vertex = self.bisect(u, v)
         if self.legalize_insertions:
             self.legalize(vertex)
 
-    def act(self, u: int, v: int, w: int, x: int | None, constrained: bool) -> None:
-        """One Lepp step at the terminal edge (u, v) of triangles (u, v, w), (v, u, x)."""
+    def act(self, u: int, v: int, w: int, x: int | None, constrained: bool) -> bool:
+        """One Lepp step at the terminal edge (u, v) of triangles (u, v, w), (v, u, x);
+        False (and no step) when the step would split a protected edge."""
         if constrained or x is None or self.method == "bisection":
+            if constrained and self.protected(u, v):
+                return False
             self.insert_midpoint(u, v)
-            return
+            return True
         point = self.point
         if self.method == "quasi" and self.delaunay and (
             incircle(point(u), point(v), point(w), point(x)) == _INSIDE
         ):
             self.flip(u, v)
-            return
-        self.split_pair(u, v, w, x)
+            return True
+        return self.split_pair(u, v, w, x)
 
-    def split_pair(self, u: int, v: int, w: int, x: int) -> None:
+    def split_pair(self, u: int, v: int, w: int, x: int) -> bool:
         """Insert into the unconstrained terminal pair (u, v, w), (v, u, x): the midpoint
         of a constraint second-longest edge (of the first triangle, then the second), else
-        the quadrilateral's centroid."""
+        the quadrilateral's centroid.  False (and no step) when that midpoint would split
+        a protected edge."""
         if self.constraint_midpoints:
             for p, q in (self.second_edge(u, v, w), self.second_edge(v, u, x)):
                 if self.constraint(p, q):
+                    if self.protected(p, q):
+                        return False
                     self.insert_midpoint(p, q)
-                    return
+                    return True
         vertex = self.centroid(u, v)
         if self.legalize_insertions:
             self.legalize(vertex)
+        return True
 
     # -- the loop -----------------------------------------------------------------------
     def start_queue(self, triangles: list[Triangle]) -> None:
@@ -494,7 +578,9 @@ class _Refinement:
                     continue
                 self.targets += 1
                 while True:
-                    self.act(*self.terminal(a, b, c))
+                    if not self.act(*self.terminal(a, b, c)):
+                        self.left[(a, b, c)] = None  # its step would split a protected edge
+                        break
                     self.drain()
                     if get((a, b)) != c:
                         break
@@ -507,6 +593,12 @@ class _Refinement:
     def left_triangles(self) -> tuple[Triangle, ...]:
         get = self.get
         return tuple(sorted(t for t in self.left if get((t[0], t[1])) == t[2]))
+
+
+def _squared(p: Point2, q: Point2) -> Rational:
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    result: Rational = dx * dx + dy * dy
+    return result
 
 
 def _doubled(a: Point2, b: Point2, c: Point2) -> Rational:
@@ -563,7 +655,7 @@ class _RecordingTransient(Transient2):
 
 class _TransientRefinement(_Refinement):
     def __init__(self, mesh: Mesh2, max_steps: int | None, **options: Any) -> None:
-        super().__init__(**options)
+        super().__init__(mesh, **options)
         self.t = t = _RecordingTransient(mesh, max_steps)
         t.created = self.created
         t.removed = self.removed
@@ -628,7 +720,7 @@ class _FastRefinement(_Refinement):
     engine's, and by replay, in the tests."""
 
     def __init__(self, mesh: Mesh2, max_steps: int | None, **options: Any) -> None:
-        super().__init__(**options)
+        super().__init__(mesh, **options)
         count = mesh.vertex_count
         self.points = points = [mesh.vertices[i] for i in range(count)]
         # the snapshot's own tables, opened for edits: sealing is then O(1) (a dict would
@@ -996,6 +1088,11 @@ class _FastRefinement(_Refinement):
                             w, u, pu = u, x, px
                     self.hops += hops
                     # -- act -----------------------------------------------------------
+                    if constrained and threshold is not None and self.protected(u, v):
+                        self.left[target] = None  # its step would split a protected edge
+                        created.clear()
+                        removed.clear()
+                        break
                     if bisection or constrained or x is None:
                         vertex = self.bisect(u, v)
                         if legalize_insertions:
@@ -1007,8 +1104,9 @@ class _FastRefinement(_Refinement):
                                 self.legalize(vertex, [(u, x), (x, v), (v, w), (w, u)])
                     elif quasi_flips and incircle(pu, pv, points[w], points[x]) == _INSIDE:
                         self.flip(u, v)
-                    else:
-                        self.split_pair(u, v, w, x)
+                    elif not self.split_pair(u, v, w, x):
+                        self.left[target] = None
+                        break
                     # -- queue the new bad triangles -----------------------------------
                     if tracking:
                         self.account()

@@ -573,3 +573,38 @@ def test_runs_are_identical_across_processes_and_hash_seeds() -> None:
         outputs.append(json.loads(done.stdout))
     assert outputs[0] == outputs[1]
     assert all(count > 0 and status == "complete" for _, count, status in outputs[0][:3])
+
+
+# -- regressions: sharp spikes (found by hypothesis; these ran forever before) --------------------
+SPIKES = {
+    # a 1.85° spike at vertex 5: the tip triangle (1.85°, 14.4°, 163.7°) was bisected
+    # forever, each split recreating a similar triangle
+    "spike-1.85": [("-8580/2273", "-3008/2273"), ("-12/5", "-16/5"), (4, 0), ("-12/5", "16/5"),
+                   ("-45045/9092", "3948/2273"), ("-134461/10660", "10812/2665"),
+                   ("-54145/13252", "3876/3313")],
+    # a 3.84° spike at vertex 3: bad neighbours' Lepp paths kept splitting the tip segments
+    "spike-3.84": [("-252/65", "-64/65"), ("-884/229", "-240/229"), ("-2852/745", "-864/745"),
+                   ("-4785/346", "-754/173"), ("-72/13", "-30/13"), ("-12/5", "-16/5"), (4, 0),
+                   ("-12/5", "16/5")],
+}
+
+
+@pytest.mark.parametrize("name", sorted(SPIKES))
+@pytest.mark.parametrize("method", ["centroid", "quasi"])
+@pytest.mark.parametrize("degrees", [20, 30, 35])
+def test_sharp_input_spikes_terminate_and_report_what_is_left(
+    name: str, method: Any, degrees: int
+) -> None:
+    """A polygon with a spike far sharper than θ: the run completes; every triangle is
+    good or left, and the left ones are within the spike's protected tip."""
+    points = [point2(x, y) for x, y in SPIKES[name]]
+    n = len(points)
+    start = triangulate(PSLG(vertices=points,
+                             segments=[(i, (i + 1) % n, 1) for i in range(n)])).mesh
+    result = refine(start, MinAngle(degrees), method=method)
+    assert result.status == "complete"
+    assert result.stats.left
+    assert_criterion_met(result, MinAngle(degrees), Whole())
+    assert_run_is_sound(start, result)
+    engines = refine(start, MinAngle(degrees), method=method, engine="transient")
+    assert engines.trace == result.trace
