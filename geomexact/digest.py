@@ -55,8 +55,13 @@ _POSITION_MULTIPLIERS = (
     0xA0761D6478BD642FE7037ED1A0B428DB,
 )
 _M0, _M1, _M2, _M3 = _POSITION_MULTIPLIERS
-_FINAL_MULTIPLIER = 0x94D049BB133111EBBF58476D1CE4E5B9
+FINAL_MULTIPLIER = _FINAL_MULTIPLIER = 0x94D049BB133111EBBF58476D1CE4E5B9
 _VERTEX_KEYS: list[int] = []
+VERTEX_KEYS = _VERTEX_KEYS
+"""The cached vertex keys by id (read only; :func:`vertex_key` extends it), for kernels that
+inline :func:`cell_hash`."""
+TRIANGLE_MULTIPLIERS = (_M0, _M1, _M2)
+"""The position multipliers of a triangle's cell hash, for kernels that inline it."""
 
 
 def vertex_key(vertex: int) -> int:

@@ -48,6 +48,7 @@ import immutables
 from geomexact import digest as _digest
 from geomexact.centroids import insert_in_quadrilateral_in, rounded_area_centroid
 from geomexact.criteria import Criterion, as_criterion
+from geomexact.dyadic_grid import grid_flags, midpoint_on_grid
 from geomexact.errors import PreconditionError
 from geomexact.lepp import _before, is_constraint_edge
 from geomexact.mesh2d import MAX_VERTICES, Attributes, Edge, Mesh2, Triangle, canonical_triangle
@@ -595,6 +596,14 @@ class _Refinement:
         return tuple(sorted(t for t in self.left if get((t[0], t[1])) == t[2]))
 
 
+def _compare_squared_lengths_on_grid(a: Point2, b: Point2, c: Point2, d: Point2) -> int:
+    """:func:`~geomexact.predicates.compare_squared_lengths` (as -1, 0, 1) for points on
+    the dyadic grid (:mod:`geomexact.dyadic_grid`), where it is exact in floats."""
+    ux, uy, vx, vy = b[2] - a[2], b[3] - a[3], d[2] - c[2], d[3] - c[3]
+    first, second = ux * ux + uy * uy, vx * vx + vy * vy
+    return (first > second) - (first < second)
+
+
 def _squared(p: Point2, q: Point2) -> Rational:
     dx, dy = q[0] - p[0], q[1] - p[1]
     result: Rational = dx * dx + dy * dy
@@ -723,10 +732,12 @@ class _FastRefinement(_Refinement):
         super().__init__(mesh, **options)
         count = mesh.vertex_count
         self.points = points = [mesh.vertices[i] for i in range(count)]
-        # the snapshot's own tables, opened for edits: sealing is then O(1) (a dict would
-        # have to be copied into a new map, ~1 µs per half-edge)
+        # vertices: the snapshot's own map, opened for edits (sealing is O(1)); half-edges:
+        # a dict, copied into a map once at the end (a dict update costs a tenth of a map
+        # mutation, and there are about seven per half-edge made)
         self.vertex_table = mesh.vertices.mutate()
-        self.apex = apex = mesh.halfedges.mutate()
+        self.apex = apex = dict(mesh.halfedges.items())
+        self.scale, self.grid = grid_flags(points)
         self.hints: list[int | None] = [mesh.outgoing.get(i) for i in range(count)]
         self.segments = dict(mesh.segments.items())
         self.triangle_attrs: dict[Triangle, Attributes] = dict(
@@ -809,6 +820,7 @@ class _FastRefinement(_Refinement):
         self.points.append(point)
         self.vertex_table[vertex] = point
         self.hints.append(None)
+        self.grid.append(False)
         total = self.digest + _digest.vertex_hash(vertex, (point[0], point[1]))
         if marker:
             self.new_markers[vertex] = marker
@@ -829,6 +841,7 @@ class _FastRefinement(_Refinement):
         marker = self.segments.get(key)
         # the new vertex (as _add_vertex, inlined)
         n = len(points)
+        keys = _digest.VERTEX_KEYS
         if n >= MAX_VERTICES:
             raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
         mx, my = (pu[0] + pv[0]) / 2, (pu[1] + pv[1]) / 2
@@ -836,6 +849,12 @@ class _FastRefinement(_Refinement):
         points.append(point)
         self.vertex_table[n] = point
         self.hints.append(None)
+        grid, scale = self.grid, self.scale
+        grid.append(
+            scale is not None and grid[u] and grid[v] and midpoint_on_grid(pu, pv, scale)
+        )
+        if n >= len(keys):
+            _digest.vertex_key(n + 1023)  # extend the cached vertex keys a block at a time
         total = self.digest + _digest.vertex_hash(n, (mx, my))
         if marker:
             self.new_markers[n] = marker
@@ -853,6 +872,10 @@ class _FastRefinement(_Refinement):
         else:
             hashes, hints, created, removed = self.hashes, self.hints, self.created, self.removed
             cell_hash = _digest.cell_hash
+            # digest.cell_hash, inlined for the two new triangles
+            m0, m1, m2 = _digest.TRIANGLE_MULTIPLIERS
+            final = _digest.FINAL_MULTIPLIER
+            kn = keys[n]
             for p, q, r in ((u, v, w), (v, u, x)):
                 if r is None:
                     continue
@@ -872,11 +895,24 @@ class _FastRefinement(_Refinement):
                 hints[n] = q
                 hints[q] = r
                 hints[r] = n
-                first = (p, n, r) if p < r else (r, p, n)
-                second = (q, r, n) if q < r else (r, n, q)
-                value = hashes[first] = cell_hash(first)
+                kp, kq, kr = keys[p], keys[q], keys[r]
+                if p < r:
+                    first = (p, n, r)
+                    h = (kp * m0 + kn * m1 + kr * m2) & _MASK
+                else:
+                    first = (r, p, n)
+                    h = (kr * m0 + kp * m1 + kn * m2) & _MASK
+                h ^= h >> 61
+                value = hashes[first] = (h * final) & _MASK
                 total += value
-                value = hashes[second] = cell_hash(second)
+                if q < r:
+                    second = (q, r, n)
+                    h = (kq * m0 + kr * m1 + kn * m2) & _MASK
+                else:
+                    second = (r, n, q)
+                    h = (kr * m0 + kn * m1 + kq * m2) & _MASK
+                h ^= h >> 61
+                value = hashes[second] = (h * final) & _MASK
                 total += value
                 removed.append(old)
                 created.append(first)
@@ -958,6 +994,8 @@ class _FastRefinement(_Refinement):
         px, py = p[0], p[1]
         segments = self.segments
         attributed = self.attributed
+        grid = self.grid
+        on_grid = grid[vertex]
         while pending:
             a, b = pending.pop()
             if get((vertex, a)) != b:
@@ -970,11 +1008,20 @@ class _FastRefinement(_Refinement):
             # and q facing {a, b} sum to more than 180°.  Two right or acute angles (exact
             # dot products >= 0) settle it without incircle, whose filter cannot decide the
             # cocircular case (common: squares) and falls back to slower exact arithmetic.
-            ax, ay, bx, by, qx, qy = pa[0], pa[1], pb[0], pb[1], pq[0], pq[1]
-            if (ax - px) * (bx - px) + (ay - py) * (by - py) >= 0 and (
-                (ax - qx) * (bx - qx) + (ay - qy) * (by - qy) >= 0
-            ):
-                continue
+            # On the dyadic grid the dot products are exact in floats.
+            if on_grid and grid[a] and grid[b] and grid[q]:
+                ax, ay, bx, by, qx, qy = pa[2], pa[3], pb[2], pb[3], pq[2], pq[3]
+                fx, fy = p[2], p[3]
+                if (ax - fx) * (bx - fx) + (ay - fy) * (by - fy) >= 0 and (
+                    (ax - qx) * (bx - qx) + (ay - qy) * (by - qy) >= 0
+                ):
+                    continue
+            else:
+                ax, ay, bx, by, qx, qy = pa[0], pa[1], pb[0], pb[1], pq[0], pq[1]
+                if (ax - px) * (bx - px) + (ay - py) * (by - py) >= 0 and (
+                    (ax - qx) * (bx - qx) + (ay - qy) * (by - qy) >= 0
+                ):
+                    continue
             if incircle(p, pa, pb, pq) != _INSIDE:
                 continue
             if orient2d(pq, p, pa) != _CCW or orient2d(p, pq, pb) != _CCW:
@@ -1030,7 +1077,8 @@ class _FastRefinement(_Refinement):
         bisection = self.method == "bisection"
         quasi_flips = self.method == "quasi" and self.delaunay
         legalize_insertions = self.legalize_insertions
-        compare = compare_squared_lengths
+        exact, on_grid = compare_squared_lengths, _compare_squared_lengths_on_grid
+        grid = self.grid
         less = _LESS
         try:
             if tracking and self.mean_reached():
@@ -1046,6 +1094,7 @@ class _FastRefinement(_Refinement):
                 while True:
                     # -- Lepp: the longest edge (u, v) of (a, b, c), apex w ------------
                     pa, pb, pc = points[a], points[b], points[c]
+                    compare = on_grid if grid[a] and grid[b] and grid[c] else exact
                     order = compare(pa, pb, pb, pc)
                     if order > 0 or (
                         order == 0 and (min(a, b), max(a, b)) < (min(b, c), max(b, c))
@@ -1075,6 +1124,7 @@ class _FastRefinement(_Refinement):
                             constrained = True
                             break
                         px = points[x]
+                        compare = on_grid if grid[u] and grid[v] and grid[x] else exact
                         if compare(pu, pv, pv, px) != less and compare(pu, pv, px, pu) != less:
                             constrained = False
                             break
@@ -1145,7 +1195,7 @@ class _FastRefinement(_Refinement):
         )
         mesh = Mesh2(
             vertices=self.vertex_table.finish(),
-            halfedges=self.apex.finish(),
+            halfedges=immutables.Map(self.apex),
             outgoing=outgoing,
             segments=immutables.Map(self.segments),
             vertex_markers=markers.finish(),
