@@ -47,7 +47,7 @@ import immutables
 
 from geomexact import digest as _digest
 from geomexact.centroids import insert_in_quadrilateral_in, rounded_area_centroid
-from geomexact.criteria import Criterion, as_criterion
+from geomexact.criteria import Criterion, MaxArea, as_criterion
 from geomexact.dyadic_grid import grid_flags, midpoint_on_grid
 from geomexact.errors import PreconditionError
 from geomexact.lepp import _before, is_constraint_edge
@@ -1070,6 +1070,11 @@ class _FastRefinement(_Refinement):
         pop, push = queue.pop, queue.push
         created, removed = self.created, self.removed
         rate = self.criterion.rate
+        max_area = (
+            2 * self.criterion.area
+            if type(self.criterion) is MaxArea and self.scale is not None
+            else None
+        )
         whole = self.whole
         threshold = self.threshold
         tracking = self.target_area2 is not None
@@ -1166,7 +1171,15 @@ class _FastRefinement(_Refinement):
                             continue
                         if not whole and not self.in_region(ka, kb, kc):
                             continue
-                        rating = rate(points[ka], points[kb], points[kc])
+                        pa, pb, pc = points[ka], points[kb], points[kc]
+                        if max_area is not None and grid[ka] and grid[kb] and grid[kc]:
+                            # MaxArea.rate, exact in floats on the dyadic grid (a float key
+                            # orders, hashes and compares like the equal rational)
+                            ax, ay = pa[2], pa[3]
+                            twice = (pb[2] - ax) * (pc[3] - ay) - (pb[3] - ay) * (pc[2] - ax)
+                            rating = -twice if twice > max_area else None
+                        else:
+                            rating = rate(pa, pb, pc)
                         if rating is None:
                             continue
                         if threshold is not None and self.unimprovable(ka, kb, kc):
