@@ -1,0 +1,72 @@
+"""The ``geomexact`` command: parses arguments, calls the library, prints.
+
+Commands: ``info``, ``check``, ``convert``, ``replay``, ``triangulate``, ``polylla``,
+``refine``, ``view``, ``serve``, ``demo`` (see ``docs/cli.md``), one module each.
+Exit codes: 0 success; 1 a check failed or a trace diverged; 2 bad input or usage.  Every
+error geomexact raises on purpose (:class:`~geomexact.errors.GeomexactError`) and every
+``OSError`` is reported as one line ``geomexact: error: …`` on stderr, never as a
+traceback.  With ``--json`` a command prints exactly one JSON object on stdout.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Sequence
+
+from geomexact.cli.errors import UsageProblem, os_error_text, print_error
+from geomexact.cli.exit_codes import (
+    EXIT_BAD_INPUT,
+    EXIT_BROKEN_PIPE,
+    EXIT_CODES_HELP,
+    EXIT_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+)
+from geomexact.cli.parser import build_parser
+from geomexact.errors import GeomexactError
+
+__all__ = [
+    "EXIT_BAD_INPUT",
+    "EXIT_BROKEN_PIPE",
+    "EXIT_CODES_HELP",
+    "EXIT_FAILED",
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "UsageProblem",
+    "build_parser",
+    "main",
+]
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that flushing it at exit raises nothing more."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # stdout without a file descriptor (e.g. captured)
+        pass
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``geomexact`` command with ``argv`` (default: ``sys.argv[1:]``); return the
+    exit code."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help, --version and usage errors
+        return stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
+    try:
+        return int(args.run(args))
+    except (GeomexactError, UsageProblem) as error:
+        print_error(str(error))
+    except BrokenPipeError:
+        _silence_stdout()  # the reader went away (e.g. `| head`): stop quietly, as SIGPIPE
+        return EXIT_BROKEN_PIPE
+    except OSError as error:
+        print_error(os_error_text(error))
+    except KeyboardInterrupt:
+        print_error("interrupted")
+        return EXIT_INTERRUPTED
+    return EXIT_BAD_INPUT

@@ -1,0 +1,82 @@
+"""The parts of the argument parser the commands share: adding a command, the common
+options (``--json``, ``-v``, ``--format``, ``--to``) and the argument types."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+from typing import TypeAlias
+
+from geomexact import io
+from geomexact.cli.exit_codes import EXIT_CODES_HELP
+
+Subcommands: TypeAlias = "argparse._SubParsersAction[argparse.ArgumentParser]"
+"""What :meth:`argparse.ArgumentParser.add_subparsers` returns: where commands are added."""
+
+
+def add_command(
+    commands: Subcommands, name: str, run: Callable[[argparse.Namespace], int], summary: str
+) -> argparse.ArgumentParser:
+    """Add command ``name``, running ``run(args)``, described by ``summary`` (its help line
+    and description) and followed in ``--help`` by the exit codes."""
+    sub = commands.add_parser(
+        name, help=summary, description=summary, epilog=EXIT_CODES_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    sub.set_defaults(run=run)
+    return sub
+
+
+def add_json_flag(sub: argparse.ArgumentParser) -> None:
+    """``--json``: print one JSON object on stdout."""
+    sub.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+
+
+def add_verbose_flag(sub: argparse.ArgumentParser) -> None:
+    """``-v``/``--verbose``: print the reader's notes on stderr."""
+    sub.add_argument(
+        "-v", "--verbose", action="store_true",
+        help="print the reader's notes (e.g. orientation fixed) on stderr",
+    )
+
+
+def format_names() -> list[str]:
+    """The file format names, sorted: the choices of every format option."""
+    return sorted(io.FORMATS)
+
+
+def add_format_option(sub: argparse.ArgumentParser) -> None:
+    """``--format F``: the format of the input file (default: by its extension)."""
+    names = format_names()
+    sub.add_argument(
+        "--format", choices=names, metavar="F",
+        help=f"file format, one of {', '.join(names)} (default: from the extension)",
+    )
+
+
+def add_to_option(sub: argparse.ArgumentParser) -> None:
+    """``--to F``: the format of the output file OUT (default: by its extension)."""
+    sub.add_argument("--to", choices=format_names(), metavar="F",
+                     help="format of OUT (default: by its extension)")
+
+
+def non_negative(text: str) -> int:
+    """An integer argument >= 0."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{value} is negative")
+    return value
+
+
+def positive_float(text: str) -> float:
+    """A finite number argument > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"{text} is not a positive number")
+    return value

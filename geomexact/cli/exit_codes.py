@@ -1,0 +1,17 @@
+"""The exit codes of the ``geomexact`` command, and the help text listing them."""
+
+from __future__ import annotations
+
+EXIT_OK = 0
+EXIT_FAILED = 1
+EXIT_BAD_INPUT = 2
+EXIT_INTERRUPTED = 130  # what a shell reports for a command stopped by Ctrl-C (SIGINT)
+EXIT_BROKEN_PIPE = 141  # what a shell reports for a command killed by SIGPIPE
+
+EXIT_CODES_HELP = """\
+exit codes:
+  0  success
+  1  check found violations, or a trace diverged during replay
+  2  bad input or usage: unreadable or malformed file, wrong kind of input, refusal to
+     overwrite an existing file (use --force), trace recorded on another mesh, bad option
+"""

@@ -1,0 +1,132 @@
+"""``geomexact polylla``: the Polylla polygon mesh of a triangle mesh, optionally
+decomposed into convex polygons."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from geomexact.cli.arguments import (
+    Subcommands,
+    add_command,
+    add_format_option,
+    add_json_flag,
+    add_to_option,
+    add_verbose_flag,
+)
+from geomexact.cli.errors import UsageProblem
+from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.loading import load
+from geomexact.cli.reporting import print_json, print_table, violation_reports
+from geomexact.cli.writing import write
+from geomexact.delaunay import triangulate
+from geomexact.errors import OverwriteError
+from geomexact.mesh2d import Mesh2
+from geomexact.pslg import PSLG
+
+
+def command_polylla(args: argparse.Namespace) -> int:
+    """Polylla polygon mesh of a triangle mesh (a PSLG is triangulated first), optionally
+    decomposed into convex polygons; writes the polygons and optionally a picture."""
+    from geomexact.convex import convex_decomposition
+    from geomexact.polylla import polylla_run
+    from geomexact.polymesh import mesh_stats, nonconvex_polygons
+
+    loaded = load(args.input, args.format, args.verbose)
+    if isinstance(loaded.value, PSLG):
+        mesh = triangulate(loaded.value).mesh
+    elif isinstance(loaded.value, Mesh2):
+        mesh = loaded.value
+    else:
+        raise UsageProblem(f"{args.input}: is already a polygon mesh; polylla needs a "
+                           "triangle mesh (or a PSLG, which is triangulated first)")
+    convex = args.convex or args.no_opt
+    for path in (args.output, args.picture):
+        if path and Path(path).exists() and not args.force:
+            raise OverwriteError(str(path))
+    started = time.perf_counter()
+    run = polylla_run(mesh)
+    result = run.mesh
+    inserted: tuple[tuple[int, int], ...] = ()
+    if convex:
+        decomposition = convex_decomposition(run.mesh, criterion_one=not args.no_opt)
+        result, inserted = decomposition.mesh, decomposition.inserted_edges
+    seconds = time.perf_counter() - started
+    violations = result.validate(mesh) if args.check else []
+    written: list[Path] = []
+    if args.output:
+        written += write(args.output, result, args.to, overwrite=args.force, exact=args.exact)
+    if args.picture:
+        from geomexact.viz import pictures
+
+        if Path(args.picture).suffix.lower() not in pictures.PICTURE_FORMATS:
+            raise UsageProblem(f"{args.picture}: the picture must end in .png, .svg or .pdf")
+        title = f"{Path(args.input).name}: {'convex ' if convex else ''}Polylla mesh"
+        pictures.plot(result, args.picture, overwrite=args.force, title=title,
+                      highlight_edges=inserted)
+        written.append(Path(args.picture))
+    nonconvex = len(nonconvex_polygons(run.mesh))
+    report = {
+        "input": args.input,
+        "triangulated": isinstance(loaded.value, PSLG),
+        "vertices": mesh.vertex_count,
+        "triangles": mesh.triangle_count,
+        "regions": run.regions,
+        "barrier_tips": len(run.barrier_tips),
+        "repair_edges": len(run.repair_edges),
+        "polygons": len(run.mesh.polygons),
+        "nonconvex": nonconvex,
+        "convex_decomposition": convex,
+        "criterion_one": convex and not args.no_opt,
+        "inserted_edges": len(inserted) if convex else None,
+        "polygons_after": len(result.polygons) if convex else None,
+        "nonconvex_after": len(nonconvex_polygons(result)) if convex else None,
+        "seconds": round(seconds, 6),
+        "valid": not violations if args.check else None,
+        "stats": mesh_stats(result, inserted_edges=len(inserted) if convex else None),
+        "written": [str(path) for path in written],
+    }
+    if args.json:
+        report["violations"] = violation_reports(violations)
+        print_json(report)
+    else:
+        what = "Polylla + convex decomposition" if convex else "Polylla"
+        rows = {key: value for key, value in report.items()
+                if key not in {"input", "stats", "written", "seconds", "convex_decomposition"}
+                and value is not None}
+        print_table(f"{args.input}: {what} in {seconds:.3f} s", rows)
+        for path in written:
+            print(f"wrote {path}")
+        for violation in violations:
+            print(f"  {violation}")
+    return EXIT_FAILED if violations else EXIT_OK
+
+
+def add_parser(commands: Subcommands) -> None:
+    """Add the ``polylla`` command."""
+    polylla_ = add_command(commands, "polylla", command_polylla,
+                           "Polylla polygon mesh of a triangle mesh, optionally made convex")
+    polylla_.add_argument("input", metavar="INPUT",
+                          help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
+    polylla_.add_argument("-o", "--output", metavar="OUT",
+                          help="polygon mesh file to write (e.g. OUT.off)")
+    polylla_.add_argument("--convex", action="store_true",
+                          help="split every polygon into convex ones by edges of the "
+                               "triangulation")
+    polylla_.add_argument("--no-opt", action="store_true",
+                          help="convex decomposition without criterion 1 (angle-first mode; "
+                               "implies --convex)")
+    polylla_.add_argument("--picture", metavar="PNG",
+                          help="draw the result (.png, .svg or .pdf; inserted edges in "
+                               "orange, non-convex polygons filled)")
+    polylla_.add_argument("--check", action="store_true",
+                          help="validate the polygons against the triangulation (exit 1 if "
+                               "invalid)")
+    add_format_option(polylla_)
+    add_to_option(polylla_)
+    polylla_.add_argument("--exact", action="store_true",
+                          help="write exact coordinates (p/q) instead of doubles")
+    polylla_.add_argument("--force", action="store_true", help="replace existing files")
+    add_json_flag(polylla_)
+    add_verbose_flag(polylla_)

@@ -1,0 +1,337 @@
+"""``geomexact refine``: Lepp refinement (:mod:`geomexact.refine`) of a triangle mesh to a
+criterion in a region, with its progress line, option parsing and trace streaming."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from geomexact.cli.arguments import (
+    Subcommands,
+    add_command,
+    add_format_option,
+    add_json_flag,
+    add_to_option,
+    add_verbose_flag,
+    non_negative,
+)
+from geomexact.cli.errors import UsageProblem
+from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.loading import load
+from geomexact.cli.reporting import print_json, print_table, violation_reports
+from geomexact.cli.writing import write
+from geomexact.delaunay import triangulate
+from geomexact.errors import OverwriteError
+from geomexact.mesh2d import Mesh2
+from geomexact.polymesh import PolygonMesh
+from geomexact.pslg import PSLG
+from geomexact.summary import mesh_summary
+from geomexact.trace import Trace
+from geomexact.validate import validate
+
+
+class _RefineProgress:
+    """A progress line on stderr for ``refine --progress``: steps, triangles, queue and
+    time, with a bouncing bar (the number of steps ahead is unknown).  On a terminal it is
+    redrawn in place at most ten times a second; otherwise a line is printed every second."""
+
+    WIDTH = 24
+
+    def __init__(self) -> None:
+        self.started = self.last = time.perf_counter()
+        self.terminal = sys.stderr.isatty()
+        self.interval = 0.1 if self.terminal else 1.0
+        self.shown = False
+
+    def __call__(self, progress: Any) -> None:
+        now = time.perf_counter()
+        if now - self.last < self.interval:
+            return
+        self.last = now
+        self.show(progress.steps, progress.triangles, progress.pending)
+
+    def show(self, steps: int, triangles: int, pending: int, *, final: bool = False) -> None:
+        elapsed = time.perf_counter() - self.started
+        if final:
+            bar = "#" * self.WIDTH
+        else:
+            position = int(elapsed * 8) % (2 * self.WIDTH - 6)
+            position = position if position < self.WIDTH - 3 else 2 * self.WIDTH - 6 - position
+            bar = " " * position + "###" + " " * (self.WIDTH - 3 - position)
+        line = (f"refine [{bar}] {steps:,} steps, {triangles:,} triangles, "
+                f"{pending:,} queued, {elapsed:.1f} s")
+        if self.terminal:
+            print("\r" + line, end="\n" if final else "", file=sys.stderr, flush=True)
+        else:
+            print(line, file=sys.stderr, flush=True)
+        self.shown = True
+
+
+def _refine_criterion(args: argparse.Namespace) -> Any:
+    from geomexact import criteria
+    from geomexact.numbers import parse_rational
+
+    if args.max_area is not None:
+        return criteria.MaxArea(parse_rational(args.max_area))
+    if args.factor is not None:
+        return criteria.AverageAreaFactor(parse_rational(args.factor))
+    if args.min_angle is not None:
+        return criteria.MinAngle(parse_rational(args.min_angle))
+    return criteria.MaxEdgeLength(parse_rational(args.max_edge))
+
+
+def _polygon_region_vertices(path: str, format: str | None, verbose: bool) -> list[Any]:
+    """The vertices of a polygon file: a polygon mesh with one polygon (e.g. OFF), or a
+    PSLG whose segments form one closed loop (or, without segments, its vertices in order)."""
+    loaded = load(path, format, verbose)
+    value = loaded.value
+    if isinstance(value, PolygonMesh):
+        if len(value.polygons) != 1:
+            raise UsageProblem(f"{path}: a polygon region needs one polygon, the file has "
+                               f"{len(value.polygons)}")
+        return [value.vertices[i] for i in value.polygons[0]]
+    if isinstance(value, PSLG):
+        if not value.segments:
+            return list(value.vertices)
+        following: dict[int, int] = {}
+        for u, v, _ in value.segments:
+            if u in following:
+                raise UsageProblem(f"{path}: the segments do not form one closed loop")
+            following[u] = v
+        loop = [value.segments[0][0]]
+        while len(loop) <= len(following):
+            nxt = following.get(loop[-1])
+            if nxt is None:
+                raise UsageProblem(f"{path}: the segments do not form one closed loop")
+            if nxt == loop[0]:
+                break
+            loop.append(nxt)
+        if len(loop) != len(following):
+            raise UsageProblem(f"{path}: the segments do not form one closed loop")
+        return [value.vertices[i] for i in loop]
+    raise UsageProblem(f"{path}: a polygon region must be a polygon (OFF polygon mesh, or a "
+                       "PSLG whose segments form one loop), not a triangle mesh")
+
+
+def _refine_region(args: argparse.Namespace) -> Any:
+    from geomexact import regions
+    from geomexact.numbers import parse_rational
+
+    if args.circle is not None:
+        x, y, radius = (parse_rational(text) for text in args.circle)
+        return regions.Circle(x, y, radius)
+    if args.rectangle is not None:
+        x, y, width, height = (parse_rational(text) for text in args.rectangle)
+        return regions.Rectangle(x, y, width, height)
+    if args.polygon is not None:
+        return regions.Polygon(_polygon_region_vertices(args.polygon, None, args.verbose))
+    return regions.Whole()
+
+
+def _write_trace_stream(path: Path, trace: Trace, *, overwrite: bool) -> None:
+    """Write a trace file line by line through a temporary file and a rename (big runs
+    never hold the file's text in memory); never replaces a file unless ``overwrite``."""
+    import tempfile
+
+    from geomexact.trace import trace_lines
+
+    if path.exists() and not overwrite:
+        raise OverwriteError(str(path))
+    directory = path.parent if str(path.parent) else Path(".")
+    if not directory.is_dir():
+        raise FileNotFoundError(2, f"cannot write {path}: directory {directory} does not exist")
+    descriptor, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
+                                             dir=directory)
+    try:
+        with os.fdopen(descriptor, "w", encoding="utf-8", newline="\n") as handle:
+            for line in trace_lines(trace):
+                handle.write(line)
+                handle.write("\n")
+        umask = os.umask(0o022)
+        os.umask(umask)
+        os.chmod(temporary, 0o666 & ~umask)
+        if overwrite:
+            os.replace(temporary, path)
+        else:
+            try:
+                os.link(temporary, path)
+            except FileExistsError as error:
+                raise OverwriteError(str(path)) from error
+            os.unlink(temporary)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
+
+
+def command_refine(args: argparse.Namespace) -> int:
+    """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
+    a region; writes the mesh, the trace and optionally every intermediate mesh."""
+    from geomexact.refine import refine
+
+    loaded = load(args.input, args.format, args.verbose)
+    criterion = _refine_criterion(args)
+    region = _refine_region(args)
+    construction = None
+    if isinstance(loaded.value, PSLG):
+        construction = triangulate(loaded.value)
+        mesh = construction.mesh
+    elif isinstance(loaded.value, Mesh2):
+        mesh = loaded.value
+    else:
+        raise UsageProblem(f"{args.input}: a polygon mesh cannot be refined; give a triangle "
+                           "mesh or a PSLG")
+    outputs = [args.output, args.trace, args.polylla]
+    for path in outputs:
+        if path and Path(path).exists() and not args.force:
+            raise OverwriteError(str(path))
+    if args.print_iter and not args.force:
+        existing = sorted(Path(args.print_iter).glob("step-*.off"))
+        if existing:
+            raise OverwriteError(str(existing[0]))
+    progress = _RefineProgress() if args.progress else None
+    result = refine(
+        mesh, criterion, region=region, method=args.method, delaunay=not args.no_delaunay,
+        centroid=args.centroid, constraint_midpoints=not args.plain_centroids,
+        max_steps=args.max_steps, on_step=progress,
+    )
+    if progress is not None:
+        progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
+    trace = result.trace
+    if construction is not None:  # one trace from the PSLG's vertices to the result
+        first = construction.trace
+        trace = Trace(first.input_digest, (*first.steps, *trace.steps),
+                      (*first.digests, *trace.digests),
+                      {**dict(trace.parameters), "triangulation": dict(first.parameters),
+                       "triangulation_steps": len(first)}, trace.version)
+    written: list[Path] = []
+    if args.output:
+        written += write(args.output, result.mesh, args.to, overwrite=args.force,
+                          exact=args.exact)
+    if args.trace:
+        _write_trace_stream(Path(args.trace), trace, overwrite=args.force)
+        written.append(Path(args.trace))
+    if args.polylla:
+        from geomexact.polylla import polylla
+
+        written += write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
+                          exact=args.exact)
+    if args.print_iter:
+        from geomexact.trace import replay_iter
+
+        directory = Path(args.print_iter)
+        directory.mkdir(parents=True, exist_ok=True)
+        width = max(6, len(str(len(result.trace))))
+        snapshots = [result.start, *replay_iter(result.start, result.trace)]
+        for index, snapshot in enumerate(snapshots):
+            written += write(directory / f"step-{index:0{width}d}.off", snapshot, "off",
+                              overwrite=args.force, exact=True)
+    violations = validate(result.mesh) if args.check else []
+    summary = mesh_summary(result.mesh)
+    stats = result.stats
+    report: dict[str, Any] = {
+        "input": args.input,
+        "triangulated": construction is not None,
+        "method": args.method,
+        "criterion": criterion.parameters(),
+        "region": region.parameters(),
+        **summary,
+        "steps": stats.steps,
+        "seconds": round(stats.seconds, 6),
+        "status": stats.status,
+        "bisections": stats.bisections,
+        "centroids": stats.centroids,
+        "flips": stats.flips,
+        "left": [list(t) for t in stats.left],
+        "valid": not violations if args.check else None,
+        "written": [str(path) for path in written],
+    }
+    not_delaunay = args.check_delaunay and not summary["is_delaunay"]
+    if args.json:
+        report["violations"] = violation_reports(violations)
+        print_json(report)
+    else:
+        title = (f"{args.input}: Lepp-{args.method} refinement, {stats.steps} steps in "
+                 f"{stats.seconds:.3f} s, {stats.status}")
+        rows = {key: value for key, value in summary.items() if key != "total_area"}
+        rows["left"] = len(stats.left)
+        print_table(title, rows)
+        for path in written if len(written) <= 20 else written[:2]:
+            print(f"wrote {path}")
+        if len(written) > 20:
+            print(f"wrote {len(written) - 2} more files")
+        for violation in violations:
+            print(f"  {violation}")
+    if stats.status == "step-limit":
+        print(f"geomexact: refine stopped at the step limit ({args.max_steps} steps): some "
+              "triangles may not meet the criterion", file=sys.stderr)
+    if stats.left:
+        print(f"geomexact: {len(stats.left)} triangle(s) left below the minimum angle at "
+              "input angles sharper than it", file=sys.stderr)
+    if not_delaunay:
+        print("geomexact: the result is not Delaunay", file=sys.stderr)
+    return EXIT_FAILED if violations or not_delaunay else EXIT_OK
+
+
+def add_parser(commands: Subcommands) -> None:
+    """Add the ``refine`` command."""
+    refine_ = add_command(commands, "refine", command_refine,
+                          "Lepp refinement (bisection, centroid, quasi-Delaunay) to a criterion")
+    refine_.add_argument("input", metavar="INPUT",
+                         help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
+    refine_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
+    goal = refine_.add_mutually_exclusive_group(required=True)
+    goal.add_argument("--max-area", metavar="A", help="largest triangle area allowed")
+    goal.add_argument("--factor", metavar="F",
+                      help="refine the largest triangles until the region's mean area is at "
+                           "most F times its initial mean")
+    goal.add_argument("--min-angle", metavar="DEG",
+                      help="smallest angle allowed, in degrees (0 < DEG < 60; centroid or "
+                           "quasi method, or bisection with --max-steps)")
+    goal.add_argument("--max-edge", metavar="L", help="longest edge allowed")
+    where = refine_.add_mutually_exclusive_group()
+    where.add_argument("--circle", nargs=3, metavar=("X", "Y", "R"),
+                       help="refine only triangles with a vertex in this disk")
+    where.add_argument("--rectangle", nargs=4, metavar=("X", "Y", "W", "H"),
+                       help="refine only triangles with a vertex in [X, X+W] x [Y, Y+H]")
+    where.add_argument("--polygon", metavar="FILE",
+                       help="refine only triangles with a vertex in this polygon (OFF with "
+                            "one polygon, or a PSLG whose segments form one loop)")
+    refine_.add_argument("--method", choices=("bisection", "centroid", "quasi"),
+                         default="bisection", help="Lepp method (default: bisection)")
+    refine_.add_argument("--no-delaunay", action="store_true",
+                         help="never flip (no legalization, no quasi-Delaunay flips)")
+    refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices"),
+                         default="area",
+                         help="point inserted in a terminal quadrilateral: area centroid "
+                              "rounded to 24 bits (default), exact area centroid (slow: "
+                              "coordinates grow), or the mean of the four vertices")
+    refine_.add_argument("--plain-centroids", action="store_true",
+                         help="do not bisect a constraint second-longest edge of a terminal "
+                              "triangle; always insert the centroid")
+    refine_.add_argument("--max-steps", type=non_negative, metavar="N",
+                         help="stop after N steps (status 'step-limit')")
+    refine_.add_argument("--trace", metavar="FILE",
+                         help="write the trace (JSON Lines; from a PSLG: from its vertices)")
+    refine_.add_argument("--polylla", metavar="OFF",
+                         help="also write the Polylla polygon mesh of the result (OFF)")
+    refine_.add_argument("--print-iter", metavar="DIR",
+                         help="write the mesh before and after every step to "
+                              "DIR/step-NNNNNN.off (exact)")
+    refine_.add_argument("--check", action="store_true",
+                         help="validate the result (exit 1 on violations)")
+    refine_.add_argument("--check-delaunay", action="store_true",
+                         help="exit 1 when the result is not (constrained) Delaunay")
+    refine_.add_argument("--progress", action="store_true",
+                         help="show progress on stderr")
+    add_format_option(refine_)
+    add_to_option(refine_)
+    refine_.add_argument("--exact", action="store_true",
+                         help="write exact coordinates (p/q) instead of doubles")
+    refine_.add_argument("--force", action="store_true", help="replace existing files")
+    add_json_flag(refine_)
+    add_verbose_flag(refine_)

@@ -1,0 +1,53 @@
+"""The ``info`` statistics of each kind of value (JSON-ready dictionaries)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from geomexact.cli.kinds import Value
+from geomexact.mesh2d import Mesh2
+from geomexact.numbers import format_rational
+from geomexact.polymesh import PolygonMesh
+from geomexact.pslg import PSLG
+from geomexact.summary import mesh_summary
+
+
+def pslg_summary(pslg: PSLG) -> dict[str, Any]:
+    """Counts and the exact bounding box (``"p/q"`` or decimal text) of a PSLG."""
+    box: dict[str, str] | None = None
+    if pslg.vertices:
+        xs = [point.x for point in pslg.vertices]
+        ys = [point.y for point in pslg.vertices]
+        box = {
+            "x_min": format_rational(min(xs)),
+            "x_max": format_rational(max(xs)),
+            "y_min": format_rational(min(ys)),
+            "y_max": format_rational(max(ys)),
+        }
+    return {
+        "vertices": len(pslg.vertices),
+        "segments": len(pslg.segments),
+        "holes": len(pslg.holes),
+        "regions": len(pslg.regions),
+        "bounding_box": box,
+    }
+
+
+def polygon_mesh_summary(mesh: PolygonMesh) -> dict[str, Any]:
+    """Counts and the smallest and largest polygon size of a polygon mesh."""
+    sizes = [len(polygon) for polygon in mesh.polygons]
+    return {
+        "vertices": len(mesh.vertices),
+        "polygons": len(mesh.polygons),
+        "min_polygon_size": min(sizes, default=None),
+        "max_polygon_size": max(sizes, default=None),
+    }
+
+
+def summary_of(value: Value) -> dict[str, Any]:
+    """The ``info`` statistics of a mesh, PSLG or polygon mesh (JSON-ready)."""
+    if isinstance(value, Mesh2):
+        return mesh_summary(value)
+    if isinstance(value, PSLG):
+        return pslg_summary(value)
+    return polygon_mesh_summary(value)

@@ -1,0 +1,109 @@
+"""``geomexact triangulate``: (constrained) Delaunay triangulation of points or a PSLG, or
+Lawson flips of a triangle mesh."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from geomexact.cli.arguments import (
+    Subcommands,
+    add_command,
+    add_format_option,
+    add_json_flag,
+    add_to_option,
+    add_verbose_flag,
+)
+from geomexact.cli.errors import UsageProblem
+from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.loading import load
+from geomexact.cli.reporting import print_json, print_table
+from geomexact.cli.writing import write
+from geomexact.delaunay import is_delaunay, make_delaunay, triangulate
+from geomexact.mesh2d import Mesh2
+from geomexact.pslg import PSLG
+from geomexact.summary import mesh_summary
+from geomexact.trace import write_trace
+from geomexact.validate import validate
+
+
+def command_triangulate(args: argparse.Namespace) -> int:
+    """(Constrained) Delaunay triangulation of a point set or PSLG, or Lawson flips of a
+    triangle mesh into a Delaunay one; writes the mesh and optionally the trace."""
+    loaded = load(args.input, args.format, args.verbose)
+    started = time.perf_counter()
+    if isinstance(loaded.value, Mesh2):
+        mesh, trace = make_delaunay(loaded.value)
+        algorithm = "lawson flips"
+    elif isinstance(loaded.value, PSLG):
+        construction = triangulate(
+            loaded.value,
+            keep_convex_hull=args.keep_convex_hull,
+            split_segments=args.split_segments,
+            merge_duplicates=args.merge_duplicates,
+        )
+        mesh, trace = construction.mesh, construction.trace
+        algorithm = "constrained delaunay" if loaded.value.segments else "delaunay"
+    else:
+        raise UsageProblem(f"{args.input}: a polygon mesh cannot be triangulated here")
+    seconds = time.perf_counter() - started
+    written: list[Path] = []
+    if args.output:
+        written += write(args.output, mesh, args.to, overwrite=args.force, exact=args.exact)
+    if args.trace:
+        trace_path = Path(args.trace)
+        write_trace(trace_path, trace, overwrite=args.force)
+        written.append(trace_path)
+    violations = validate(mesh) if args.check else []
+    delaunay_ok = is_delaunay(mesh)
+    report = {
+        "input": args.input,
+        "algorithm": algorithm,
+        **mesh_summary(mesh),
+        "steps": len(trace),
+        "seconds": round(seconds, 6),
+        "valid": not violations,
+        "written": [str(path) for path in written],
+    }
+    if args.json:
+        print_json(report)
+    else:
+        print_table(f"{args.input}: {algorithm} in {seconds:.3f} s, {len(trace)} steps",
+                    {k: v for k, v in report.items() if k not in {"input", "algorithm",
+                                                                   "written", "seconds"}})
+        for path in written:
+            print(f"wrote {path}")
+        for violation in violations:
+            print(f"  {violation}")
+    if args.check and (violations or not delaunay_ok):
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+def add_parser(commands: Subcommands) -> None:
+    """Add the ``triangulate`` command."""
+    triangulate_ = add_command(
+        commands, "triangulate", command_triangulate,
+        "(constrained) Delaunay triangulation of points / a PSLG, or Lawson flips of a mesh",
+    )
+    triangulate_.add_argument("input", metavar="INPUT",
+                              help=".node, .poly, PSLG text or a triangle mesh (OFF, .ele…)")
+    triangulate_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
+    add_format_option(triangulate_)
+    add_to_option(triangulate_)
+    triangulate_.add_argument("--keep-convex-hull", action="store_true",
+                              help="keep the triangles between the segments and the convex hull")
+    triangulate_.add_argument("--split-segments", action="store_true",
+                              help="split segments at vertices on them and at crossings "
+                                   "(default: such input is an error)")
+    triangulate_.add_argument("--merge-duplicates", action="store_true",
+                              help="keep the first of duplicate points (default: an error)")
+    triangulate_.add_argument("--check", action="store_true",
+                              help="validate the result and check Delaunay-ness (exit 1 if not)")
+    triangulate_.add_argument("--trace", metavar="FILE", help="write the trace (JSON Lines)")
+    triangulate_.add_argument("--exact", action="store_true",
+                              help="write exact coordinates (p/q) instead of doubles")
+    triangulate_.add_argument("--force", action="store_true", help="replace existing files")
+    add_json_flag(triangulate_)
+    add_verbose_flag(triangulate_)

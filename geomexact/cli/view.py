@@ -1,0 +1,102 @@
+"""``geomexact view``: the offline HTML viewer, or a PNG/SVG/PDF picture, of a mesh (and
+trace)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from geomexact.cli.arguments import (
+    Subcommands,
+    add_command,
+    add_format_option,
+    add_json_flag,
+    add_verbose_flag,
+    non_negative,
+)
+from geomexact.cli.errors import UsageProblem
+from geomexact.cli.exit_codes import EXIT_OK
+from geomexact.cli.loading import load
+from geomexact.cli.reporting import print_json
+from geomexact.errors import GeomexactError
+from geomexact.trace import read_trace
+
+VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
+
+
+def command_view(args: argparse.Namespace) -> int:
+    """Write the HTML viewer (``.html``) or a picture (``.png``, ``.svg``, ``.pdf``) of a
+    mesh, PSLG or polygon mesh; with ``--trace``, of the trace replayed on it."""
+    from geomexact.io.files import write_text_atomic
+    from geomexact.viz import pictures, viewer
+    from geomexact.viz.scene import DEFAULT_EXACT_BUDGET
+
+    output = Path(args.output)
+    suffix = output.suffix.lower()
+    if suffix not in (".html", ".htm", *pictures.PICTURE_FORMATS):
+        raise UsageProblem(f"{output}: the output must end in .html, .png, .svg or .pdf")
+    if args.step is not None and not args.trace:
+        raise UsageProblem("--step needs --trace")
+    loaded = load(args.input, args.format, args.verbose)
+    trace = read_trace(args.trace) if args.trace else None
+    fill = args.color_by.replace("-", "_")
+    try:
+        if suffix in (".html", ".htm"):
+            text = viewer.viewer_html(
+                loaded.value, trace=trace, title=args.title, source=Path(args.input).name,
+                trace_source=Path(args.trace).name if args.trace else None, fill=fill,
+                step=args.step, exact_budget=0 if args.no_exact else DEFAULT_EXACT_BUDGET,
+                notes=loaded.notes,
+            )
+            write_text_atomic(output, text, overwrite=args.force)
+        elif trace is not None:
+            pictures.plot_step(loaded.value, trace, args.step, output, overwrite=args.force,
+                               title=args.title, color_by=fill)
+        else:
+            pictures.plot(loaded.value, output, overwrite=args.force, title=args.title,
+                          color_by=fill)
+    except (TypeError, ValueError) as error:
+        if isinstance(error, GeomexactError):
+            raise
+        raise UsageProblem(f"{args.input}: {error}") from None
+    report = {
+        "input": args.input,
+        "format": loaded.format,
+        "kind": loaded.kind,
+        "trace": args.trace,
+        "steps": len(trace) if trace is not None else None,
+        "step": args.step if args.step is not None else (
+            len(trace) if trace is not None else None),
+        "output": str(output),
+        "bytes": output.stat().st_size,
+    }
+    if args.json:
+        print_json(report)
+    else:
+        print(f"wrote {output}")
+    return EXIT_OK
+
+
+def add_parser(commands: Subcommands) -> None:
+    """Add the ``view`` command."""
+    view = add_command(commands, "view", command_view,
+                       "write the offline HTML viewer or a PNG/SVG/PDF picture of a mesh "
+                       "(and trace)")
+    view.add_argument("input", metavar="INPUT",
+                      help="mesh, PSLG or polygon mesh (with --trace: the trace's input)")
+    view.add_argument("-o", "--output", required=True, metavar="OUT",
+                      help="OUT.html: the viewer; OUT.png, .svg or .pdf: a picture")
+    view.add_argument("--trace", metavar="TRACE",
+                      help="a trace recorded on INPUT: the viewer gets a step slider")
+    view.add_argument("--step", type=non_negative, metavar="K",
+                      help="with --trace: the step shown first (viewer) or drawn (picture); "
+                           "default: the last")
+    view.add_argument("--color-by", choices=VIEW_FILL_CHOICES, default="none",
+                      help="fill triangles by smallest angle, area or region attribute")
+    view.add_argument("--title", help="title of the page or picture")
+    view.add_argument("--no-exact", action="store_true",
+                      help="leave the exact coordinates out of the page (smaller file)")
+    add_format_option(view)
+    view.add_argument("--force", action="store_true", help="replace an existing OUT")
+    add_json_flag(view)
+    add_verbose_flag(view)
