@@ -325,6 +325,16 @@ def validate_polygon_mesh(
     return found
 
 
+def isolated_polygon_vertices(mesh: PolygonMesh) -> list[Violation]:
+    """An ``isolated-vertex`` violation for each vertex in no polygon (legal in a polygon
+    mesh, reported by ``geomexact check --strict``), in id order.  O(n)."""
+    used = {vertex for polygon in mesh.polygons for vertex in polygon}
+    return [
+        Violation("isolated-vertex", f"vertex {vertex} is in no polygon", (vertex,))
+        for vertex in range(len(mesh.vertices)) if vertex not in used
+    ]
+
+
 def check_polygon_mesh(
     mesh: PolygonMesh, triangulation: Mesh2 | None = None, *, geometric: bool | None = None
 ) -> PolygonMesh:

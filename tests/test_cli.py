@@ -270,6 +270,86 @@ def test_check_of_pslg_is_usage_error(
     assert_one_line_error(err, "pslg", "triangle mesh")
 
 
+TWO_SQUARES_OFF = """OFF
+7 2 0
+0 0 0
+1 0 0
+2 0 0
+2 1 0
+1 1 0
+0 1 0
+5 5 0
+4 0 1 4 5
+4 1 2 3 4
+"""
+
+
+def test_check_valid_polygon_mesh(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    """Two unit squares sharing an edge: valid; the unused vertex 6 only under --strict."""
+    path = tmp_path / "squares.off"
+    path.write_text(TWO_SQUARES_OFF)
+    code, report = run_json(capsys, "check", path)
+    assert code == 0
+    assert report["kind"] == "polygon_mesh"
+    assert (report["valid"], report["polygons"], report["violations"]) == (True, 2, [])
+    code, out, _ = run(capsys, "check", path)
+    assert (code, out.strip()) == (0, f"{path}: valid (7 vertices, 2 polygons)")
+    code, report = run_json(capsys, "check", "--strict", path)
+    assert code == 1
+    assert [(v["kind"], v["elements"]) for v in report["violations"]] == [
+        ("isolated-vertex", [6])
+    ]
+
+
+@pytest.mark.parametrize(
+    ("faces", "kinds"),
+    [
+        ("4 0 1 4 5\n4 1 2 3 5\n", {"crossing"}),  # the second polygon overlaps the first
+        ("4 0 1 4 5\n4 0 1 4 5\n", {"duplicate-edge", "overlap"}),  # the same square twice
+        ("4 0 1 4 5\n5 1 2 3 4 0\n", {"duplicate-edge", "overlap"}),  # folds over the first
+    ],
+)
+def test_check_invalid_polygon_mesh_exits_1(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, faces: str, kinds: set[str]
+) -> None:
+    path = tmp_path / "bad.off"
+    path.write_text(TWO_SQUARES_OFF.split("4 0 1 4 5")[0] + faces)
+    code, report = run_json(capsys, "check", path)
+    assert code == 1
+    assert report["valid"] is False
+    assert kinds <= {violation["kind"] for violation in report["violations"]}
+
+
+@pytest.mark.parametrize(
+    ("faces", "problem"),
+    [
+        ("4 0 5 4 1\n4 1 2 3 4\n", ":11: faces have mixed orientations"),
+        ("4 0 1 4 1\n4 1 2 3 4\n", ":10: face 0 (0 1 4 1) on line 10 has zero area"),
+    ],
+)
+def test_check_of_unreadable_polygon_mesh_names_the_line(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, faces: str, problem: str
+) -> None:
+    path = tmp_path / "bad.off"
+    path.write_text(TWO_SQUARES_OFF.split("4 0 1 4 5")[0] + faces)
+    code, _, err = run(capsys, "check", path)
+    assert code == 2
+    assert f"{path}{problem}" in err
+
+
+def test_info_of_polygon_mesh_reports_convexity_angles_and_area(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    path = tmp_path / "squares.off"
+    path.write_text(TWO_SQUARES_OFF)
+    code, report = run_json(capsys, "info", path)
+    assert code == 0
+    assert (report["vertices"], report["used_vertices"], report["polygons"]) == (7, 6, 2)
+    assert (report["convex"], report["nonconvex"], report["edges"]) == (2, 0, 7)
+    assert (report["min_angle_deg"], report["max_angle_deg"]) == (90.0, 90.0)
+    assert report["total_area"] == "2"
+
+
 # ---------------------------------------------------------------------------------------
 # convert
 # ---------------------------------------------------------------------------------------

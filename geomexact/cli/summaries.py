@@ -7,7 +7,7 @@ from typing import Any
 from geomexact.cli.kinds import Value
 from geomexact.mesh2d import Mesh2
 from geomexact.numbers import format_rational
-from geomexact.polymesh import PolygonMesh
+from geomexact.polymesh import PolygonMesh, mesh_stats
 from geomexact.pslg import PSLG
 from geomexact.summary import mesh_summary
 
@@ -34,14 +34,12 @@ def pslg_summary(pslg: PSLG) -> dict[str, Any]:
 
 
 def polygon_mesh_summary(mesh: PolygonMesh) -> dict[str, Any]:
-    """Counts and the smallest and largest polygon size of a polygon mesh."""
-    sizes = [len(polygon) for polygon in mesh.polygons]
-    return {
-        "vertices": len(mesh.vertices),
-        "polygons": len(mesh.polygons),
-        "min_polygon_size": min(sizes, default=None),
-        "max_polygon_size": max(sizes, default=None),
-    }
+    """Counts, polygon sizes, convexity, interior angles and areas of a polygon mesh
+    (:func:`geomexact.polymesh.mesh_stats`); ``vertices`` counts every vertex of the file,
+    ``used_vertices`` those of some polygon."""
+    stats = mesh_stats(mesh)
+    del stats["inserted_edges"]
+    return {"vertices": len(mesh.vertices), "used_vertices": stats.pop("vertices"), **stats}
 
 
 def summary_of(value: Value) -> dict[str, Any]:
