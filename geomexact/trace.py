@@ -267,11 +267,11 @@ def _argument(value: object, path: str, number: int) -> int | Rational:
 
 
 def write_trace(path: str | Path, trace: Trace, *, overwrite: bool = False) -> None:
-    """Write ``trace`` to ``path`` atomically; refuses to replace a file unless
-    ``overwrite``."""
-    from geomexact.io.files import write_text_atomic
+    """Write ``trace`` to ``path`` atomically, line by line (a long trace is never held in
+    memory as text); refuses to replace a file unless ``overwrite``."""
+    from geomexact.io.files import write_lines_atomic
 
-    write_text_atomic(path, trace_text(trace), overwrite=overwrite)
+    write_lines_atomic(path, trace_lines(trace), overwrite=overwrite)
 
 
 def read_trace(path: str | Path) -> Trace:

@@ -4,7 +4,6 @@ criterion in a region, with its progress line, option parsing and trace streamin
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 from pathlib import Path
@@ -30,7 +29,7 @@ from geomexact.mesh2d import Mesh2
 from geomexact.polymesh import PolygonMesh
 from geomexact.pslg import PSLG
 from geomexact.summary import mesh_summary
-from geomexact.trace import Trace
+from geomexact.trace import Trace, write_trace
 from geomexact.validate import validate
 
 
@@ -132,42 +131,6 @@ def _refine_region(args: argparse.Namespace) -> Any:
     return regions.Whole()
 
 
-def _write_trace_stream(path: Path, trace: Trace, *, overwrite: bool) -> None:
-    """Write a trace file line by line through a temporary file and a rename (big runs
-    never hold the file's text in memory); never replaces a file unless ``overwrite``."""
-    import tempfile
-
-    from geomexact.trace import trace_lines
-
-    if path.exists() and not overwrite:
-        raise OverwriteError(str(path))
-    directory = path.parent if str(path.parent) else Path(".")
-    if not directory.is_dir():
-        raise FileNotFoundError(2, f"cannot write {path}: directory {directory} does not exist")
-    descriptor, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp",
-                                             dir=directory)
-    try:
-        with os.fdopen(descriptor, "w", encoding="utf-8", newline="\n") as handle:
-            for line in trace_lines(trace):
-                handle.write(line)
-                handle.write("\n")
-        umask = os.umask(0o022)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)
-        if overwrite:
-            os.replace(temporary, path)
-        else:
-            try:
-                os.link(temporary, path)
-            except FileExistsError as error:
-                raise OverwriteError(str(path)) from error
-            os.unlink(temporary)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
-
-
 def command_refine(args: argparse.Namespace) -> int:
     """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
     a region; writes the mesh, the trace and optionally every intermediate mesh."""
@@ -213,7 +176,7 @@ def command_refine(args: argparse.Namespace) -> int:
         written += write(args.output, result.mesh, args.to, overwrite=args.force,
                           exact=args.exact)
     if args.trace:
-        _write_trace_stream(Path(args.trace), trace, overwrite=args.force)
+        write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
     if args.polylla:
         from geomexact.polylla import polylla

@@ -6,6 +6,7 @@ from __future__ import annotations
 import errno
 import os
 import tempfile
+from collections.abc import Iterable
 from pathlib import Path
 
 from geomexact.errors import FormatError, OverwriteError
@@ -34,11 +35,26 @@ def write_text_atomic(path: str | Path, text: str, *, overwrite: bool = False) -
     """Write ``text`` to ``path`` through a temporary file in the same directory and an
     atomic rename.  Raises :class:`OverwriteError` when ``path`` exists and not
     ``overwrite``; a failed write leaves any existing file untouched."""
-    write_bytes_atomic(path, text.encode("utf-8"), overwrite=overwrite)
+    write_chunks_atomic(path, (text.encode("utf-8"),), overwrite=overwrite)
 
 
 def write_bytes_atomic(path: str | Path, data: bytes, *, overwrite: bool = False) -> None:
     """Bytes version of :func:`write_text_atomic`."""
+    write_chunks_atomic(path, (data,), overwrite=overwrite)
+
+
+def write_lines_atomic(path: str | Path, lines: Iterable[str], *, overwrite: bool = False) -> None:
+    """:func:`write_text_atomic` for text given line by line (each without its newline),
+    written as it comes: a long file is never held in memory whole."""
+    write_chunks_atomic(
+        path, ((line + "\n").encode("utf-8") for line in lines), overwrite=overwrite
+    )
+
+
+def write_chunks_atomic(
+    path: str | Path, chunks: Iterable[bytes], *, overwrite: bool = False
+) -> None:
+    """Write ``chunks`` one after the other, atomically, as :func:`write_text_atomic`."""
     target = Path(path)
     if target.exists() and not overwrite:
         raise OverwriteError(str(target))
@@ -52,7 +68,8 @@ def write_bytes_atomic(path: str | Path, data: bytes, *, overwrite: bool = False
     )
     try:
         with os.fdopen(descriptor, "wb") as handle:
-            handle.write(data)
+            for chunk in chunks:
+                handle.write(chunk)
         os.chmod(temporary, 0o666 & ~_umask())
         if not overwrite:
             # link() fails if the target appeared meanwhile: never clobber a file silently
