@@ -40,6 +40,17 @@ def add_verbose_flag(sub: argparse.ArgumentParser) -> None:
     )
 
 
+def add_exact_flag(sub: argparse.ArgumentParser) -> None:
+    """``--exact``: write exact coordinates even in formats that default to doubles."""
+    sub.add_argument("--exact", action="store_true",
+                     help="write exact coordinates (p/q) instead of the nearest doubles")
+
+
+def add_force_flag(sub: argparse.ArgumentParser, what: str = "existing files") -> None:
+    """``--force``: replace ``what`` (nothing is overwritten without it)."""
+    sub.add_argument("--force", action="store_true", help=f"replace {what}")
+
+
 def format_names() -> list[str]:
     """The file format names, sorted: the choices of every format option."""
     return sorted(io.FORMATS)

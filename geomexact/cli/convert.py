@@ -7,6 +7,8 @@ import argparse
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_exact_flag,
+    add_force_flag,
     add_json_flag,
     add_verbose_flag,
     format_names,
@@ -54,10 +56,7 @@ def add_parser(commands: Subcommands) -> None:
         "--to", dest="target_format", choices=formats, metavar="F",
         help=f"format of OUT, one of {names} (default: from its extension)",
     )
-    convert.add_argument(
-        "--exact", action="store_true",
-        help="write exact rationals even in float formats (default: nearest doubles there)",
-    )
-    convert.add_argument("--force", action="store_true", help="replace existing files")
+    add_exact_flag(convert)
+    add_force_flag(convert)
     add_json_flag(convert)
     add_verbose_flag(convert)

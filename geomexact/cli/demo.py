@@ -13,7 +13,7 @@ from typing import Any
 import attrs
 
 from geomexact import io
-from geomexact.cli.arguments import Subcommands, add_command, add_json_flag
+from geomexact.cli.arguments import Subcommands, add_command, add_force_flag, add_json_flag
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
 from geomexact.cli.kinds import Value
@@ -208,5 +208,5 @@ def add_parser(commands: Subcommands) -> None:
         "-o", "--output", default="geomexact-demo", metavar="DIR",
         help="output directory (default: geomexact-demo)",
     )
-    demo.add_argument("--force", action="store_true", help="replace existing files")
+    add_force_flag(demo)
     add_json_flag(demo)

@@ -10,6 +10,8 @@ from pathlib import Path
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_exact_flag,
+    add_force_flag,
     add_format_option,
     add_json_flag,
     add_to_option,
@@ -125,8 +127,7 @@ def add_parser(commands: Subcommands) -> None:
                                "invalid)")
     add_format_option(polylla_)
     add_to_option(polylla_)
-    polylla_.add_argument("--exact", action="store_true",
-                          help="write exact coordinates (p/q) instead of doubles")
-    polylla_.add_argument("--force", action="store_true", help="replace existing files")
+    add_exact_flag(polylla_)
+    add_force_flag(polylla_)
     add_json_flag(polylla_)
     add_verbose_flag(polylla_)

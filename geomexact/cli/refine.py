@@ -12,6 +12,8 @@ from typing import Any
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_exact_flag,
+    add_force_flag,
     add_format_option,
     add_json_flag,
     add_to_option,
@@ -293,8 +295,7 @@ def add_parser(commands: Subcommands) -> None:
                          help="show progress on stderr")
     add_format_option(refine_)
     add_to_option(refine_)
-    refine_.add_argument("--exact", action="store_true",
-                         help="write exact coordinates (p/q) instead of doubles")
-    refine_.add_argument("--force", action="store_true", help="replace existing files")
+    add_exact_flag(refine_)
+    add_force_flag(refine_)
     add_json_flag(refine_)
     add_verbose_flag(refine_)

@@ -8,6 +8,8 @@ import sys
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_exact_flag,
+    add_force_flag,
     add_json_flag,
     add_verbose_flag,
     format_names,
@@ -94,9 +96,7 @@ def add_parser(commands: Subcommands) -> None:
     replay_.add_argument(
         "--to", choices=formats, metavar="F", help=f"format of OUT, one of {names}"
     )
-    replay_.add_argument(
-        "--exact", action="store_true", help="write exact rationals even in float formats"
-    )
-    replay_.add_argument("--force", action="store_true", help="replace existing files")
+    add_exact_flag(replay_)
+    add_force_flag(replay_)
     add_json_flag(replay_)
     add_verbose_flag(replay_)

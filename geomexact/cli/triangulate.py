@@ -10,6 +10,8 @@ from pathlib import Path
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_exact_flag,
+    add_force_flag,
     add_format_option,
     add_json_flag,
     add_to_option,
@@ -102,8 +104,7 @@ def add_parser(commands: Subcommands) -> None:
     triangulate_.add_argument("--check", action="store_true",
                               help="validate the result and check Delaunay-ness (exit 1 if not)")
     triangulate_.add_argument("--trace", metavar="FILE", help="write the trace (JSON Lines)")
-    triangulate_.add_argument("--exact", action="store_true",
-                              help="write exact coordinates (p/q) instead of doubles")
-    triangulate_.add_argument("--force", action="store_true", help="replace existing files")
+    add_exact_flag(triangulate_)
+    add_force_flag(triangulate_)
     add_json_flag(triangulate_)
     add_verbose_flag(triangulate_)

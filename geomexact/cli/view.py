@@ -9,6 +9,7 @@ from pathlib import Path
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_force_flag,
     add_format_option,
     add_json_flag,
     add_verbose_flag,
@@ -97,6 +98,6 @@ def add_parser(commands: Subcommands) -> None:
     view.add_argument("--no-exact", action="store_true",
                       help="leave the exact coordinates out of the page (smaller file)")
     add_format_option(view)
-    view.add_argument("--force", action="store_true", help="replace an existing OUT")
+    add_force_flag(view, "an existing OUT")
     add_json_flag(view)
     add_verbose_flag(view)
