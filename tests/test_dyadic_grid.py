@@ -13,7 +13,8 @@ from geomexact.criteria import MaxArea
 from geomexact.dyadic_grid import GRID_BITS, grid_flags, grid_unit, midpoint_on_grid, on_grid
 from geomexact.points import Point2, point2
 from geomexact.predicates import compare_squared_lengths
-from geomexact.refine import _compare_squared_lengths_on_grid, refine
+from geomexact.refine import refine
+from geomexact.refinement.fast_engine import compare_squared_lengths_on_grid
 from geomexact.transient import mesh_from_triangles
 
 LIMIT = 2**GRID_BITS
@@ -54,8 +55,8 @@ def test_squared_lengths_compare_exactly_in_floats_on_the_grid(
     exponent, a, b, c, d = case
     scale = math.ldexp(1.0, GRID_BITS - exponent)
     assert all(on_grid(p, scale) for p in (a, b, c, d))
-    assert _compare_squared_lengths_on_grid(a, b, c, d) == compare_squared_lengths(a, b, c, d)
-    assert _compare_squared_lengths_on_grid(a, b, a, b) == 0
+    assert compare_squared_lengths_on_grid(a, b, c, d) == compare_squared_lengths(a, b, c, d)
+    assert compare_squared_lengths_on_grid(a, b, a, b) == 0
 
 
 @given(st.integers(-60, 60).flatmap(lambda e: st.tuples(st.just(e), *[grid_points(e)] * 4)))
