@@ -20,10 +20,17 @@ last of the path) and t2 (across e):
   pair that is not locally Delaunay, flip e (when ``delaunay=True``) and search again;
   otherwise insert as the centroid method does.
 
-Two engines run the same algorithm: ``"fast"`` (a batch kernel on plain dicts with the
-digest kept incrementally) and ``"transient"`` (the ops on a
-:class:`~geomexact.transient.Transient2`, the readable reference); they record identical
-traces (``tests/test_refine_engines.py``).
+Three engines run the same algorithm and record identical traces
+(``tests/test_refine_engines.py``, ``tests/test_refine_compiled.py``):
+
+* ``"transient"``: the ops on a :class:`~geomexact.transient.Transient2`, the readable
+  reference (:mod:`geomexact.refinement.transient_engine`);
+* ``"python"``: a batch kernel on plain tables with the digest kept incrementally
+  (:mod:`geomexact.refinement.fast_engine`);
+* ``"fast"`` (the default): the compiled kernel (:mod:`geomexact.refinement.compiled_engine`,
+  a C extension built at install when a compiler is present) for the runs it implements —
+  Lepp-bisection with criteria on single triangles and no triangle attributes — and the
+  ``"python"`` engine otherwise.
 
 >>> from geomexact.criteria import MaxArea
 >>> from geomexact.transient import mesh_from_triangles
@@ -47,6 +54,7 @@ from geomexact.criteria import Criterion, as_criterion
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d import Mesh2, Triangle
 from geomexact.points import Point2
+from geomexact.refinement.compiled_engine import run_compiled
 from geomexact.refinement.driver import (
     Method,
     Progress,
@@ -70,7 +78,7 @@ __all__ = [
 
 METHODS: tuple[str, ...] = ("bisection", "centroid", "quasi")
 CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices")
-ENGINES: tuple[str, ...] = ("fast", "transient")
+ENGINES: tuple[str, ...] = ("fast", "python", "transient")
 
 
 @attrs.frozen(slots=True)
@@ -143,7 +151,7 @@ def refine(
     constraint_midpoints: bool = True,
     max_steps: int | None = None,
     on_step: Callable[[Progress], None] | None = None,
-    engine: Literal["fast", "transient"] = "fast",
+    engine: Literal["fast", "python", "transient"] = "fast",
 ) -> Result:
     """Refine the triangles of ``region`` that ``criterion`` rates bad, by Lepp steps.
 
@@ -184,8 +192,9 @@ def refine(
     on_step:
         Called with a :class:`Progress` after every step.
     engine:
-        ``"fast"`` (batch kernel) or ``"transient"`` (the ops on a transient; slower, the
-        reference).  Both record the same trace.
+        ``"fast"`` (the compiled kernel where it applies, else ``"python"``), ``"python"``
+        (the batch kernel in Python) or ``"transient"`` (the ops on a transient; slower,
+        the reference).  All record the same trace.
 
     Raises :class:`~geomexact.errors.PreconditionError` for an unknown method, centroid or
     engine, a negative ``max_steps``, or a minimum angle with bisection or without
@@ -241,17 +250,26 @@ def refine(
     collecting = gc.isenabled()
     gc.disable()  # a large run makes millions of small tuples: the cyclic GC would walk them
     try:
-        run: Refinement
-        if engine == "fast":
-            run = FastRefinement(mesh, max_steps, **options)
+        compiled = run_compiled(mesh, max_steps, **options) if engine == "fast" else None
+        if compiled is not None:
+            status, result, steps, digests = (
+                compiled.status, compiled.mesh, compiled.steps, compiled.digests
+            )
+            left, targets, searches, hops = (
+                compiled.left, compiled.targets, compiled.searches, compiled.hops
+            )
         else:
-            run = TransientRefinement(mesh, max_steps, **options)
-        run.start_queue(sorted(mesh.iter_triangles()))
-        status = run.run()
-        result, steps, digests = run.finish(mesh)
-        left = run.left_triangles()
-        targets, searches, hops = run.targets, run.searches, run.hops
-        del run  # its work tables go now, before the collector would scan them
+            run: Refinement
+            if engine == "transient":
+                run = TransientRefinement(mesh, max_steps, **options)
+            else:
+                run = FastRefinement(mesh, max_steps, **options)
+            run.start_queue(sorted(mesh.iter_triangles()))
+            status = run.run()
+            result, steps, digests = run.finish(mesh)
+            left = run.left_triangles()
+            targets, searches, hops = run.targets, run.searches, run.hops
+            del run  # its work tables go now, before the collector would scan them
     finally:
         if collecting:
             # The objects made by the run (the new mesh's tables, points and steps) are

@@ -1,6 +1,6 @@
-"""The fast refinement kernel against the reference engine (the ops on a transient): the
-same steps, the same digest after every step, the same result, for every method, criterion,
-region, centroid kind, rule and step limit."""
+"""The fast refinement engines (compiled and Python) against the reference engine (the ops
+on a transient): the same steps, the same digest after every step, the same result, for
+every method, criterion, region, centroid kind, rule and step limit."""
 
 from __future__ import annotations
 
@@ -30,7 +30,13 @@ REGIONS = st.sampled_from([
 
 
 def both(start: Mesh2, criterion: Criterion, **options: Any) -> Result:
+    """The default engine (compiled where it applies) and the Python engine against the
+    reference: the same run in every respect."""
     fast = refine(start, criterion, engine="fast", **options)
+    if options.get("method", "bisection") == "bisection":
+        python = refine(start, criterion, engine="python", **options)
+        assert python.trace == fast.trace
+        assert python.mesh == fast.mesh
     reference = refine(start, criterion, engine="transient", **options)
     assert fast.trace.steps == reference.trace.steps
     assert fast.trace.digests == reference.trace.digests

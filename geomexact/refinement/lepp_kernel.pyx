@@ -1,0 +1,1095 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
+# cython: initializedcheck=False, infer_types=False
+"""Typed Lepp-bisection kernel: ``refine(..., method="bisection")`` on C data structures.
+
+Contract: :class:`Kernel` runs exactly the loop of ``geomexact.refinement.fast_engine.FastRefinement``
+for method ``"bisection"`` (with or without Delaunay legalization), a criterion rating
+single triangles (no angle threshold, no region-wide target), any region, no triangle
+attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the same
+digest after every step, the same counters, and seals the same ``Mesh2``
+(``geomexact.refinement.compiled_engine`` checks the subset and is the only caller).
+
+Where the C data live:
+
+* half-edges ``(u, v) -> apex`` and constrained segments in open-addressing hash tables
+  keyed by ``u << 32 | v`` (ids are below ``MAX_VERTICES = 2**32``);
+* per vertex: the doubles of the ``Point2`` (for the float filters), the coordinates times
+  ``2**F`` as int64 when the exact rational lies on that grid (the *grid* vertices), the
+  64-bit digest key, the ``outgoing`` hint and the cached region membership;
+* the work queue as a binary heap of (key, triangle), keys exact: an ``__int128`` doubled
+  area in units of ``2**-2F`` (``MaxArea`` on grid triangles) or a Python key;
+* the digest as an ``unsigned __int128`` (the sum mod 2**128 of ``geomexact.digest``).
+
+Every geometric decision is exact: on grid vertices by integer arithmetic in ``__int128``;
+otherwise by the certified float filters of ``geomexact.predicates`` (same formulas and
+constants), falling back to the exact Python predicate on the ``Point2`` objects.
+"""
+
+from libc.stdint cimport int64_t, uint64_t, int8_t
+from libc.stdlib cimport malloc, realloc, free
+
+import hashlib
+import math
+import struct
+
+import gmpy2
+import immutables
+
+from geomexact import digest as _digest
+from geomexact import predicates as _predicates
+from geomexact.errors import PreconditionError
+from geomexact.refinement.queue import rank as _rank
+from geomexact.mesh2d import MAX_VERTICES, Mesh2
+from geomexact.numbers import mpq
+from geomexact.points import Point2, point2
+from geomexact.step import Step
+
+cdef extern from *:
+    """
+    #include <stdint.h>
+    #include <stdlib.h>
+    #include <string.h>
+
+    typedef __int128 gx_i128;
+    typedef unsigned __int128 gx_u128;
+
+    /* ---- open-addressing hash table: uint64 key -> int64 value, linear probing,
+       backward-shift deletion (no tombstones), load <= 1/2 ---- */
+    #define GX_EMPTY UINT64_MAX
+    typedef struct { uint64_t *keys; int64_t *values; uint64_t mask; uint64_t count; } gx_map;
+
+    static inline uint64_t gx_mix(uint64_t x) {
+        x ^= x >> 30; x *= 0xbf58476d1ce4e5b9ULL;
+        x ^= x >> 27; x *= 0x94d049bb133111ebULL;
+        return x ^ (x >> 31);
+    }
+    static int gx_map_alloc(gx_map *m, uint64_t slots) {
+        m->keys = (uint64_t *)malloc(slots * sizeof(uint64_t));
+        m->values = (int64_t *)malloc(slots * sizeof(int64_t));
+        if (!m->keys || !m->values) {
+            free(m->keys); free(m->values); m->keys = NULL; m->values = NULL; return -1;
+        }
+        memset(m->keys, 0xff, slots * sizeof(uint64_t));
+        m->mask = slots - 1;
+        m->count = 0;
+        return 0;
+    }
+    static void gx_map_free(gx_map *m) {
+        free(m->keys); free(m->values); m->keys = NULL; m->values = NULL;
+    }
+    static inline uint64_t gx_map_slot(const gx_map *m, uint64_t key) {
+        uint64_t i = gx_mix(key) & m->mask;
+        while (m->keys[i] != GX_EMPTY && m->keys[i] != key) i = (i + 1) & m->mask;
+        return i;
+    }
+    static inline int64_t gx_map_get(const gx_map *m, uint64_t key, int64_t missing) {
+        uint64_t i = gx_map_slot(m, key);
+        return m->keys[i] == key ? m->values[i] : missing;
+    }
+    static int gx_map_grow(gx_map *m) {
+        gx_map old = *m;
+        if (gx_map_alloc(m, 2 * (old.mask + 1)) < 0) { *m = old; return -1; }
+        for (uint64_t i = 0; i <= old.mask; i++) {
+            if (old.keys[i] != GX_EMPTY) {
+                uint64_t j = gx_map_slot(m, old.keys[i]);
+                m->keys[j] = old.keys[i]; m->values[j] = old.values[i]; m->count++;
+            }
+        }
+        gx_map_free(&old);
+        return 0;
+    }
+    static inline int gx_map_set(gx_map *m, uint64_t key, int64_t value) {
+        uint64_t i = gx_map_slot(m, key);
+        if (m->keys[i] == key) { m->values[i] = value; return 0; }
+        if (2 * (m->count + 1) > m->mask + 1) {
+            if (gx_map_grow(m) < 0) return -1;
+            i = gx_map_slot(m, key);
+        }
+        m->keys[i] = key; m->values[i] = value; m->count++;
+        return 0;
+    }
+    static inline int gx_map_del(gx_map *m, uint64_t key) {
+        uint64_t i = gx_map_slot(m, key), j = i, home;
+        if (m->keys[i] != key) return 0;
+        for (;;) {
+            j = (j + 1) & m->mask;
+            if (m->keys[j] == GX_EMPTY) break;
+            home = gx_mix(m->keys[j]) & m->mask;
+            /* the entry at j may fill the hole at i unless its home lies in (i, j] */
+            if (((j - home) & m->mask) >= ((j - i) & m->mask)) {
+                m->keys[i] = m->keys[j]; m->values[i] = m->values[j]; i = j;
+            }
+        }
+        m->keys[i] = GX_EMPTY; m->count--;
+        return 1;
+    }
+
+    /* ---- 128-bit helpers ---- */
+    static inline gx_u128 gx_u128_make(uint64_t hi, uint64_t lo) {
+        return ((gx_u128)hi << 64) | lo;
+    }
+    static inline uint64_t gx_u128_hi(gx_u128 x) { return (uint64_t)(x >> 64); }
+    static inline uint64_t gx_u128_lo(gx_u128 x) { return (uint64_t)x; }
+
+    /* the cell hash of geomexact.digest: multipliers set once from the Python module */
+    static gx_u128 gx_m0, gx_m1, gx_m2, gx_mf;
+    static inline gx_u128 gx_cell_hash(uint64_t ka, uint64_t kb, uint64_t kc) {
+        gx_u128 x = (gx_u128)ka * gx_m0 + (gx_u128)kb * gx_m1 + (gx_u128)kc * gx_m2;
+        x ^= x >> 61;
+        return x * gx_mf;
+    }
+
+    /* ---- exact predicates on grid coordinates (|coordinate| <= 2^60, so every degree-2
+       expression below stays under 2^125) ---- */
+    static inline int gx_sign(gx_i128 v) { return (v > 0) - (v < 0); }
+    static inline int gx_grid_lengths(int64_t ax, int64_t ay, int64_t bx, int64_t by,
+                                      int64_t cx, int64_t cy, int64_t dx, int64_t dy) {
+        gx_i128 ux = bx - ax, uy = by - ay, vx = dx - cx, vy = dy - cy;
+        return gx_sign((ux * ux + uy * uy) - (vx * vx + vy * vy));
+    }
+    static inline int gx_grid_orient(int64_t ax, int64_t ay, int64_t bx, int64_t by,
+                                     int64_t cx, int64_t cy) {
+        gx_i128 acx = ax - cx, acy = ay - cy, bcx = bx - cx, bcy = by - cy;
+        return gx_sign(acx * bcy - acy * bcx);
+    }
+    static inline int gx_grid_dot(int64_t px, int64_t py, int64_t ax, int64_t ay,
+                                  int64_t bx, int64_t by) {
+        gx_i128 ux = ax - px, uy = ay - py, vx = bx - px, vy = by - py;
+        return gx_sign(ux * vx + uy * vy);
+    }
+    static inline gx_i128 gx_grid_area2(int64_t ax, int64_t ay, int64_t bx, int64_t by,
+                                        int64_t cx, int64_t cy) {
+        gx_i128 ux = bx - ax, uy = by - ay, vx = cx - ax, vy = cy - ay;
+        return ux * vy - uy * vx;
+    }
+    /* incircle is of degree 4: exact in __int128 once the differences, divided by their
+       common power of two, are below 2^30 in magnitude; else 2 (undecided) */
+    static inline int64_t gx_abs64(int64_t v) { return v < 0 ? -v : v; }
+    static inline int gx_grid_incircle(int64_t ax, int64_t ay, int64_t bx, int64_t by,
+                                       int64_t cx, int64_t cy, int64_t dx, int64_t dy) {
+        int64_t d[6] = {ax - dx, ay - dy, bx - dx, by - dy, cx - dx, cy - dy};
+        uint64_t bits = 0;
+        int k, shift;
+        for (k = 0; k < 6; k++) bits |= (uint64_t)d[k];
+        if (bits == 0) return 0;
+        shift = __builtin_ctzll(bits);
+        for (k = 0; k < 6; k++) {
+            d[k] >>= shift;  /* exact: every d[k] is a multiple of 2^shift */
+            if (gx_abs64(d[k]) > ((int64_t)1 << 30)) return 2;
+        }
+        {
+            gx_i128 adx = d[0], ady = d[1], bdx = d[2], bdy = d[3], cdx = d[4], cdy = d[5];
+            gx_i128 det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy)
+                        + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy)
+                        + (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+            return gx_sign(det);
+        }
+    }
+
+    /* ---- float filters: the formulas of geomexact.predicates, evaluated in the same
+       order (compiled with -ffp-contract=off); 2 means undecided ---- */
+    static double gx_orient_c, gx_orient_k, gx_incircle_c, gx_incircle_k;
+    static double gx_lengths_c, gx_lengths_k, gx_dot_c, gx_dot_k;
+    static inline int gx_float_orient(double ax, double ay, double bx, double by,
+                                      double cx, double cy) {
+        double acx = ax - cx, acy = ay - cy, bcx = bx - cx, bcy = by - cy;
+        double left = acx * bcy, right = acy * bcx, det, t, bound;
+        if (left > 0.0) { if (right < 0.0) return 1; }
+        else if (left < 0.0 && right > 0.0) return -1;
+        det = left - right;
+        t = fabs(acx) + fabs(acy) + fabs(bcx) + fabs(bcy) + gx_orient_k;
+        bound = t * (fabs(cx) + fabs(cy) + t) * gx_orient_c;
+        if (det > bound) return 1;
+        if (-det > bound) return -1;
+        return 2;
+    }
+    static inline int gx_float_incircle(double ax, double ay, double bx, double by,
+                                        double cx, double cy, double dx, double dy) {
+        double adx = ax - dx, ady = ay - dy, bdx = bx - dx, bdy = by - dy;
+        double cdx = cx - dx, cdy = cy - dy, det, t, bound;
+        det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy)
+            + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy)
+            + (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+        t = fabs(adx) + fabs(ady) + fabs(bdx) + fabs(bdy) + fabs(cdx) + fabs(cdy)
+            + gx_incircle_k;
+        bound = t * t * t * (fabs(dx) + fabs(dy) + t) * gx_incircle_c;
+        if (det > bound) return 1;
+        if (-det > bound) return -1;
+        return 2;
+    }
+    static inline int gx_float_lengths(double ax, double ay, double bx, double by,
+                                       double cx, double cy, double dx, double dy) {
+        double ux = bx - ax, uy = by - ay, vx = dx - cx, vy = dy - cy, diff, t, m, bound;
+        diff = (ux * ux + uy * uy) - (vx * vx + vy * vy);
+        t = fabs(ux) + fabs(uy) + fabs(vx) + fabs(vy) + gx_lengths_k;
+        m = fabs(ax) + fabs(ay) + fabs(cx) + fabs(cy);
+        bound = t * (m + (t + t)) * gx_lengths_c;
+        if (diff > bound) return 1;
+        if (-diff > bound) return -1;
+        return 2;
+    }
+    /* stage 1 of compare_angle: the sign of (a - p).(b - p) */
+    static inline int gx_float_dot(double px, double py, double ax, double ay,
+                                   double bx, double by) {
+        double ux = ax - px, uy = ay - py, vx = bx - px, vy = by - py, dot, t, mt, bound;
+        dot = ux * vx + uy * vy;
+        t = fabs(ux) + fabs(uy) + fabs(vx) + fabs(vy) + gx_dot_k;
+        mt = fabs(px) + fabs(py) + t;
+        bound = t * mt * gx_dot_c;
+        if (dot > bound) return 1;
+        if (-dot > bound) return -1;
+        return 2;
+    }
+    """
+    # Cython sees the 128-bit types as 64-bit ones; they never cross into Python
+    # directly (the hi/lo helpers do that).
+    ctypedef long long gx_i128
+    ctypedef unsigned long long gx_u128
+    ctypedef struct gx_map:
+        uint64_t mask
+        uint64_t count
+        uint64_t *keys
+        int64_t *values
+    uint64_t GX_EMPTY
+    int gx_map_alloc(gx_map *m, uint64_t slots)
+    void gx_map_free(gx_map *m)
+    int64_t gx_map_get(const gx_map *m, uint64_t key, int64_t missing) nogil
+    int gx_map_set(gx_map *m, uint64_t key, int64_t value) nogil
+    int gx_map_del(gx_map *m, uint64_t key) nogil
+    gx_u128 gx_u128_make(uint64_t hi, uint64_t lo)
+    uint64_t gx_u128_hi(gx_u128 x)
+    uint64_t gx_u128_lo(gx_u128 x)
+    gx_u128 gx_m0, gx_m1, gx_m2, gx_mf
+    gx_u128 gx_cell_hash(uint64_t ka, uint64_t kb, uint64_t kc) nogil
+    int gx_grid_lengths(int64_t, int64_t, int64_t, int64_t,
+                        int64_t, int64_t, int64_t, int64_t) nogil
+    int gx_grid_orient(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil
+    int gx_grid_dot(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil
+    gx_i128 gx_grid_area2(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil
+    int gx_grid_incircle(int64_t, int64_t, int64_t, int64_t,
+                         int64_t, int64_t, int64_t, int64_t) nogil
+    double gx_orient_c, gx_orient_k, gx_incircle_c, gx_incircle_k
+    double gx_lengths_c, gx_lengths_k, gx_dot_c, gx_dot_k
+    int gx_float_orient(double, double, double, double, double, double) nogil
+    int gx_float_incircle(double, double, double, double,
+                          double, double, double, double) nogil
+    int gx_float_lengths(double, double, double, double,
+                         double, double, double, double) nogil
+    int gx_float_dot(double, double, double, double, double, double) nogil
+
+
+cdef object _MASK64 = (1 << 64) - 1
+
+
+cdef gx_u128 _to_u128(object value) except *:
+    """A Python int taken mod 2**128."""
+    value = value & ((1 << 128) - 1)
+    return gx_u128_make(<uint64_t>(value >> 64), <uint64_t>(value & _MASK64))
+
+
+cdef object _from_u128(gx_u128 value):
+    return (<object>gx_u128_hi(value) << 64) | <object>gx_u128_lo(value)
+
+
+cdef object _from_i128(gx_i128 value):
+    cdef gx_u128 bits = <gx_u128>value
+    result = _from_u128(bits)
+    if gx_u128_hi(bits) >> 63:
+        result -= 1 << 128
+    return result
+
+
+cdef gx_i128 _to_i128(object value) except *:
+    """A Python int with |value| < 2**126."""
+    return <gx_i128>_to_u128(value)
+
+
+def _init_constants() -> None:
+    global gx_m0, gx_m1, gx_m2, gx_mf
+    global gx_orient_c, gx_orient_k, gx_incircle_c, gx_incircle_k
+    global gx_lengths_c, gx_lengths_k, gx_dot_c, gx_dot_k
+    m0, m1, m2, _ = _digest._POSITION_MULTIPLIERS
+    gx_m0, gx_m1, gx_m2 = _to_u128(m0), _to_u128(m1), _to_u128(m2)
+    gx_mf = _to_u128(_digest._FINAL_MULTIPLIER)
+    gx_orient_c, gx_orient_k = _predicates.ORIENT2D_C, _predicates.ORIENT2D_K
+    gx_incircle_c, gx_incircle_k = _predicates.INCIRCLE_C, _predicates.INCIRCLE_K
+    gx_lengths_c, gx_lengths_k = _predicates.LENGTHS_C, _predicates.LENGTHS_K
+    gx_dot_c, gx_dot_k = _predicates.DOT_C, _predicates.DOT_K
+
+
+_init_constants()
+
+
+def cell_hash(int64_t a, int64_t b, int64_t c):
+    """``geomexact.digest.cell_hash((a, b, c))`` computed by the kernel (for tests)."""
+    return _from_u128(gx_cell_hash(_digest.vertex_key(a), _digest.vertex_key(b),
+                                   _digest.vertex_key(c)))
+
+
+# ---------------------------------------------------------------------------------------
+cdef struct Vertex:
+    double fx
+    double fy
+    int64_t gx
+    int64_t gy
+    uint64_t key       # geomexact.digest.vertex_key
+    int64_t hint       # the outgoing hint, -1 for none
+    int8_t grid        # gx, gy hold the exact coordinates times 2**F
+    int8_t inside      # region membership: -1 not known yet
+
+cdef struct Entry:
+    gx_i128 ikey       # the exact key when py < 0
+    double rank        # geomexact.refinement.queue.rank(key) when py >= 0
+    int64_t py         # index of the Python key in Kernel.pykeys, or -1
+    int64_t a
+    int64_t b
+    int64_t c
+
+cdef struct Record:
+    int64_t u
+    int64_t v
+    gx_u128 digest
+    int8_t op          # 0 bisect, 1 flip
+
+cdef struct Pair:
+    int64_t a
+    int64_t b
+
+cdef object GRID_LIMIT = 1 << 60
+
+
+cdef inline uint64_t _edge(int64_t u, int64_t v) nogil:
+    return (<uint64_t>u << 32) | <uint64_t>v
+
+
+cdef inline bint _pair_less(int64_t a, int64_t b, int64_t c, int64_t d) nogil:
+    """(min(a, b), max(a, b)) < (min(c, d), max(c, d))."""
+    cdef int64_t p0 = a if a < b else b
+    cdef int64_t p1 = b if a < b else a
+    cdef int64_t q0 = c if c < d else d
+    cdef int64_t q1 = d if c < d else c
+    return p0 < q0 or (p0 == q0 and p1 < q1)
+
+
+cdef inline bint _before(int order, int64_t a, int64_t b, int64_t c, int64_t d) nogil:
+    """The edge order of ``specs/lepp.md``: {a, b} before {c, d}, given the comparison
+    of their squared lengths."""
+    return order > 0 or (order == 0 and _pair_less(a, b, c, d))
+
+
+cdef object _pack_id = struct.Struct("<Q").pack
+cdef object _to_binary = gmpy2.to_binary
+cdef object _vertex_hasher = hashlib.blake2b(digest_size=16, person=b"vertex")
+
+
+cdef object _vertex_hash(int64_t vertex, x, y):
+    """geomexact.digest.vertex_hash(vertex, (x, y)), inlined (checked by the tests)."""
+    hasher = _vertex_hasher.copy()
+    hasher.update(_pack_id(vertex) + _to_binary(x) + _to_binary(y))
+    return int.from_bytes(hasher.digest(), "little")
+
+
+def vertex_hash(int64_t vertex, x, y):
+    """The kernel's vertex hash (for tests)."""
+    return _vertex_hash(vertex, x, y)
+
+
+cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
+    if x.a != y.a:
+        return x.a < y.a
+    if x.b != y.b:
+        return x.b < y.b
+    return x.c < y.c
+
+
+cdef class Kernel:
+    """One Lepp-bisection run (see the module docstring).  ``run()`` then ``finish()``."""
+
+    cdef Vertex *vs
+    cdef Py_ssize_t nv, cap_v, n0
+    cdef gx_map apex
+    cdef gx_map segs
+    cdef Entry *heap
+    cdef Py_ssize_t nheap, cap_heap
+    cdef Record *records
+    cdef Py_ssize_t nrec, cap_rec
+    cdef int64_t *created
+    cdef Py_ssize_t ncreated, cap_created
+    cdef Pair *pending
+    cdef Py_ssize_t npending, cap_pending
+    cdef gx_u128 digest
+    cdef int64_t limit
+    cdef int64_t triangles
+    cdef int F
+    cdef bint whole, delaunay, max_area
+    cdef gx_i128 area_limit
+    cdef public int64_t targets, searches, hops
+    cdef list points, pykeys, step_objects
+    cdef dict segments, new_markers
+    cdef object rate, contains, on_step, progress, scale
+
+    def __cinit__(self):
+        self.vs = NULL
+        self.heap = NULL
+        self.records = NULL
+        self.created = NULL
+        self.pending = NULL
+        self.apex.keys = NULL
+        self.apex.values = NULL
+        self.segs.keys = NULL
+        self.segs.values = NULL
+
+    def __dealloc__(self):
+        free(self.vs)
+        free(self.heap)
+        free(self.records)
+        free(self.created)
+        free(self.pending)
+        gx_map_free(&self.apex)
+        gx_map_free(&self.segs)
+
+    def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
+                 on_step, progress, max_area_doubled):
+        """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
+        grid triangles), else None (``criterion.rate`` rates every triangle)."""
+        cdef Py_ssize_t i, count = start.vertex_count
+        cdef Vertex *vertex
+        cdef int64_t g
+        self.points = [start.vertices[i] for i in range(count)]
+        self.n0 = self.nv = count
+        self.cap_v = max(16, 2 * count)
+        self.vs = <Vertex *>malloc(self.cap_v * sizeof(Vertex))
+        self.cap_heap = self.cap_rec = self.cap_created = self.cap_pending = 64
+        self.heap = <Entry *>malloc(self.cap_heap * sizeof(Entry))
+        self.records = <Record *>malloc(self.cap_rec * sizeof(Record))
+        self.created = <int64_t *>malloc(3 * self.cap_created * sizeof(int64_t))
+        self.pending = <Pair *>malloc(self.cap_pending * sizeof(Pair))
+        if (not self.vs or not self.heap or not self.records or not self.created
+                or not self.pending):
+            raise MemoryError
+        if gx_map_alloc(&self.apex, 64) < 0 or gx_map_alloc(&self.segs, 64) < 0:
+            raise MemoryError
+        # the grid: 2**-F with every input coordinate (hence every midpoint) below 2**60
+        bound = 0
+        for point in self.points:
+            for value in (point[0], point[1]):
+                bound = max(bound, int(abs(value)) + 1)
+        self.F = max(0, 60 - int(bound).bit_length())
+        self.scale = mpq(2) ** (2 * self.F)
+        outgoing = start.outgoing
+        for i in range(count):
+            point = self.points[i]
+            vertex = &self.vs[i]
+            vertex.fx = point[2]
+            vertex.fy = point[3]
+            vertex.grid = self._on_grid(point[0], &vertex.gx) and self._on_grid(
+                point[1], &vertex.gy)
+            vertex.key = _digest.vertex_key(i)
+            hint = outgoing.get(i)
+            vertex.hint = -1 if hint is None else hint
+            vertex.inside = -1
+        for key, w in start.halfedges.items():
+            if gx_map_set(&self.apex, _edge(key[0], key[1]), w) < 0:
+                raise MemoryError
+        self.triangles = start.triangle_count
+        self.segments = dict(start.segments.items())
+        for key in self.segments:
+            if gx_map_set(&self.segs, _edge(key[0], key[1]), 0) < 0:
+                raise MemoryError
+        self.new_markers = {}
+        self.digest = _to_u128(start.digest)
+        self.limit = -1 if max_steps is None else max_steps
+        self.whole = whole
+        self.delaunay = delaunay
+        self.contains = region.contains
+        self.rate = criterion.rate
+        self.on_step = on_step
+        self.progress = progress
+        self.step_objects = [] if on_step is not None else None
+        self.pykeys = []
+        self.max_area = max_area_doubled is not None
+        self.area_limit = 0
+        if self.max_area:
+            # area2 (grid units, an integer) > doubled * 2**2F  <=>  area2 > floor(...)
+            limit = int(math.floor(max_area_doubled * self.scale))
+            self.area_limit = _to_i128(min(limit, 1 << 124))
+        self.targets = self.searches = self.hops = 0
+        for a, b, c in sorted(start.iter_triangles()):
+            self._consider(a, b, c)
+
+    # -- vertices -----------------------------------------------------------------------
+    cdef bint _on_grid(self, value, int64_t *out) except -1:
+        """True (and ``out`` set) when the rational ``value`` is k / 2**F, |k| <= 2**60."""
+        denominator = value.denominator
+        if denominator & (denominator - 1):
+            return False
+        exponent = int(denominator).bit_length() - 1
+        if exponent > self.F:
+            return False
+        scaled = int(value.numerator) << (self.F - exponent)
+        if abs(scaled) > GRID_LIMIT:
+            return False
+        out[0] = scaled
+        return True
+
+    cdef int64_t _add_midpoint(self, int64_t u, int64_t v) except -1:
+        """The vertex at the exact midpoint of u and v (as ``FastRefinement.bisect``)."""
+        cdef int64_t n = self.nv
+        cdef Vertex *vertex
+        cdef Vertex *vu
+        cdef Vertex *vv
+        cdef int64_t sx, sy
+        if n >= MAX_VERTICES:
+            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+        if n == self.cap_v:
+            self._grow(<void **>&self.vs, &self.cap_v, sizeof(Vertex), 1)
+        pu = <tuple>self.points[u]
+        pv = <tuple>self.points[v]
+        mx = (pu[0] + pv[0]) / 2
+        my = (pu[1] + pv[1]) / 2
+        try:
+            # Point2(mx, my, fx, fy) without the Python-level __new__ of the NamedTuple
+            point = tuple.__new__(Point2, (mx, my, float(mx), float(my)))
+        except OverflowError:
+            point = point2(mx, my)
+        self.points.append(point)
+        vertex = &self.vs[n]
+        vu = &self.vs[u]
+        vv = &self.vs[v]
+        vertex.fx = point[2]
+        vertex.fy = point[3]
+        vertex.grid = False
+        if vu.grid and vv.grid:
+            sx = vu.gx + vv.gx
+            sy = vu.gy + vv.gy
+            if not (sx & 1) and not (sy & 1):
+                vertex.grid = True
+                vertex.gx = sx >> 1
+                vertex.gy = sy >> 1
+        else:
+            vertex.grid = self._on_grid(mx, &vertex.gx) and self._on_grid(my, &vertex.gy)
+        keys = _digest._VERTEX_KEYS
+        if n >= len(keys):
+            _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
+        vertex.key = keys[n]
+        vertex.hint = -1
+        vertex.inside = -1
+        self.nv = n + 1
+        self.digest += _to_u128(_vertex_hash(n, mx, my))
+        return n
+
+    cdef int _grow(self, void **array, Py_ssize_t *capacity, size_t item,
+                   size_t width) except -1:
+        cdef Py_ssize_t wanted = 2 * capacity[0]
+        cdef void *grown = realloc(array[0], wanted * item * width)
+        if grown == NULL:
+            raise MemoryError
+        array[0] = grown
+        capacity[0] = wanted
+        return 0
+
+    # -- predicates (exact) -------------------------------------------------------------
+    cdef int _lengths(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
+        """The sign of |ab|² - |cd|² (compare_squared_lengths)."""
+        cdef Vertex *va = &self.vs[a]
+        cdef Vertex *vb = &self.vs[b]
+        cdef Vertex *vc = &self.vs[c]
+        cdef Vertex *vd = &self.vs[d]
+        cdef int result
+        if va.grid and vb.grid and vc.grid and vd.grid:
+            return gx_grid_lengths(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy, vd.gx, vd.gy)
+        result = gx_float_lengths(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy, vd.fx, vd.fy)
+        if result != 2:
+            return result
+        points = self.points
+        return int(_predicates.compare_squared_lengths(points[a], points[b], points[c],
+                                                       points[d]))
+
+    cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
+        cdef Vertex *va = &self.vs[a]
+        cdef Vertex *vb = &self.vs[b]
+        cdef Vertex *vc = &self.vs[c]
+        cdef int result
+        if va.grid and vb.grid and vc.grid:
+            return gx_grid_orient(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy)
+        result = gx_float_orient(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy)
+        if result != 2:
+            return result
+        points = self.points
+        return int(_predicates.orient2d_exact(points[a], points[b], points[c]))
+
+    cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
+        cdef Vertex *va = &self.vs[a]
+        cdef Vertex *vb = &self.vs[b]
+        cdef Vertex *vc = &self.vs[c]
+        cdef Vertex *vd = &self.vs[d]
+        cdef int result = 2
+        if va.grid and vb.grid and vc.grid and vd.grid:
+            result = gx_grid_incircle(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy, vd.gx,
+                                      vd.gy)
+        if result == 2:
+            result = gx_float_incircle(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy, vd.fx,
+                                       vd.fy)
+        if result != 2:
+            return result
+        points = self.points
+        return int(_predicates.incircle_exact(points[a], points[b], points[c], points[d]))
+
+    cdef int _dot_sign(self, int64_t p, int64_t a, int64_t b) nogil:
+        """The sign of (a - p).(b - p), or 2 when the float filter cannot tell."""
+        cdef Vertex *vp = &self.vs[p]
+        cdef Vertex *va = &self.vs[a]
+        cdef Vertex *vb = &self.vs[b]
+        if vp.grid and va.grid and vb.grid:
+            return gx_grid_dot(vp.gx, vp.gy, va.gx, va.gy, vb.gx, vb.gy)
+        return gx_float_dot(vp.fx, vp.fy, va.fx, va.fy, vb.fx, vb.fy)
+
+    # -- region, rating, queue ----------------------------------------------------------
+    cdef bint _in_region(self, int64_t a, int64_t b, int64_t c) except -1:
+        """True when a vertex of the triangle is in the region (cached per vertex)."""
+        if self.whole:
+            return True
+        return self._inside(a) or self._inside(b) or self._inside(c)
+
+    cdef bint _inside(self, int64_t vertex) except -1:
+        cdef Vertex *record = &self.vs[vertex]
+        if record.inside < 0:
+            record.inside = 1 if self.contains(self.points[vertex]) else 0
+        return record.inside
+
+    cdef int _consider(self, int64_t a, int64_t b, int64_t c) except -1:
+        """Queue the canonical triangle (a, b, c) when it is bad (the caller checked the
+        region, except at the start)."""
+        cdef Vertex *va
+        cdef Vertex *vb
+        cdef Vertex *vc
+        cdef gx_i128 area2
+        cdef Entry entry
+        if not self.whole and not self._in_region(a, b, c):
+            return 0
+        entry.a = a
+        entry.b = b
+        entry.c = c
+        if self.max_area:
+            va = &self.vs[a]
+            vb = &self.vs[b]
+            vc = &self.vs[c]
+            if va.grid and vb.grid and vc.grid:
+                area2 = gx_grid_area2(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy)
+                if area2 <= self.area_limit:
+                    return 0
+                entry.ikey = -area2
+                entry.rank = 0.0
+                entry.py = -1
+                return self._push(&entry)
+        points = self.points
+        key = self.rate(points[a], points[b], points[c])
+        if key is None:
+            return 0
+        entry.ikey = 0
+        entry.rank = _rank(key)
+        entry.py = len(self.pykeys)
+        self.pykeys.append(key)
+        return self._push(&entry)
+
+    cdef inline int _less(self, Entry *x, Entry *y) except -1:
+        """(key, triangle) of x < that of y, keys compared exactly."""
+        if x.py < 0 and y.py < 0:
+            if x.ikey != y.ikey:
+                return x.ikey < y.ikey
+            return _triangle_less(x, y)
+        return self._less_python(x, y)
+
+    cdef int _less_python(self, Entry *x, Entry *y) except -1:
+        """_less when a key is a Python object."""
+        if x.py >= 0 and y.py >= 0:
+            if x.rank != y.rank:
+                return x.rank < y.rank
+            kx = self.pykeys[x.py]
+            ky = self.pykeys[y.py]
+            if not (kx == ky):
+                return bool(kx < ky)
+        else:
+            kx = self.pykeys[x.py] if x.py >= 0 else _from_i128(x.ikey) / self.scale
+            ky = self.pykeys[y.py] if y.py >= 0 else _from_i128(y.ikey) / self.scale
+            if not (kx == ky):
+                return bool(kx < ky)
+        return _triangle_less(x, y)
+
+    cdef int _push(self, Entry *entry) except -1:
+        cdef Py_ssize_t i, parent
+        if self.nheap == self.cap_heap:
+            self._grow(<void **>&self.heap, &self.cap_heap, sizeof(Entry), 1)
+        i = self.nheap
+        self.nheap += 1
+        while i > 0:
+            parent = (i - 1) >> 1
+            if not self._less(entry, &self.heap[parent]):
+                break
+            self.heap[i] = self.heap[parent]
+            i = parent
+        self.heap[i] = entry[0]
+        return 0
+
+    cdef bint _pop(self, Entry *out) except -1:
+        cdef Py_ssize_t i = 0, child, n
+        cdef Entry last
+        if self.nheap == 0:
+            return False
+        out[0] = self.heap[0]
+        self.nheap -= 1
+        n = self.nheap
+        if n == 0:
+            return True
+        last = self.heap[n]
+        while True:
+            child = 2 * i + 1
+            if child >= n:
+                break
+            if child + 1 < n and self._less(&self.heap[child + 1], &self.heap[child]):
+                child += 1
+            if not self._less(&self.heap[child], &last):
+                break
+            self.heap[i] = self.heap[child]
+            i = child
+        self.heap[i] = last
+        return True
+
+    cdef int _drain(self) except -1:
+        """Queue the triangles the last action created that are alive and bad."""
+        cdef Py_ssize_t i
+        cdef int64_t a, b, c
+        for i in range(self.ncreated):
+            a = self.created[3 * i]
+            b = self.created[3 * i + 1]
+            c = self.created[3 * i + 2]
+            if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                continue
+            self._consider(a, b, c)
+        self.ncreated = 0
+        return 0
+
+    # -- mesh edits ---------------------------------------------------------------------
+    cdef inline int _set(self, int64_t u, int64_t v, int64_t w) except -1:
+        if gx_map_set(&self.apex, _edge(u, v), w) < 0:
+            raise MemoryError
+        return 0
+
+    cdef int _created(self, int64_t a, int64_t b, int64_t c) except -1:
+        """Note the canonical triangle (a, b, c) as created, and add its cell hash."""
+        if self.ncreated == self.cap_created:
+            self._grow(<void **>&self.created, &self.cap_created, sizeof(int64_t), 3)
+        self.created[3 * self.ncreated] = a
+        self.created[3 * self.ncreated + 1] = b
+        self.created[3 * self.ncreated + 2] = c
+        self.ncreated += 1
+        self.digest += gx_cell_hash(self.vs[a].key, self.vs[b].key, self.vs[c].key)
+        return 0
+
+    cdef inline void _removed(self, int64_t a, int64_t b, int64_t c) nogil:
+        """Subtract the cell hash of the triangle (a, b, c), any rotation."""
+        cdef int64_t p = a, q = b, r = c
+        if b < a and b < c:
+            p, q, r = b, c, a
+        elif c < a and c < b:
+            p, q, r = c, a, b
+        self.digest -= gx_cell_hash(self.vs[p].key, self.vs[q].key, self.vs[r].key)
+
+    cdef int _record(self, int op, int64_t u, int64_t v) except -1:
+        cdef Record *record
+        if self.nrec == self.cap_rec:
+            self._grow(<void **>&self.records, &self.cap_rec, sizeof(Record), 1)
+        record = &self.records[self.nrec]
+        record.op = op
+        record.u = u
+        record.v = v
+        record.digest = self.digest
+        self.nrec += 1
+        if self.on_step is not None:
+            step = Step("flip" if op else "bisect", (u, v))
+            self.step_objects.append(step)
+            self.on_step(self.progress(self.nrec, step, self.triangles, self.nv, self.nheap))
+        return 0
+
+    cdef int64_t _bisect(self, int64_t u, int64_t v) except -2:
+        """``FastRefinement.bisect`` (no attributes): the new vertex, or -1 at the step
+        limit (no change then)."""
+        cdef int64_t w, x, n, p, q, r, side
+        cdef uint64_t key
+        if self.limit >= 0 and self.nrec >= self.limit:
+            return -1
+        w = gx_map_get(&self.apex, _edge(u, v), -1)
+        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        key = _edge(u, v) if u < v else _edge(v, u)
+        marker = None
+        if gx_map_get(&self.segs, key, -1) >= 0:
+            marker = self.segments[(u, v) if u < v else (v, u)]
+        n = self._add_midpoint(u, v)
+        if marker:
+            self.new_markers[n] = marker
+            self.digest += _to_u128(_digest.attribute_hash("vm", (n,), (marker,)))
+        for side in range(2):
+            if side == 0:
+                p, q, r = u, v, w
+            else:
+                p, q, r = v, u, x
+            if r < 0:
+                continue
+            # (p, q, r) -> (p, n, r), (n, q, r); n is the largest id.  The half-edges
+            # (q, r) and (r, p) stay, with new apexes.
+            gx_map_del(&self.apex, _edge(p, q))
+            self._removed(p, q, r)
+            self._set(p, n, r)
+            self._set(n, r, p)
+            self._set(r, p, n)
+            self._set(n, q, r)
+            self._set(q, r, n)
+            self._set(r, n, q)
+            self.vs[p].hint = n
+            self.vs[n].hint = q
+            self.vs[q].hint = r
+            self.vs[r].hint = n
+            if p < r:
+                self._created(p, n, r)
+            else:
+                self._created(r, p, n)
+            if q < r:
+                self._created(q, r, n)
+            else:
+                self._created(r, n, q)
+            self.triangles += 1
+        if marker is not None:
+            segments = self.segments
+            del segments[(u, v) if u < v else (v, u)]
+            segments[(u, n) if u < n else (n, u)] = marker
+            segments[(n, v) if n < v else (v, n)] = marker
+            gx_map_del(&self.segs, key)
+            if (gx_map_set(&self.segs, _edge(u, n) if u < n else _edge(n, u), 0) < 0
+                    or gx_map_set(&self.segs, _edge(n, v) if n < v else _edge(v, n), 0) < 0):
+                raise MemoryError
+            self.digest += (
+                _to_u128(_digest.segment_hash(min(u, n), max(u, n), marker))
+                + _to_u128(_digest.segment_hash(min(n, v), max(n, v), marker))
+                - _to_u128(_digest.segment_hash(min(u, v), max(u, v), marker))
+            )
+        self._record(0, u, v)
+        return n
+
+    cdef int _flip(self, int64_t u, int64_t v) except -2:
+        """``FastRefinement.flip``: 0, or -1 at the step limit (no change then)."""
+        cdef int64_t w, x
+        if self.limit >= 0 and self.nrec >= self.limit:
+            return -1
+        w = gx_map_get(&self.apex, _edge(u, v), -1)
+        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        # (u, v, w), (v, u, x) -> (x, w, u), (w, x, v)
+        self._removed(u, v, w)
+        self._removed(v, u, x)
+        gx_map_del(&self.apex, _edge(u, v))
+        gx_map_del(&self.apex, _edge(v, u))
+        self._set(x, w, u)
+        self._set(w, u, x)
+        self._set(u, x, w)
+        self.vs[x].hint = w
+        self.vs[w].hint = u
+        self.vs[u].hint = x
+        if x < w and x < u:
+            self._created(x, w, u)
+        elif w < u:
+            self._created(w, u, x)
+        else:
+            self._created(u, x, w)
+        self._set(w, x, v)
+        self._set(x, v, w)
+        self._set(v, w, x)
+        self.vs[w].hint = x
+        self.vs[x].hint = v
+        self.vs[v].hint = w
+        if w < x and w < v:
+            self._created(w, x, v)
+        elif x < v:
+            self._created(x, v, w)
+        else:
+            self._created(v, w, x)
+        self._record(1, u, v)
+        return 0
+
+    cdef int _push_pending(self, int64_t a, int64_t b) except -1:
+        if self.npending == self.cap_pending:
+            self._grow(<void **>&self.pending, &self.cap_pending, sizeof(Pair), 1)
+        self.pending[self.npending].a = a
+        self.pending[self.npending].b = b
+        self.npending += 1
+        return 0
+
+    cdef int _legalize(self, int64_t vertex, Pair *star, int size) except -2:
+        """``FastRefinement.legalize`` with its known star: 0, or -1 at the step limit.
+
+        The dot-product shortcut only skips pairs that incircle would not flip (two
+        angles <= 90° facing {a, b} sum to <= 180°), so an undecided dot goes to incircle.
+        """
+        cdef int start = 0, index, first
+        cdef int64_t a, b, q
+        for index in range(1, size):
+            if star[index].a < star[start].a:
+                start = index
+        self.npending = 0
+        for index in range(size - 1, -1, -1):  # popped in star order from ``start``
+            self._push_pending(star[(start + index) % size].a, star[(start + index) % size].b)
+        while self.npending:
+            self.npending -= 1
+            a = self.pending[self.npending].a
+            b = self.pending[self.npending].b
+            if gx_map_get(&self.apex, _edge(vertex, a), -1) != b:
+                continue
+            q = gx_map_get(&self.apex, _edge(b, a), -1)
+            if q < 0 or gx_map_get(&self.segs, _edge(a, b) if a < b else _edge(b, a), -1) >= 0:
+                continue
+            first = self._dot_sign(vertex, a, b)
+            if (first == 0 or first == 1) and 0 <= self._dot_sign(q, a, b) <= 1:
+                continue
+            if self._incircle(vertex, a, b, q) != 1:
+                continue
+            if self._orient(q, vertex, a) != 1 or self._orient(vertex, q, b) != 1:
+                continue
+            if self._flip(a, b) < 0:
+                return -1
+            self._push_pending(q, b)
+            self._push_pending(a, q)
+        return 0
+
+    # -- the loop -----------------------------------------------------------------------
+    def run(self):
+        """``FastRefinement.run`` for Lepp-bisection: ``"complete"`` or
+        ``"step-limit"``."""
+        cdef Entry target
+        cdef int64_t a, b, c, u, v, w, x, n, hops
+        cdef int order
+        cdef Pair star[4]
+        while self._pop(&target):
+            a, b, c = target.a, target.b, target.c
+            if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                continue
+            self.targets += 1
+            while True:
+                # -- Lepp: the longest edge (u, v) of (a, b, c), apex w ------------------
+                order = self._lengths(a, b, b, c)
+                if _before(order, a, b, b, c):
+                    order = self._lengths(a, b, c, a)
+                    if _before(order, a, b, c, a):
+                        u, v, w = a, b, c
+                    else:
+                        u, v, w = c, a, b
+                else:
+                    order = self._lengths(b, c, c, a)
+                    if _before(order, b, c, c, a):
+                        u, v, w = b, c, a
+                    else:
+                        u, v, w = c, a, b
+                self.searches += 1
+                hops = 1
+                while True:
+                    x = gx_map_get(&self.apex, _edge(v, u), -1)
+                    if x < 0 or gx_map_get(
+                        &self.segs, _edge(u, v) if u < v else _edge(v, u), -1
+                    ) >= 0:
+                        break
+                    if self._lengths(u, v, v, x) != -1 and self._lengths(u, v, x, u) != -1:
+                        break
+                    hops += 1
+                    order = self._lengths(u, x, x, v)
+                    if _before(order, u, x, x, v):
+                        w, v = v, x
+                    else:
+                        w, u = u, x
+                self.hops += hops
+                # -- act: bisect, then legalize around the midpoint ------------------------
+                n = self._bisect(u, v)
+                if n < 0:
+                    return "step-limit"
+                if self.delaunay:
+                    # the star of the midpoint, counter-clockwise, after the boundary gap
+                    if x < 0:
+                        star[0].a, star[0].b = v, w
+                        star[1].a, star[1].b = w, u
+                        if self._legalize(n, star, 2) < 0:
+                            return "step-limit"
+                    else:
+                        star[0].a, star[0].b = u, x
+                        star[1].a, star[1].b = x, v
+                        star[2].a, star[2].b = v, w
+                        star[3].a, star[3].b = w, u
+                        if self._legalize(n, star, 4) < 0:
+                            return "step-limit"
+                self._drain()
+                if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                    break
+        return "complete"
+
+    def finish(self, start):
+        """(mesh, steps, digests) as ``FastRefinement.finish``."""
+        cdef Py_ssize_t i
+        cdef uint64_t slot, edge
+        cdef int64_t u, v, n0 = self.n0
+        cdef Record *record
+        vertices = start.vertices.mutate()
+        points = self.points
+        for i in range(n0, self.nv):
+            vertices[i] = points[i]
+        halfedges = start.halfedges.mutate()
+        old = start.halfedges
+        for key, w in old.items():
+            if gx_map_get(&self.apex, _edge(key[0], key[1]), -1) != w:
+                if gx_map_get(&self.apex, _edge(key[0], key[1]), -1) < 0:
+                    del halfedges[key]
+        for slot in range(self.apex.mask + 1):
+            edge = self.apex.keys[slot]
+            if edge == GX_EMPTY:
+                continue
+            u = <int64_t>(edge >> 32)
+            v = <int64_t>(edge & 0xFFFFFFFF)
+            key = (u, v)
+            if u < n0 and v < n0 and old.get(key) == self.apex.values[slot]:
+                continue
+            halfedges[key] = self.apex.values[slot]
+        markers = start.vertex_markers.mutate()
+        for vertex, marker in self.new_markers.items():
+            markers[vertex] = marker
+        outgoing = immutables.Map([
+            (i, self.vs[i].hint) for i in range(self.nv) if self.vs[i].hint >= 0
+        ])
+        digest = _from_u128(self.digest)
+        mesh = Mesh2(
+            vertices=vertices.finish(),
+            halfedges=halfedges.finish(),
+            outgoing=outgoing,
+            segments=immutables.Map(self.segments),
+            vertex_markers=markers.finish(),
+            vertex_attributes=start.vertex_attributes,
+            triangle_attributes=start.triangle_attributes,
+            triangle_count=self.triangles,
+            digest=digest,
+        )
+        steps = self.step_objects
+        if steps is None:
+            steps = []
+            for i in range(self.nrec):
+                record = &self.records[i]
+                steps.append(Step("flip" if record.op else "bisect", (record.u, record.v)))
+        digests = [_from_u128(self.records[i].digest) for i in range(self.nrec)]
+        return mesh, steps, digests
+
+    @property
+    def pending(self):
+        """Entries in the work queue."""
+        return self.nheap
+
+    def vertex_state(self, Py_ssize_t i):
+        """(on grid, grid x, grid y, F) of vertex ``i`` (for tests)."""
+        if not 0 <= i < self.nv:
+            raise IndexError(i)
+        return bool(self.vs[i].grid), self.vs[i].gx, self.vs[i].gy, self.F
+
+    def grid_area_limit(self):
+        """The MaxArea bound in grid units (for tests)."""
+        return _from_i128(self.area_limit)

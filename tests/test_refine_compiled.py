@@ -1,0 +1,267 @@
+"""The compiled Lepp-bisection kernel (``geomexact.refinement.lepp_kernel`` through
+``geomexact.refinement.compiled_engine``) against the Python engine (``FastRefinement``, run
+directly): the same steps, the same digest after every step, the same progress reports,
+the same final snapshot (every table) and the same stats.  Skipped when the extension is
+not built."""
+
+from __future__ import annotations
+
+import importlib.resources
+import sys
+from typing import Any
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from geomexact import Mesh2, io, mesh_from_triangles, mpq, replay, total_area
+from geomexact.criteria import (
+    AverageAreaFactor,
+    CallableCriterion,
+    Criterion,
+    MaxArea,
+    MaxEdgeLength,
+    MinAngle,
+    doubled_area,
+)
+from geomexact.delaunay import triangulate
+from geomexact.points import Point2, point2
+from geomexact.refine import Progress, refine
+from geomexact.refinement import compiled_engine
+from geomexact.refinement.compiled_engine import CompiledRun, run_compiled
+from geomexact.refinement.fast_engine import FastRefinement
+from geomexact.regions import Circle, Polygon, Rectangle, Region, as_region
+from geomexact.strategies import meshes_with_traces, pslgs
+from geomexact.validate import check
+
+pytestmark = pytest.mark.skipif(
+    not compiled_engine.AVAILABLE, reason="the compiled kernel is not built")
+
+
+def square() -> Mesh2:
+    return mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],
+                               [(0, 1, 1), (1, 2, 1), (2, 3, 1), (3, 0, 1)])
+
+
+def options(criterion: Criterion, region: Region | None = None, delaunay: bool = True,
+            method: str = "bisection", on_step: Any = None) -> dict[str, Any]:
+    """The options ``refine()`` gives the engines."""
+    return {"criterion": criterion, "region": as_region(region), "method": method,
+            "delaunay": delaunay, "centroid": "area", "constraint_midpoints": True,
+            "on_step": on_step}
+
+
+def python_run(mesh: Mesh2, max_steps: int | None, **kw: Any) -> CompiledRun:
+    """The Python fast engine, exactly as ``refine()`` drives it."""
+    run = FastRefinement(mesh, max_steps, **kw)
+    run.start_queue(sorted(mesh.iter_triangles()))
+    status = run.run()
+    result, steps, digests = run.finish(mesh)
+    return CompiledRun(result, steps, digests, status, run.left_triangles(), run.targets,
+                       run.searches, run.hops)
+
+
+def same(mesh: Mesh2, criterion: Criterion, max_steps: int | None = None,
+         **kw: Any) -> CompiledRun:
+    """Run both engines (with progress reports) and assert they agree on everything."""
+    reports: dict[str, list[Progress]] = {"compiled": [], "python": []}
+    compiled = run_compiled(mesh, max_steps, **options(
+        criterion, on_step=reports["compiled"].append, **kw))
+    assert compiled is not None
+    python = python_run(mesh, max_steps, **options(
+        criterion, on_step=reports["python"].append, **kw))
+    assert compiled.steps == python.steps
+    assert compiled.digests == python.digests
+    assert reports["compiled"] == reports["python"]
+    assert compiled.status == python.status
+    assert compiled.left == python.left
+    assert (compiled.targets, compiled.searches, compiled.hops) == (
+        python.targets, python.searches, python.hops)
+    a, b = compiled.mesh, python.mesh
+    assert a == b
+    assert a.digest == b.digest and a.triangle_count == b.triangle_count
+    for table in ("vertices", "halfedges", "outgoing", "segments", "vertex_markers",
+                  "vertex_attributes", "triangle_attributes"):
+        assert getattr(a, table) == getattr(b, table), table
+    # and without progress reports (steps built at the end)
+    quiet = run_compiled(mesh, max_steps, **options(criterion, **kw))
+    assert quiet is not None
+    assert quiet.steps == compiled.steps and quiet.digests == compiled.digests
+    assert quiet.mesh == compiled.mesh
+    return compiled
+
+
+# --- the unit square (the dyadic grid: exact integer paths) -------------------------------
+@pytest.mark.parametrize("area", ["1/8", "0.01", "0.001", "3e-4"])
+@pytest.mark.parametrize("delaunay", [True, False])
+def test_square(area: str, delaunay: bool) -> None:
+    run = same(square(), MaxArea(area), delaunay=delaunay)
+    assert run.status == "complete"
+    check(run.mesh)
+
+
+@pytest.mark.parametrize("region", [
+    Circle(mpq(1, 3), mpq(1, 2), mpq(1, 4)), Rectangle(0, 0, mpq(1, 2), mpq(1, 5)),
+    Polygon([(0, 0), (1, 0), (0, 1)]), Circle(5, 5, 1),
+])
+def test_square_regions(region: Region) -> None:
+    same(square(), MaxArea("1e-3"), region=region)
+
+
+@pytest.mark.parametrize("limit", [0, 1, 2, 7, 100, 333])
+def test_square_step_limits(limit: int) -> None:
+    run = same(square(), MaxArea("1e-3"), max_steps=limit)
+    assert run.status == "step-limit" and len(run.steps) == limit
+
+
+def test_square_replays() -> None:
+    start = square()
+    result = refine(start, MaxArea("1e-3"))
+    run = run_compiled(start, None, **options(MaxArea("1e-3")))
+    assert run is not None
+    assert run.steps == list(result.trace.steps) and run.mesh == result.mesh
+    assert replay(start, result.trace) == run.mesh
+
+
+def test_generic_criteria_on_the_grid() -> None:
+    """Criteria rated through their Python ``rate`` (tuple keys, edge lengths)."""
+    start = square()
+    same(start, MaxEdgeLength("0.05"))
+    same(start, CallableCriterion(lambda a, b, c: doubled_area(a, b, c) > mpq(1, 500),
+                                  priority=lambda a, b, c: (a.x + a.y, -doubled_area(a, b, c))))
+
+
+def test_non_dyadic_square() -> None:
+    """Coordinates off the grid (thirds, tenths): float filters and exact fallbacks;
+    midpoints of non-grid vertices that land on the grid (1/3 + 2/3)."""
+    start = mesh_from_triangles(
+        [(mpq(1, 3), 0), (mpq(2, 3), 0), (mpq(2, 3), 1), (mpq(1, 3), 1), ("0.1", "0.5")],
+        [(0, 1, 2), (0, 2, 3), (4, 0, 3)], [(0, 1, 7), (1, 2, 7), (2, 3, 7)])
+    same(start, MaxArea("2e-3"))
+    same(start, MaxArea("2e-3"), delaunay=False)
+    same(start, MaxArea("2e-3"), region=Circle(mpq(1, 2), 0, mpq(1, 3)), max_steps=150)
+
+
+def test_huge_and_tiny_coordinates() -> None:
+    """Beyond the grid's range (integers above 2^60) and far below it."""
+    big = 1 << 70
+    start = mesh_from_triangles([(0, 0), (big, 0), (big, big), (0, big)],
+                                [(0, 1, 2), (0, 2, 3)])
+    same(start, MaxArea(mpq(big * big, 100)))
+    tiny = mpq(1, 1 << 80)
+    start = mesh_from_triangles([(0, 0), (tiny, 0), (tiny, tiny), (0, tiny)],
+                                [(0, 1, 2), (0, 2, 3)])
+    same(start, MaxArea(tiny * tiny / 50))
+
+
+# --- Lake Superior (decimal coordinates: float filters) ------------------------------------
+@pytest.fixture(scope="module")
+def superior() -> Mesh2:
+    source = importlib.resources.files("geomexact") / "data" / "superior.poly"
+    with importlib.resources.as_file(source) as path:
+        pslg = io.read(path, format="poly")
+    return triangulate(pslg).mesh
+
+
+def test_superior(superior: Mesh2) -> None:
+    area = total_area(superior)
+    run = same(superior, MaxArea(area / 2000))
+    assert run.status == "complete"
+    same(superior, MaxArea(area / 500), delaunay=False)
+    same(superior, MaxEdgeLength(mpq(1, 20)), max_steps=300)
+
+
+# --- random inputs ----------------------------------------------------------------------------
+REGIONS = st.sampled_from([
+    None, Circle(0, 0, 3), Circle(100, 100, 90), Rectangle(-2, -2, 6, 3),
+    Polygon([(0, 0), (300, 0), (0, 300)]),
+])
+
+
+@given(meshes_with_traces(max_steps=10), st.booleans(), REGIONS,
+       st.sampled_from([None, 0, 3, 25]), st.sampled_from(["area", "edge"]))
+def test_random_meshes(case: tuple[Mesh2, Mesh2, Any], delaunay: bool, region: Region | None,
+                       limit: int | None, kind: str) -> None:
+    _, start, _ = case
+    area = total_area(start)
+    criterion = MaxArea(area / 30) if kind == "area" else MaxEdgeLength(mpq(1, 4) * 256)
+    same(start, criterion, max_steps=limit, delaunay=delaunay, region=region)
+
+
+@given(pslgs(max_boundary=9, max_points=8), st.booleans(), st.sampled_from([None, 40]))
+def test_random_pslgs(pslg: Any, delaunay: bool, limit: int | None) -> None:
+    start = triangulate(pslg).mesh
+    same(start, MaxArea(total_area(start) / 60), max_steps=limit, delaunay=delaunay)
+
+
+@given(st.lists(st.tuples(st.integers(0, 64), st.integers(0, 64)), min_size=3, max_size=30,
+                unique=True), st.sampled_from([1, 8, 3]))
+def test_random_point_sets(raw: list[tuple[int, int]], denominator: int) -> None:
+    """Delaunay triangulations of lattice points: many cocircular quadruples, so the
+    legalization's exact incircle decides ties (the grid path for dyadic scales)."""
+    points = [point2(mpq(x, denominator), mpq(y, denominator)) for x, y in raw]
+    try:
+        start = triangulate(points).mesh
+    except Exception:  # collinear input: nothing to refine
+        return
+    if start.triangle_count == 0:
+        return
+    same(start, MaxArea(total_area(start) / 40))
+
+
+# --- the subset ---------------------------------------------------------------------------
+def test_outside_the_subset_returns_none() -> None:
+    start = square()
+    assert run_compiled(start, None, **options(MaxArea("0.1"), method="centroid")) is None
+    assert run_compiled(start, None, **options(MaxArea("0.1"), method="quasi")) is None
+    assert run_compiled(start, 5, **options(MinAngle(30))) is None
+    assert run_compiled(start, None, **options(AverageAreaFactor("0.5"))) is None
+    attributed = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],
+                                     triangle_attributes=[(1,), (2,)])
+    assert run_compiled(attributed, None, **options(MaxArea("0.1"))) is None
+
+
+def test_engines_route_through_the_kernel_only_when_fast(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``engine="fast"`` runs the kernel, ``"python"`` and ``"transient"`` never do; all
+    three record the same trace."""
+    start, criterion = square(), MaxArea("1/64")
+    runs = {engine: refine(start, criterion, engine=engine)
+            for engine in ("fast", "python", "transient")}
+    assert runs["fast"].trace == runs["python"].trace == runs["transient"].trace
+    assert runs["fast"].mesh == runs["python"].mesh == runs["transient"].mesh
+
+    def refuse(*_: Any, **__: Any) -> None:
+        raise AssertionError("the kernel ran")
+
+    # the module (geomexact.refine, the attribute, is the function)
+    monkeypatch.setattr(sys.modules["geomexact.refine"], "run_compiled", refuse)
+    refine(start, criterion, engine="python")
+    refine(start, criterion, engine="transient")
+    with pytest.raises(AssertionError, match="the kernel ran"):
+        refine(start, criterion, engine="fast")
+
+
+def test_hashes_match_digest() -> None:
+    from geomexact import digest
+    from geomexact.refinement import lepp_kernel
+
+    for cell in [(0, 1, 2), (5, 3, 9), (70000, 2, 123456)]:
+        assert lepp_kernel.cell_hash(*cell) == digest.cell_hash(cell)
+    for vertex, x, y in [(0, mpq(0), mpq(1, 3)), (2**32 - 1, mpq(-7, 2**70), mpq(10**30))]:
+        assert lepp_kernel.vertex_hash(vertex, x, y) == digest.vertex_hash(vertex, (x, y))
+
+
+def test_exceptions_propagate() -> None:
+    """An exception in a criterion or in on_step leaves the run (as in the Python engine)."""
+    def boom(a: Point2, b: Point2, c: Point2) -> bool:
+        raise RuntimeError("criterion")
+
+    with pytest.raises(RuntimeError, match="criterion"):
+        run_compiled(square(), None, **options(CallableCriterion(boom)))
+
+    def stop(progress: Progress) -> None:
+        if progress.steps == 3:
+            raise RuntimeError("stop")
+
+    with pytest.raises(RuntimeError, match="stop"):
+        run_compiled(square(), None, **options(MaxArea("0.01"), on_step=stop))
