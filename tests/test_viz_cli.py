@@ -146,6 +146,19 @@ def test_serve_bad_options(capsys: pytest.CaptureFixture[str], argv: list[str]) 
     assert code == 2 and "usage:" in err
 
 
+def test_serve_defaults_are_the_servers(tmp_path: Path) -> None:
+    """The CLI keeps its own copy of the server defaults (importing the server would load
+    matplotlib at every start): they must agree with ServeOptions'."""
+    from geomexact.cli.parser import build_parser
+    from geomexact.viz.serve import ServeOptions
+
+    args = build_parser().parse_args(["serve", str(tmp_path)])
+    defaults = ServeOptions(tmp_path)
+    assert (args.host, args.port, args.time_limit, args.jobs) == (
+        defaults.host, defaults.port, defaults.time_limit, defaults.jobs)
+    assert int(args.max_upload_mb * 1024 * 1024) == defaults.max_upload_bytes
+
+
 def test_serve_missing_directory(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     """A directory that does not exist: exit 2, one line."""
     code, _, err = run(capsys, "serve", tmp_path / "nope", "--port", "0")
