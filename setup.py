@@ -1,9 +1,15 @@
-"""Build hook: the optional compiled Lepp-bisection kernel (``geomexact/refinement/lepp_kernel.pyx``).
+"""Build hook: the optional compiled kernels.
 
-All metadata lives in pyproject.toml.  The extension is optional: without Cython or a C
-compiler, or when its build fails, the package installs without it and
-``geomexact.refine`` uses its pure-Python engine (``geomexact.refinement.compiled_engine``
-returns None).  Set ``GEOMEXACT_NO_EXTENSION=1`` to skip it on purpose.
+* ``geomexact/refinement/lepp_kernel.pyx``: Lepp-bisection (``geomexact.refine``);
+* ``geomexact/delaunay_kernel.pyx``: the Delaunay triangulation of a point set
+  (``geomexact.delaunay.triangulate_points``).
+
+Both include the shared C pieces ``geomexact/kernel_support.h`` (declared in
+``geomexact/kernel_support.pxd``).  All metadata lives in pyproject.toml.  The extensions
+are optional, each on its own: without Cython or a C compiler, or when a build fails, the
+package installs without it and the caller uses its pure-Python code
+(``geomexact.refinement.compiled_engine`` / ``geomexact.delaunay_compiled`` return None).
+Set ``GEOMEXACT_NO_EXTENSION=1`` to skip them on purpose.
 """
 
 from __future__ import annotations
@@ -34,10 +40,16 @@ class OptionalBuildExt(build_ext):
 
 def _warn(error: BaseException) -> None:
     print(
-        f"geomexact: the compiled kernel was not built ({error}); "
-        "refinement uses the pure-Python engine",
+        f"geomexact: a compiled kernel was not built ({error}); "
+        "the pure-Python code runs instead",
         file=sys.stderr,
     )
+
+
+KERNELS = [
+    ("geomexact.refinement.lepp_kernel", "geomexact/refinement/lepp_kernel.pyx"),
+    ("geomexact.delaunay_kernel", "geomexact/delaunay_kernel.pyx"),
+]
 
 
 def _extensions() -> list[Extension]:
@@ -48,17 +60,21 @@ def _extensions() -> list[Extension]:
     except ImportError:
         _warn(ImportError("Cython is not installed"))
         return []
-    extension = Extension(
-        "geomexact.refinement.lepp_kernel",
-        ["geomexact/refinement/lepp_kernel.pyx"],
-        # the float filters' error bounds assume one rounding per operation: no FMA
-        extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"],
-    )
-    try:
-        return list(cythonize([extension], language_level=3, quiet=True))
-    except Exception as error:
-        _warn(error)
-        return []
+    built = []
+    for name, source in KERNELS:
+        extension = Extension(
+            name,
+            [source],
+            include_dirs=["geomexact"],  # kernel_support.h
+            depends=["geomexact/kernel_support.h", "geomexact/kernel_support.pxd"],
+            # the float filters' error bounds assume one rounding per operation: no FMA
+            extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"],
+        )
+        try:  # each kernel on its own: one failing to compile keeps the other
+            built.extend(cythonize([extension], language_level=3, quiet=True))
+        except Exception as error:
+            _warn(error)
+    return built
 
 
 setup(ext_modules=_extensions(), cmdclass={"build_ext": OptionalBuildExt})

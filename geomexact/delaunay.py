@@ -12,11 +12,13 @@ import collections
 import math
 import random
 from collections.abc import Sequence
+from typing import Literal, TypeAlias
 
 import attrs
 import immutables
 
 from geomexact.collector import collector_paused
+from geomexact.delaunay_compiled import run_compiled
 from geomexact.digest import MODULUS, cell_hash
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d import (
@@ -51,6 +53,9 @@ CCW = Orientation.COUNTERCLOCKWISE
 CW = Orientation.CLOCKWISE
 COLLINEAR = Orientation.COLLINEAR
 INSIDE = CircleLocation.INSIDE
+
+Engine: TypeAlias = Literal["fast", "python"]
+ENGINES: tuple[str, ...] = ("fast", "python")
 
 
 def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
@@ -365,7 +370,11 @@ class _DelaunayBuilder:
 
 
 def triangulate_points(
-    points: PSLG | Sequence[Point2], *, merge_duplicates: bool = False, seed: int = 0
+    points: PSLG | Sequence[Point2],
+    *,
+    merge_duplicates: bool = False,
+    seed: int = 0,
+    engine: Engine = "fast",
 ) -> Construction:
     """The Delaunay triangulation of a point set (a PSLG's segments, holes and regions are
     ignored here; see :func:`triangulate`).
@@ -378,7 +387,13 @@ def triangulate_points(
     Raises :class:`PreconditionError` for fewer than 3 distinct points, all points
     collinear, or duplicate points unless ``merge_duplicates`` (then every copy after the
     first stays isolated and is listed in ``Construction.duplicates``).
+
+    ``engine``: ``"fast"`` runs the compiled kernel (:mod:`geomexact.delaunay_compiled`)
+    when it is built, else the Python builder; ``"python"`` always runs the Python builder.
+    Both record the same trace and build the same mesh.
     """
+    if engine not in ENGINES:
+        raise PreconditionError("triangulate", f"unknown engine {engine!r}; choose from {ENGINES}")
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
     duplicates = duplicate_points(vertices)
@@ -404,16 +419,23 @@ def triangulate_points(
     if third is None:
         raise PreconditionError("triangulate", "all points are collinear: no triangle exists")
     start = vertices_mesh(pslg)
-    builder = _DelaunayBuilder(vertices, start.digest)
     c = order.pop(third)
     from geomexact import __version__
 
     with collector_paused():
-        builder.make_triangle(a, b, c)
-        for vertex in order[2:]:
-            builder.insert(vertex)
-        mesh = builder.seal(start)
-        trace = Trace(start.digest, builder.steps, builder.digests,
+        compiled = (
+            run_compiled(vertices, start, (a, b, c), order[2:]) if engine == "fast" else None
+        )
+        if compiled is not None:
+            mesh, steps, digests = compiled.mesh, compiled.steps, compiled.digests
+        else:
+            builder = _DelaunayBuilder(vertices, start.digest)
+            builder.make_triangle(a, b, c)
+            for vertex in order[2:]:
+                builder.insert(vertex)
+            mesh, steps, digests = builder.seal(start), builder.steps, builder.digests
+        # the engine is not a parameter of the construction: both record this trace
+        trace = Trace(start.digest, steps, digests,
                       {"algorithm": "delaunay", "seed": seed,
                        "merge_duplicates": merge_duplicates}, __version__)
     return Construction(start, mesh, trace, tuple(duplicates))
@@ -594,6 +616,7 @@ def triangulate(
     split_segments: bool = False,
     merge_duplicates: bool = False,
     seed: int = 0,
+    engine: Engine = "fast",
 ) -> Construction:
     """The constrained Delaunay triangulation of a PSLG (a point set gives its Delaunay
     triangulation).
@@ -608,10 +631,11 @@ def triangulate(
        PSLG has segments), then each hole seed's region, then regional attributes are set.
 
     Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
-    vertices) to ``mesh``.
+    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1).
     """
     pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
-    points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed)
+    points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed,
+                                    engine=engine)
     if not (pslg.segments or pslg.holes or pslg.regions):
         return points_run
     remap = dict(points_run.duplicates)
