@@ -15,11 +15,20 @@ from contextlib import contextmanager
 
 @contextmanager
 def collector_paused() -> Iterator[None]:
-    """Disable the cyclic collector for the block; restore its previous state after."""
+    """Disable the cyclic collector for the block; restore its previous state after.
+
+    When the collector was enabled, everything the block made is first moved into the
+    oldest generation (``gc.freeze()`` then ``gc.unfreeze()``): the block's results are
+    long-lived, and otherwise the first young collection after the block would walk every
+    object it allocated (0.2 s for a 10^5-point triangulation).  This is process-wide:
+    every tracked object then lives in the oldest generation, which is only a scheduling
+    change (nothing is leaked or kept alive)."""
     enabled = gc.isenabled()
     gc.disable()
     try:
         yield
     finally:
         if enabled:
+            gc.freeze()
+            gc.unfreeze()
             gc.enable()

@@ -118,6 +118,11 @@ def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
     """Pairs (later id, first id) of points with equal exact coordinates, in id order.
     Points are bucketed by their doubles (exact coordinates when a double is not finite)
     and compared exactly within a bucket.  Expected O(n)."""
+    doubles = [(point.fx, point.fy) for point in points]
+    if len(set(doubles)) == len(doubles) and all(
+        math.isfinite(x) and math.isfinite(y) for x, y in doubles
+    ):
+        return []  # distinct finite doubles: distinct exact points
     buckets: dict[tuple[object, object], list[int]] = {}
     duplicates: list[tuple[int, int]] = []
     for index, point in enumerate(points):
@@ -141,37 +146,49 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     """A biased randomized insertion order (Amenta–Choi–Rote): a seeded shuffle cut into
     rounds of doubling size, each round sorted along a snake (boustrophedon) curve over a
     grid of about 2 points per cell.  Deterministic for given points and seed; O(n log n).
+
+    Each round is sorted by (column, y along the column's direction, vertex id), computed
+    from the halved doubles (differences of halves never overflow near the double limit;
+    a non-finite double counts as the lowest finite one): column = min(cells - 1,
+    int((x - low_x) / span * cells)), with ``cells = max(1, int(sqrt(len(round) / 2)))``
+    and ``span`` the larger side of the finite bounding box (1.0 when it is a point).
+    The arithmetic is vectorised (numpy, IEEE doubles, the same operations in the same
+    order), so the order is the one this definition gives, bit for bit.
     """
+    import numpy as np
+
     order = list(range(len(points)))
     random.Random(seed).shuffle(order)
     if not points:
         return order
-    # halved doubles: differences of halves never overflow near the double limit
-    xs = [points[i].fx * 0.5 for i in order]
-    ys = [points[i].fy * 0.5 for i in order]
-    finite_x = [x for x in xs if math.isfinite(x)] or [0.0]
-    finite_y = [y for y in ys if math.isfinite(y)] or [0.0]
-    low_x, low_y = min(finite_x), min(finite_y)
-    span = max(max(finite_x) - low_x, max(finite_y) - low_y) or 1.0
-    rounds: list[list[int]] = []
+    shuffled = np.array(order, dtype=np.int64)
+    halves = np.array([(points[i].fx, points[i].fy) for i in order], dtype=np.float64) * 0.5
+    finite = np.isfinite(halves)
+    lows, highs = [], []
+    for axis in (0, 1):
+        values = halves[finite[:, axis], axis]
+        lows.append(float(values.min()) if values.size else 0.0)
+        highs.append(float(values.max()) if values.size else 0.0)
+    low_x, low_y = lows
+    span = max(highs[0] - low_x, highs[1] - low_y) or 1.0
+    xs = np.where(finite[:, 0], halves[:, 0], low_x)
+    ys = np.where(finite[:, 1], halves[:, 1], low_y)
+    bounds = []
     end = len(order)
     while end > 0:
         begin = end // 2 if end > 64 else 0
-        rounds.append(order[begin:end])
+        bounds.append((begin, end))
         end = begin
     result: list[int] = []
-    for chunk in reversed(rounds):
-        cells = max(1, int(math.sqrt(len(chunk) / 2)))
-
-        keyed = []
-        for vertex in chunk:
-            point = points[vertex]
-            x = point.fx * 0.5 if math.isfinite(point.fx) else low_x
-            y = point.fy * 0.5 if math.isfinite(point.fy) else low_y
-            column = min(cells - 1, int((x - low_x) / span * cells))  # ratio in [0, 1]
-            keyed.append((column, (y - low_y) if column % 2 == 0 else (low_y - y), vertex))
-        keyed.sort()
-        result.extend(vertex for _, _, vertex in keyed)
+    for begin, end in reversed(bounds):
+        cells = max(1, int(math.sqrt((end - begin) / 2)))
+        # (x - low_x) / span * cells is in [0, cells]: truncation is int()
+        columns = np.minimum(
+            cells - 1, ((xs[begin:end] - low_x) / span * cells).astype(np.int64)
+        )
+        along = np.where(columns % 2 == 0, ys[begin:end] - low_y, low_y - ys[begin:end])
+        vertices = shuffled[begin:end]
+        result.extend(vertices[np.lexsort((vertices, along, columns))].tolist())
     return result
 
 

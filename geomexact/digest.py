@@ -31,6 +31,7 @@ def _rational_text(value: Rational) -> str:
 
 _ID = struct.Struct("<Q").pack
 _to_binary = gmpy2.to_binary
+_VERTEX_HASHER = blake2b(digest_size=16, person=b"vertex")
 
 
 def vertex_hash(vertex: int, coordinates: Sequence[Rational]) -> int:
@@ -40,9 +41,9 @@ def vertex_hash(vertex: int, coordinates: Sequence[Rational]) -> int:
     payload = _ID(vertex)
     for coordinate in coordinates:
         payload += _to_binary(coordinate)
-    return int.from_bytes(
-        blake2b(payload, digest_size=16, person=b"vertex").digest(), "little"
-    )
+    hasher = _VERTEX_HASHER.copy()  # cheaper than a new personalised BLAKE2b
+    hasher.update(payload)
+    return int.from_bytes(hasher.digest(), "little")
 
 
 # Cell hashes mix per-vertex 64-bit keys (BLAKE2b of the id, computed once per id and

@@ -42,7 +42,6 @@ Three engines run the same algorithm and record identical traces
 
 from __future__ import annotations
 
-import gc
 import time
 from collections import Counter
 from collections.abc import Callable
@@ -50,6 +49,7 @@ from typing import Any, Literal
 
 import attrs
 
+from geomexact.collector import collector_paused
 from geomexact.criteria import Criterion, as_criterion
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d import Mesh2, Triangle
@@ -202,9 +202,9 @@ def refine(
 
     Every decision is exact and every tie is broken by vertex ids (``specs/refine.md``),
     so the trace is the same on every machine.  Cost: O(steps × Lepp length) exact
-    predicates.  The cyclic garbage collector is paused during the run; afterwards, when it
-    was enabled, every tracked object is moved to its oldest generation (``gc.freeze()``
-    then ``gc.unfreeze()``), so the new mesh is not scanned by young collections.
+    predicates.  The cyclic garbage collector is paused during the run
+    (:func:`geomexact.collector.collector_paused`: afterwards every tracked object is in
+    the oldest generation, so the new mesh is not scanned by young collections).
     """
     rule = as_criterion(criterion)
     area = as_region(region)
@@ -247,9 +247,7 @@ def refine(
         "constraint_midpoints": constraint_midpoints,
         "on_step": on_step,
     }
-    collecting = gc.isenabled()
-    gc.disable()  # a large run makes millions of small tuples: the cyclic GC would walk them
-    try:
+    with collector_paused():  # a large run makes millions of small tuples
         compiled = run_compiled(mesh, max_steps, **options) if engine == "fast" else None
         if compiled is not None:
             status, result, steps, digests = (
@@ -270,14 +268,6 @@ def refine(
             left = run.left_triangles()
             targets, searches, hops = run.targets, run.searches, run.hops
             del run  # its work tables go now, before the collector would scan them
-    finally:
-        if collecting:
-            # The objects made by the run (the new mesh's tables, points and steps) are
-            # long-lived: put them straight into the oldest generation (freeze, then
-            # unfreeze) instead of letting the first young collections scan them all.
-            gc.freeze()
-            gc.unfreeze()
-            gc.enable()
     from geomexact import __version__
 
     parameters = {

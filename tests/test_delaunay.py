@@ -364,6 +364,54 @@ def test_insertion_order_is_a_deterministic_permutation() -> None:
     assert insertion_order([], seed=0) == []
 
 
+def reference_insertion_order(points: list[Point2], seed: int) -> list[int]:
+    """The definition of ``insertion_order`` (its docstring), written out in plain Python:
+    the vectorised implementation must give exactly this order."""
+    import math
+
+    order = list(range(len(points)))
+    random.Random(seed).shuffle(order)
+    if not points:
+        return order
+    xs = [points[i].fx * 0.5 for i in order]
+    ys = [points[i].fy * 0.5 for i in order]
+    finite_x = [x for x in xs if math.isfinite(x)] or [0.0]
+    finite_y = [y for y in ys if math.isfinite(y)] or [0.0]
+    low_x, low_y = min(finite_x), min(finite_y)
+    span = max(max(finite_x) - low_x, max(finite_y) - low_y) or 1.0
+    rounds: list[list[int]] = []
+    end = len(order)
+    while end > 0:
+        begin = end // 2 if end > 64 else 0
+        rounds.append(order[begin:end])
+        end = begin
+    result: list[int] = []
+    for chunk in reversed(rounds):
+        cells = max(1, int(math.sqrt(len(chunk) / 2)))
+        keyed = []
+        for vertex in chunk:
+            point = points[vertex]
+            x = point.fx * 0.5 if math.isfinite(point.fx) else low_x
+            y = point.fy * 0.5 if math.isfinite(point.fy) else low_y
+            column = min(cells - 1, int((x - low_x) / span * cells))
+            keyed.append((column, (y - low_y) if column % 2 == 0 else (low_y - y), vertex))
+        keyed.sort()
+        result.extend(vertex for _, _, vertex in keyed)
+    return result
+
+
+@given(st.lists(points2(), max_size=300), st.integers(0, 3))
+def test_insertion_order_follows_its_definition(points: list[Point2], seed: int) -> None:
+    """Any magnitudes (doubles that overflow to infinity included), repeats, ties."""
+    assert insertion_order(points, seed=seed) == reference_insertion_order(points, seed)
+
+
+def test_insertion_order_follows_its_definition_on_large_sets() -> None:
+    rng = random.Random(3)
+    points = [point2(rng.random(), rng.random()) for _ in range(5000)] + grid(30, 30)
+    assert insertion_order(points, seed=1) == reference_insertion_order(points, 1)
+
+
 # =======================================================================================
 # constrained Delaunay triangulation of PSLGs: properties
 # =======================================================================================
