@@ -34,6 +34,7 @@ to the exact Python predicate on the ``Point2`` objects.  The shared C pieces ar
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
 from libc.stdlib cimport malloc, realloc, free
+from cpython.exc cimport PyErr_CheckSignals
 from libc.string cimport memset
 from libc.math cimport frexp, ldexp, fabs, floor, isfinite
 from cpython.object cimport PyObject_GenericSetAttr
@@ -528,11 +529,13 @@ cdef class Builder:
             if not 0 <= vertex < self.nv:
                 raise IndexError(vertex)
         self._make_triangle(a, b, c)
-        for item in rest:
+        for count, item in enumerate(rest, 1):
             vertex = item
             if not 0 <= vertex < self.nv:
                 raise IndexError(vertex)
             self._insert(vertex)
+            if not count & 4095:
+                PyErr_CheckSignals()  # Ctrl-C stops a long run (C loops never check it)
 
     def finish(self):
         """(halfedges, outgoing, triangle count, digest) of the result, as

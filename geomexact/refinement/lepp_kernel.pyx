@@ -27,6 +27,7 @@ constants), falling back to the exact Python predicate on the ``Point2`` objects
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
 from libc.stdlib cimport malloc, realloc, free
+from cpython.exc cimport PyErr_CheckSignals
 
 import hashlib
 import math
@@ -561,6 +562,8 @@ cdef class Kernel:
         record.v = v
         record.digest = self.digest
         self.nrec += 1
+        if not self.nrec & 4095:
+            PyErr_CheckSignals()  # Ctrl-C stops a long run (C loops never check it)
         if self.on_step is not None:
             step = Step("flip" if op else "bisect", (u, v))
             self.step_objects.append(step)
