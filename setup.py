@@ -36,6 +36,7 @@ class OptionalBuildExt(build_ext):
             super().build_extension(ext)
         except Exception as error:
             _warn(error)
+            _remove_stale(ext.name)
 
 
 def _warn(error: BaseException) -> None:
@@ -44,6 +45,17 @@ def _warn(error: BaseException) -> None:
         "the pure-Python code runs instead",
         file=sys.stderr,
     )
+
+
+def _remove_stale(name: str) -> None:
+    """Delete a kernel built earlier in the source tree (an editable install): when the
+    kernel no longer compiles, the old build must not keep running stale code."""
+    from importlib.machinery import EXTENSION_SUFFIXES
+
+    stem = os.path.join(os.path.dirname(os.path.abspath(__file__)), *name.split("."))
+    for suffix in EXTENSION_SUFFIXES:
+        if os.path.exists(stem + suffix):
+            os.remove(stem + suffix)
 
 
 KERNELS = [
@@ -74,6 +86,7 @@ def _extensions() -> list[Extension]:
             built.extend(cythonize([extension], language_level=3, quiet=True))
         except Exception as error:
             _warn(error)
+            _remove_stale(name)
     return built
 
 

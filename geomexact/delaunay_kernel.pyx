@@ -49,6 +49,9 @@ from geomexact import predicates as _predicates
 from geomexact.step import Step
 
 from geomexact.kernel_support cimport (
+    GridPoint,
+    filtered_incircle,
+    filtered_orient,
     GX_EMPTY,
     _from_u128,
     _init_constants,
@@ -72,12 +75,8 @@ _init_constants()
 
 
 cdef struct Vertex:
-    double fx
-    double fy
-    int64_t gx
-    int64_t gy
+    GridPoint at       # the doubles; gx, gy: the exact coordinates times 2**F, when grid
     uint64_t key       # geomexact.digest.vertex_key
-    int8_t grid        # gx, gy hold the exact coordinates times 2**F
 
 cdef struct Record:
     gx_u128 digest
@@ -179,14 +178,14 @@ cdef class Builder:
         for i in range(count):
             point = self.points[i]
             vertex = &self.vs[i]
-            vertex.fx = point[2]
-            vertex.fy = point[3]
+            vertex.at.fx = point[2]
+            vertex.at.fy = point[3]
             vertex.key = keys[i]
-            vertex.grid = 0
-            if isfinite(vertex.fx) and fabs(vertex.fx) > largest:
-                largest = fabs(vertex.fx)
-            if isfinite(vertex.fy) and fabs(vertex.fy) > largest:
-                largest = fabs(vertex.fy)
+            vertex.at.grid = 0
+            if isfinite(vertex.at.fx) and fabs(vertex.at.fx) > largest:
+                largest = fabs(vertex.at.fx)
+            if isfinite(vertex.at.fy) and fabs(vertex.at.fy) > largest:
+                largest = fabs(vertex.at.fy)
         # the grid 2**-F: |finite coordinate| < 2**(60 - F)
         if largest > 0.0:
             frexp(largest, &exponent)
@@ -194,15 +193,16 @@ cdef class Builder:
         self.grid_vertices = 0
         for i in range(count):
             vertex = &self.vs[i]
-            if not self._grid_value(vertex.fx, &gx) or not self._grid_value(vertex.fy, &gy):
+            if not self._grid_value(vertex.at.fx, &gx) or not self._grid_value(
+                    vertex.at.fy, &gy):
                 continue
             point = self.points[i]
             # the double is the exact coordinate (mpq == float compares exactly)
-            if not (point[0] == vertex.fx and point[1] == vertex.fy):
+            if not (point[0] == vertex.at.fx and point[1] == vertex.at.fy):
                 continue
-            vertex.gx = <int64_t>gx
-            vertex.gy = <int64_t>gy
-            vertex.grid = 1
+            vertex.at.gx = <int64_t>gx
+            vertex.at.gy = <int64_t>gy
+            vertex.at.grid = 1
             self.grid_vertices += 1
         self.digest = _to_u128(start_digest)
         self.nrec = 0
@@ -227,13 +227,7 @@ cdef class Builder:
     # -- predicates (exact) -------------------------------------------------------------
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
         """The sign of orient2d(points[a], points[b], points[c])."""
-        cdef Vertex *va = &self.vs[a]
-        cdef Vertex *vb = &self.vs[b]
-        cdef Vertex *vc = &self.vs[c]
-        cdef int result
-        if va.grid and vb.grid and vc.grid:
-            return gx_grid_orient(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy)
-        result = gx_float_orient(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy)
+        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at)
         if result != 2:
             return result
         points = self.points
@@ -241,17 +235,8 @@ cdef class Builder:
 
     cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
         """The sign of incircle(points[a], points[b], points[c], points[d])."""
-        cdef Vertex *va = &self.vs[a]
-        cdef Vertex *vb = &self.vs[b]
-        cdef Vertex *vc = &self.vs[c]
-        cdef Vertex *vd = &self.vs[d]
-        cdef int result = 2
-        if va.grid and vb.grid and vc.grid and vd.grid:
-            result = gx_grid_incircle(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy, vd.gx,
-                                      vd.gy)
-        if result == 2:
-            result = gx_float_incircle(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy, vd.fx,
-                                       vd.fy)
+        cdef int result = filtered_incircle(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at,
+                                            &self.vs[d].at)
         if result != 2:
             return result
         points = self.points
@@ -626,7 +611,7 @@ cdef class Builder:
         """(on grid, grid x, grid y) of vertex ``i`` (for tests)."""
         if not 0 <= i < self.nv:
             raise IndexError(i)
-        return bool(self.vs[i].grid), self.vs[i].gx, self.vs[i].gy
+        return bool(self.vs[i].at.grid), self.vs[i].at.gx, self.vs[i].at.gy
 
 
 def cell_hash(int64_t a, int64_t b, int64_t c):

@@ -3,7 +3,7 @@
 compiled kernels) and the Python <-> 128-bit conversions they use.  ``cimport`` only: there
 is no module of this name at run time."""
 
-from libc.stdint cimport int64_t, uint64_t
+from libc.stdint cimport int64_t, int8_t, uint64_t
 
 cdef extern from "kernel_support.h":
     # Cython sees the 128-bit types as 64-bit ones; they never cross into Python
@@ -84,3 +84,33 @@ cdef inline int _init_constants() except -1:
         _predicates.DOT_C, _predicates.DOT_K,
     )
     return 0
+
+
+cdef struct GridPoint:
+    # a vertex as the predicates see it: its doubles, and when ``grid`` is set, its exact
+    # coordinates times 2**F (the kernel's grid) in gx, gy
+    double fx
+    double fy
+    int64_t gx
+    int64_t gy
+    int8_t grid
+
+
+cdef inline int filtered_orient(GridPoint *a, GridPoint *b, GridPoint *c) noexcept nogil:
+    """The sign of orient2d(a, b, c): exact on the grid, else the certified float filter;
+    2 when the filter cannot decide (the caller runs the exact predicate)."""
+    if a.grid and b.grid and c.grid:
+        return gx_grid_orient(a.gx, a.gy, b.gx, b.gy, c.gx, c.gy)
+    return gx_float_orient(a.fx, a.fy, b.fx, b.fy, c.fx, c.fy)
+
+
+cdef inline int filtered_incircle(GridPoint *a, GridPoint *b, GridPoint *c,
+                                  GridPoint *d) noexcept nogil:
+    """The sign of incircle(a, b, c, d), as :func:`filtered_orient` (on the grid only when
+    the reduced differences fit, see ``gx_grid_incircle``); 2 when undecided."""
+    cdef int result = 2
+    if a.grid and b.grid and c.grid and d.grid:
+        result = gx_grid_incircle(a.gx, a.gy, b.gx, b.gy, c.gx, c.gy, d.gx, d.gy)
+    if result == 2:
+        result = gx_float_incircle(a.fx, a.fy, b.fx, b.fy, c.fx, c.fy, d.fx, d.fy)
+    return result

@@ -46,6 +46,9 @@ from geomexact.points import Point2, point2
 from geomexact.step import Step
 
 from geomexact.kernel_support cimport (
+    GridPoint,
+    filtered_incircle,
+    filtered_orient,
     GX_EMPTY,
     _from_i128,
     _from_u128,
@@ -85,13 +88,9 @@ def cell_hash(int64_t a, int64_t b, int64_t c):
 
 # ---------------------------------------------------------------------------------------
 cdef struct Vertex:
-    double fx
-    double fy
-    int64_t gx
-    int64_t gy
+    GridPoint at       # the doubles; gx, gy: the exact coordinates times 2**F, when grid
     uint64_t key       # geomexact.digest.vertex_key
     int64_t hint       # the outgoing hint, -1 for none
-    int8_t grid        # gx, gy hold the exact coordinates times 2**F
     int8_t inside      # region membership: -1 not known yet
 
 cdef struct Entry:
@@ -237,10 +236,10 @@ cdef class Kernel:
         for i in range(count):
             point = self.points[i]
             vertex = &self.vs[i]
-            vertex.fx = point[2]
-            vertex.fy = point[3]
-            vertex.grid = self._on_grid(point[0], &vertex.gx) and self._on_grid(
-                point[1], &vertex.gy)
+            vertex.at.fx = point[2]
+            vertex.at.fy = point[3]
+            vertex.at.grid = self._on_grid(point[0], &vertex.at.gx) and self._on_grid(
+                point[1], &vertex.at.gy)
             vertex.key = _digest.vertex_key(i)
             hint = outgoing.get(i)
             vertex.hint = -1 if hint is None else hint
@@ -313,18 +312,18 @@ cdef class Kernel:
         vertex = &self.vs[n]
         vu = &self.vs[u]
         vv = &self.vs[v]
-        vertex.fx = point[2]
-        vertex.fy = point[3]
-        vertex.grid = False
-        if vu.grid and vv.grid:
-            sx = vu.gx + vv.gx
-            sy = vu.gy + vv.gy
+        vertex.at.fx = point[2]
+        vertex.at.fy = point[3]
+        vertex.at.grid = False
+        if vu.at.grid and vv.at.grid:
+            sx = vu.at.gx + vv.at.gx
+            sy = vu.at.gy + vv.at.gy
             if not (sx & 1) and not (sy & 1):
-                vertex.grid = True
-                vertex.gx = sx >> 1
-                vertex.gy = sy >> 1
+                vertex.at.grid = True
+                vertex.at.gx = sx >> 1
+                vertex.at.gy = sy >> 1
         else:
-            vertex.grid = self._on_grid(mx, &vertex.gx) and self._on_grid(my, &vertex.gy)
+            vertex.at.grid = self._on_grid(mx, &vertex.at.gx) and self._on_grid(my, &vertex.at.gy)
         keys = _digest._VERTEX_KEYS
         if n >= len(keys):
             _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
@@ -353,9 +352,9 @@ cdef class Kernel:
         cdef Vertex *vc = &self.vs[c]
         cdef Vertex *vd = &self.vs[d]
         cdef int result
-        if va.grid and vb.grid and vc.grid and vd.grid:
-            return gx_grid_lengths(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy, vd.gx, vd.gy)
-        result = gx_float_lengths(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy, vd.fx, vd.fy)
+        if va.at.grid and vb.at.grid and vc.at.grid and vd.at.grid:
+            return gx_grid_lengths(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy, vd.at.gx, vd.at.gy)
+        result = gx_float_lengths(va.at.fx, va.at.fy, vb.at.fx, vb.at.fy, vc.at.fx, vc.at.fy, vd.at.fx, vd.at.fy)
         if result != 2:
             return result
         points = self.points
@@ -363,30 +362,17 @@ cdef class Kernel:
                                                        points[d]))
 
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
-        cdef Vertex *va = &self.vs[a]
-        cdef Vertex *vb = &self.vs[b]
-        cdef Vertex *vc = &self.vs[c]
-        cdef int result
-        if va.grid and vb.grid and vc.grid:
-            return gx_grid_orient(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy)
-        result = gx_float_orient(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy)
+        """The sign of orient2d(points[a], points[b], points[c])."""
+        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at)
         if result != 2:
             return result
         points = self.points
         return int(_predicates.orient2d_exact(points[a], points[b], points[c]))
 
     cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
-        cdef Vertex *va = &self.vs[a]
-        cdef Vertex *vb = &self.vs[b]
-        cdef Vertex *vc = &self.vs[c]
-        cdef Vertex *vd = &self.vs[d]
-        cdef int result = 2
-        if va.grid and vb.grid and vc.grid and vd.grid:
-            result = gx_grid_incircle(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy, vd.gx,
-                                      vd.gy)
-        if result == 2:
-            result = gx_float_incircle(va.fx, va.fy, vb.fx, vb.fy, vc.fx, vc.fy, vd.fx,
-                                       vd.fy)
+        """The sign of incircle(points[a], points[b], points[c], points[d])."""
+        cdef int result = filtered_incircle(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at,
+                                            &self.vs[d].at)
         if result != 2:
             return result
         points = self.points
@@ -397,9 +383,9 @@ cdef class Kernel:
         cdef Vertex *vp = &self.vs[p]
         cdef Vertex *va = &self.vs[a]
         cdef Vertex *vb = &self.vs[b]
-        if vp.grid and va.grid and vb.grid:
-            return gx_grid_dot(vp.gx, vp.gy, va.gx, va.gy, vb.gx, vb.gy)
-        return gx_float_dot(vp.fx, vp.fy, va.fx, va.fy, vb.fx, vb.fy)
+        if vp.at.grid and va.at.grid and vb.at.grid:
+            return gx_grid_dot(vp.at.gx, vp.at.gy, va.at.gx, va.at.gy, vb.at.gx, vb.at.gy)
+        return gx_float_dot(vp.at.fx, vp.at.fy, va.at.fx, va.at.fy, vb.at.fx, vb.at.fy)
 
     # -- region, rating, queue ----------------------------------------------------------
     cdef bint _in_region(self, int64_t a, int64_t b, int64_t c) except -1:
@@ -431,8 +417,8 @@ cdef class Kernel:
             va = &self.vs[a]
             vb = &self.vs[b]
             vc = &self.vs[c]
-            if va.grid and vb.grid and vc.grid:
-                area2 = gx_grid_area2(va.gx, va.gy, vb.gx, vb.gy, vc.gx, vc.gy)
+            if va.at.grid and vb.at.grid and vc.at.grid:
+                area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
                 if area2 <= self.area_limit:
                     return 0
                 entry.ikey = -area2
@@ -847,7 +833,7 @@ cdef class Kernel:
         """(on grid, grid x, grid y, F) of vertex ``i`` (for tests)."""
         if not 0 <= i < self.nv:
             raise IndexError(i)
-        return bool(self.vs[i].grid), self.vs[i].gx, self.vs[i].gy, self.F
+        return bool(self.vs[i].at.grid), self.vs[i].at.gx, self.vs[i].at.gy, self.F
 
     def grid_area_limit(self):
         """The MaxArea bound in grid units (for tests)."""
