@@ -570,7 +570,15 @@ def test_python_m_geomexact_version() -> None:
         capture_output=True, text=True, check=False,
     )
     assert completed.returncode == 0, completed.stderr
-    assert completed.stdout.strip() == f"geomexact {__version__}"
+    first, kernels = completed.stdout.strip().splitlines()
+    assert first == f"geomexact {__version__}"
+    from geomexact import delaunay_compiled
+    from geomexact.refinement import compiled_engine
+
+    expected = [name for name, built in (("lepp-bisection", compiled_engine.AVAILABLE),
+                                         ("delaunay", delaunay_compiled.AVAILABLE)) if built]
+    assert kernels == "compiled kernels: " + (
+        ", ".join(expected) if expected else "none (pure-Python engines)")
 
 
 def test_triangulate_superior_writes_mesh_and_a_replayable_trace(

@@ -46,6 +46,29 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+def version_text() -> str:
+    """``geomexact X.Y.Z`` and the compiled kernels this install has (refinement and
+    triangulation run their pure-Python engines without them, slower, same results)."""
+    from geomexact import delaunay_compiled
+    from geomexact.refinement import compiled_engine
+
+    built = [name for name, available in (("lepp-bisection", compiled_engine.AVAILABLE),
+                                          ("delaunay", delaunay_compiled.AVAILABLE))
+             if available]
+    kernels = ", ".join(built) if built else "none (pure-Python engines)"
+    return f"geomexact {__version__}\ncompiled kernels: {kernels}"
+
+
+class _Version(argparse.Action):
+    """``--version``: print :func:`version_text` and exit 0 (computed only when asked, so
+    that a command does not import the kernels at start)."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: object, option_string: str | None = None) -> None:
+        print(version_text())
+        parser.exit(0)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``geomexact`` argument parser."""
     parser = _Parser(
@@ -54,7 +77,8 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=EXIT_CODES_HELP + "\nSee docs/cli.md for every command, option and JSON key.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("--version", action="version", version=f"geomexact {__version__}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show the version and which compiled kernels are built, and exit")
     commands = cast(  # its subparsers are _Parser instances, so ArgumentParsers
         Subcommands, parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     )
