@@ -10,6 +10,7 @@ import importlib.resources
 import sys
 from typing import Any
 
+import attrs
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -209,13 +210,166 @@ def test_random_point_sets(raw: list[tuple[int, int]], denominator: int) -> None
     same(start, MaxArea(total_area(start) / 40))
 
 
+# --- AverageAreaFactor (region-wide: the mean area of the region's triangles) ----------------
+@attrs.frozen(slots=True)
+class Wide(AverageAreaFactor):
+    """A region-wide criterion that is not exactly ``AverageAreaFactor`` (Python only)."""
+
+
+def mean_state(start: Mesh2, criterion: Criterion, **kw: Any) -> tuple[Any, ...]:
+    """The Python engine's (area2, count, target_area2) after ``start_queue``."""
+    run = FastRefinement(start, None, **options(criterion, **kw))
+    run.start_queue(sorted(start.iter_triangles()))
+    return run.area2, run.count, run.target_area2
+
+
+@pytest.mark.parametrize("factor", ["1/2", "1/10", "0.3", "1/300", "1/2000", "7/12345"])
+@pytest.mark.parametrize("delaunay", [True, False])
+def test_factor_square(factor: str, delaunay: bool) -> None:
+    run = same(square(), AverageAreaFactor(factor), delaunay=delaunay)
+    assert run.status == "complete"
+    check(run.mesh)
+    triangles = run.mesh.triangle_count
+    assert total_area(run.mesh) <= mpq(factor) * mpq(1, 2) * triangles  # the mean is met
+    assert len(run.steps) > 0
+
+
+def test_factor_exact_tie() -> None:
+    """Factor 1/2: one bisection of the diagonal makes 4 triangles of mean exactly 1/4,
+    the target (the float filter cannot decide a tie; the exact test does)."""
+    run = same(square(), AverageAreaFactor("1/2"))
+    assert len(run.steps) == 1 and run.mesh.triangle_count == 4
+    just_below = same(square(), AverageAreaFactor(mpq(1, 2) - mpq(1, 10**30)))
+    assert len(just_below.steps) > 1
+
+
+@pytest.mark.parametrize("factor", ["1", "3", "1e9"])
+def test_factor_at_least_one_is_met_at_once(factor: str) -> None:
+    run = same(square(), AverageAreaFactor(factor))
+    assert run.status == "complete" and run.steps == [] and run.targets == 0
+
+
+@pytest.mark.parametrize("region", [
+    Circle(mpq(1, 3), mpq(1, 2), mpq(1, 4)),  # no vertex inside: no triangle in the region
+    Circle(5, 5, 1),
+    Circle(mpq(1, 2), mpq(1, 2), mpq(1, 3)),
+    Rectangle(0, 0, mpq(1, 2), mpq(1, 5)),
+    Polygon([(0, 0), (1, 0), (0, 1)]),
+])
+@pytest.mark.parametrize("delaunay", [True, False])
+def test_factor_regions(region: Region, delaunay: bool) -> None:
+    """Regions: triangles enter and leave the region as vertices are added and edges
+    flipped; a region with no triangle is met at once."""
+    start = square()
+    refined = refine(start, MaxArea("0.02")).mesh  # vertices inside the small circles
+    for mesh in (start, refined):
+        criterion = AverageAreaFactor("1/40")
+        run = same(mesh, criterion, region=region, delaunay=delaunay)
+        _, count, _ = mean_state(mesh, criterion, region=region)
+        if count == 0:
+            assert run.steps == []
+
+
+@pytest.mark.parametrize("limit", [0, 1, 2, 7, 100, 333])
+@pytest.mark.parametrize("delaunay", [True, False])
+def test_factor_step_limits(limit: int, delaunay: bool) -> None:
+    run = same(square(), AverageAreaFactor("1/2000"), max_steps=limit, delaunay=delaunay)
+    assert run.status == "step-limit" and len(run.steps) == limit
+
+
+def test_factor_limit_after_completion() -> None:
+    run = same(square(), AverageAreaFactor("1/10"), max_steps=1000)
+    assert run.status == "complete" and 0 < len(run.steps) < 1000
+
+
+def test_factor_non_dyadic() -> None:
+    """Off-grid triangles in the region: their areas summed as rationals (with grid
+    triangles among them: 1/3 + 2/3 midpoints)."""
+    start = mesh_from_triangles(
+        [(mpq(1, 3), 0), (mpq(2, 3), 0), (mpq(2, 3), 1), (mpq(1, 3), 1), ("0.1", "0.5")],
+        [(0, 1, 2), (0, 2, 3), (4, 0, 3)], [(0, 1, 7), (1, 2, 7), (2, 3, 7)])
+    for delaunay in (True, False):
+        same(start, AverageAreaFactor("1/50"), delaunay=delaunay)
+    same(start, AverageAreaFactor("1/50"), region=Circle(mpq(1, 2), 0, mpq(1, 3)))
+    same(start, AverageAreaFactor("1/200"), max_steps=150)
+    # a grid triangle mixed with off-grid ones
+    mixed = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1), (mpq(1, 3), 2)],
+                                [(0, 1, 2), (0, 2, 3), (3, 2, 4)])
+    same(mixed, AverageAreaFactor("1/60"))
+    same(mixed, AverageAreaFactor("1/60"), region=Rectangle(0, 0, 1, 1), delaunay=False)
+
+
+def test_factor_huge_and_tiny_coordinates() -> None:
+    big = 1 << 70
+    start = mesh_from_triangles([(0, 0), (big, 0), (big, big), (0, big)],
+                                [(0, 1, 2), (0, 2, 3)])
+    same(start, AverageAreaFactor("1/100"))
+    tiny = mpq(1, 1 << 80)
+    start = mesh_from_triangles([(0, 0), (tiny, 0), (tiny, tiny), (0, tiny)],
+                                [(0, 1, 2), (0, 2, 3)])
+    same(start, AverageAreaFactor("1/100"))
+    # an extreme factor: the target outside the float filter's range (exact test)
+    same(square(), AverageAreaFactor(mpq(1, 1 << 600)), max_steps=50)
+    same(square(), AverageAreaFactor(mpq(1 << 600)))
+
+
+def test_factor_superior(superior: Mesh2) -> None:
+    run = same(superior, AverageAreaFactor("1/4"))
+    assert run.status == "complete"
+    same(superior, AverageAreaFactor("1/3"), delaunay=False)
+    same(superior, AverageAreaFactor("1/20"), max_steps=300)
+    same(superior, AverageAreaFactor("1/2"), region=Circle(-88, 47, 1))
+
+
+def test_factor_kernel_state() -> None:
+    """The kernel's region area, count and target equal the Python engine's."""
+    from geomexact.refinement import lepp_kernel
+
+    start = square()
+    for region in (None, Rectangle(0, 0, mpq(1, 2), mpq(1, 5)), Circle(5, 5, 1)):
+        criterion = AverageAreaFactor("1/7")
+        reg = as_region(region)
+        kernel = lepp_kernel.Kernel(start, criterion, reg, region is None, True, None, None,
+                                    Progress, None, True)
+        assert kernel.mean_state() == mean_state(start, criterion, region=region)
+        kernel.run()
+    assert lepp_kernel.Kernel(start, MaxArea("0.1"), as_region(None), True, True, None, None,
+                              Progress, None).mean_state() is None
+
+
+def test_factor_default_engine_matches_python() -> None:
+    start = square()
+    for factor in ("1/64", "1/5000"):
+        fast = refine(start, AverageAreaFactor(factor))
+        python = refine(start, AverageAreaFactor(factor), engine="python")
+        assert fast.trace == python.trace and fast.mesh == python.mesh
+        assert attrs.evolve(fast.stats, seconds=0) == attrs.evolve(python.stats, seconds=0)
+
+
+@given(meshes_with_traces(max_steps=10), st.booleans(), REGIONS,
+       st.sampled_from([None, 0, 3, 25]), st.sampled_from(["1/2", "1/7", "1/40", "2"]))
+def test_factor_random_meshes(case: tuple[Mesh2, Mesh2, Any], delaunay: bool,
+                              region: Region | None, limit: int | None, factor: str) -> None:
+    _, start, _ = case
+    same(start, AverageAreaFactor(factor), max_steps=limit, delaunay=delaunay, region=region)
+
+
+@given(pslgs(max_boundary=9, max_points=8), st.booleans(), st.sampled_from([None, 40]),
+       st.sampled_from(["1/3", "1/25"]), REGIONS)
+def test_factor_random_pslgs(pslg: Any, delaunay: bool, limit: int | None, factor: str,
+                             region: Region | None) -> None:
+    start = triangulate(pslg).mesh
+    same(start, AverageAreaFactor(factor), max_steps=limit, delaunay=delaunay, region=region)
+
+
 # --- the subset ---------------------------------------------------------------------------
 def test_outside_the_subset_returns_none() -> None:
     start = square()
     assert run_compiled(start, None, **options(MaxArea("0.1"), method="centroid")) is None
     assert run_compiled(start, None, **options(MaxArea("0.1"), method="quasi")) is None
     assert run_compiled(start, 5, **options(MinAngle(30))) is None
-    assert run_compiled(start, None, **options(AverageAreaFactor("0.5"))) is None
+    assert run_compiled(start, None, **options(Wide("0.5"))) is None
+    assert run_compiled(start, None, **options(AverageAreaFactor("0.5"))) is not None
     attributed = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],
                                      triangle_attributes=[(1,), (2,)])
     assert run_compiled(attributed, None, **options(MaxArea("0.1"))) is None

@@ -8,9 +8,10 @@ the kernel is not built or the run is outside its subset (then the caller runs t
 engine):
 
 * method ``"bisection"``, with or without Delaunay legalization;
-* a criterion on single triangles: no ``angle_threshold`` (minimum angle), no region-wide
-  target (``AverageAreaFactor``); ``MaxArea`` is rated in C on dyadic triangles, any other
-  criterion through its ``rate``;
+* a criterion on single triangles with no ``angle_threshold`` (minimum angle), or
+  ``AverageAreaFactor`` (the exact type; no other region-wide target): ``MaxArea`` and
+  ``AverageAreaFactor`` are rated in C on dyadic triangles, any other criterion through
+  its ``rate``; the region's mean area is tracked exactly as ``Refinement.account``;
 * any region; no triangle attributes; any ``max_steps`` and ``on_step``.
 
 ``refine(..., engine="fast")`` (the default) uses it whenever it applies;
@@ -25,7 +26,7 @@ from typing import Any, Literal
 
 import attrs
 
-from geomexact.criteria import MaxArea
+from geomexact.criteria import AverageAreaFactor, MaxArea
 from geomexact.mesh2d import Mesh2, Triangle
 from geomexact.numbers import mpq
 from geomexact.refinement.driver import Progress
@@ -72,7 +73,10 @@ def supports(mesh: Mesh2, **options: Any) -> bool:
         AVAILABLE
         and options["method"] == "bisection"
         and criterion.angle_threshold is None
-        and criterion.target_mean_area(mpq(1), 1) is None
+        and (
+            type(criterion) is AverageAreaFactor
+            or criterion.target_mean_area(mpq(1), 1) is None
+        )
         and not len(mesh.triangle_attributes)
     )
 
@@ -92,7 +96,7 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
     assert _lepp_kernel is not None
     kernel = _lepp_kernel.Kernel(
         mesh, criterion, region, isinstance(region, Whole), bool(options["delaunay"]),
-        limit, on_step, Progress, doubled,
+        limit, on_step, Progress, doubled, type(criterion) is AverageAreaFactor,
     )
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)

@@ -4,8 +4,8 @@
 
 Contract: :class:`Kernel` runs exactly the loop of ``geomexact.refinement.fast_engine.FastRefinement``
 for method ``"bisection"`` (with or without Delaunay legalization), a criterion rating
-single triangles (no angle threshold, no region-wide target), any region, no triangle
-attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the same
+single triangles (no angle threshold) or ``AverageAreaFactor`` (the region-wide mean-area
+target), any region, no triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the same
 digest after every step, the same counters, and seals the same ``Mesh2``
 (``geomexact.refinement.compiled_engine`` checks the subset and is the only caller).
 
@@ -18,7 +18,11 @@ Where the C data live:
   64-bit digest key, the ``outgoing`` hint and the cached region membership;
 * the work queue as a binary heap of (key, triangle), keys exact: an ``__int128`` doubled
   area in units of ``2**-2F`` (``MaxArea`` on grid triangles) or a Python key;
-* the digest as an ``unsigned __int128`` (the sum mod 2**128 of ``geomexact.digest``).
+* the digest as an ``unsigned __int128`` (the sum mod 2**128 of ``geomexact.digest``);
+* for ``AverageAreaFactor``, the region's doubled area as an exact ``__int128`` sum in grid
+  units over its grid triangles plus an exact rational sum over the others (empty on
+  dyadic inputs), and its triangle count.  The mean test ``area2 <= target2 * count`` is
+  decided by a float filter with a wide margin, else exactly in Python.
 
 Every geometric decision is exact: on grid vertices by integer arithmetic in ``__int128``;
 otherwise by the certified float filters of ``geomexact.predicates`` (same formulas and
@@ -38,6 +42,7 @@ import immutables
 
 from geomexact import digest as _digest
 from geomexact import predicates as _predicates
+from geomexact.criteria import doubled_area as _doubled_area
 from geomexact.errors import PreconditionError
 from geomexact.refinement.queue import rank as _rank
 from geomexact.mesh2d import MAX_VERTICES, Mesh2
@@ -179,6 +184,13 @@ cdef class Kernel:
     cdef int F
     cdef bint whole, delaunay, max_area
     cdef gx_i128 area_limit
+    # AverageAreaFactor: the region's doubled area (grid part in grid units, the rest as
+    # a rational), its triangle count, and the target mean doubled area
+    cdef bint tracking, filtered
+    cdef gx_i128 gsum
+    cdef int64_t count, pycount
+    cdef double target_grid
+    cdef object pysum, target2, target_scaled
     cdef public int64_t targets, searches, hops
     cdef list points, pykeys, step_objects
     cdef dict segments, new_markers
@@ -205,9 +217,12 @@ cdef class Kernel:
         gx_map_free(&self.segs)
 
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
-                 on_step, progress, max_area_doubled):
+                 on_step, progress, max_area_doubled, bint average=False):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
-        grid triangles), else None (``criterion.rate`` rates every triangle)."""
+        grid triangles), else None (``criterion.rate`` rates every triangle).
+        ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
+        region is bad, key −(doubled area), rated in C on grid triangles; the run stops
+        when the region's mean area reaches ``criterion.target_mean_area``)."""
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
         cdef int64_t g
@@ -270,7 +285,32 @@ cdef class Kernel:
             limit = int(math.floor(max_area_doubled * self.scale))
             self.area_limit = _to_i128(min(limit, 1 << 124))
         self.targets = self.searches = self.hops = 0
-        for a, b, c in sorted(start.iter_triangles()):
+        self.tracking = False
+        self.filtered = False
+        self.gsum = 0
+        self.count = self.pycount = 0
+        self.target_grid = 0.0
+        self.pysum = mpq(0)
+        self.target2 = self.target_scaled = None
+        triangles = sorted(start.iter_triangles())
+        if average:
+            # Refinement.start_queue: the region's initial doubled area and count
+            self.max_area = True
+            self.area_limit = -(<gx_i128>1 << 126)  # every grid triangle is bad
+            for a, b, c in triangles:
+                self._account(a, b, c, 1)
+            total = _from_i128(self.gsum) / self.scale + self.pysum
+            target = criterion.target_mean_area(total / 2, self.count)
+            self.target2 = 2 * target
+            self.target_scaled = self.target2 * self.scale
+            try:
+                self.target_grid = float(self.target_scaled)
+            except OverflowError:
+                self.target_grid = math.inf
+            # the filter needs a normal, moderate double (relative error below 2**-50)
+            self.filtered = 2.0 ** -500 < self.target_grid < 2.0 ** 500
+            self.tracking = True
+        for a, b, c in triangles:
             self._consider(a, b, c)
 
     # -- vertices -----------------------------------------------------------------------
@@ -400,6 +440,61 @@ cdef class Kernel:
             record.inside = 1 if self.contains(self.points[vertex]) else 0
         return record.inside
 
+    cdef int _account(self, int64_t a, int64_t b, int64_t c, int sign) except -1:
+        """``Refinement.account`` for one triangle (any rotation) added (sign 1) or
+        removed (sign -1): its doubled area and itself counted when it is in the region."""
+        cdef Vertex *va
+        cdef Vertex *vb
+        cdef Vertex *vc
+        if not self.whole and not self._in_region(a, b, c):
+            return 0
+        va = &self.vs[a]
+        vb = &self.vs[b]
+        vc = &self.vs[c]
+        self.count += sign
+        if va.at.grid and vb.at.grid and vc.at.grid:
+            if sign > 0:
+                self.gsum += gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy,
+                                           vc.at.gx, vc.at.gy)
+            else:
+                self.gsum -= gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy,
+                                           vc.at.gx, vc.at.gy)
+            return 0
+        points = self.points
+        area2 = _doubled_area(points[a], points[b], points[c])
+        self.pycount += sign
+        if sign > 0:
+            self.pysum += area2
+        else:
+            self.pysum -= area2
+        return 0
+
+    cdef bint _mean_reached(self) except -1:
+        """``Refinement.mean_reached``: no triangle in the region, or its doubled area
+        at most ``target2 * count``, exact."""
+        cdef double s, t
+        if self.count == 0:
+            return True
+        if self.pycount == 0:
+            # all on the grid: gsum <= target2 * 2**2F * count; the float filter's error
+            # is below 2**-50 (relative), its margin 2**-40
+            if self.filtered:
+                s = <double>self.gsum
+                t = self.target_grid * <double>self.count
+                if s < t * (1.0 - 2.0 ** -40):
+                    return True
+                if s > t * (1.0 + 2.0 ** -40):
+                    return False
+            return bool(_from_i128(self.gsum) <= self.target_scaled * self.count)
+        total = _from_i128(self.gsum) / self.scale + self.pysum
+        return bool(total <= self.target2 * self.count)
+
+    def mean_state(self):
+        """(region doubled area, count, target doubled mean area), exact (for tests)."""
+        if not self.tracking:
+            return None
+        return (_from_i128(self.gsum) / self.scale + self.pysum, self.count, self.target2)
+
     cdef int _consider(self, int64_t a, int64_t b, int64_t c) except -1:
         """Queue the canonical triangle (a, b, c) when it is bad (the caller checked the
         region, except at the start)."""
@@ -527,16 +622,22 @@ cdef class Kernel:
         self.created[3 * self.ncreated + 2] = c
         self.ncreated += 1
         self.digest += gx_cell_hash(self.vs[a].key, self.vs[b].key, self.vs[c].key)
+        if self.tracking:
+            self._account(a, b, c, 1)
         return 0
 
-    cdef inline void _removed(self, int64_t a, int64_t b, int64_t c) nogil:
-        """Subtract the cell hash of the triangle (a, b, c), any rotation."""
+    cdef inline int _removed(self, int64_t a, int64_t b, int64_t c) except -1:
+        """Subtract the cell hash of the triangle (a, b, c), any rotation (and account
+        for it)."""
         cdef int64_t p = a, q = b, r = c
         if b < a and b < c:
             p, q, r = b, c, a
         elif c < a and c < b:
             p, q, r = c, a, b
         self.digest -= gx_cell_hash(self.vs[p].key, self.vs[q].key, self.vs[r].key)
+        if self.tracking:
+            self._account(a, b, c, -1)
+        return 0
 
     cdef int _record(self, int op, int64_t u, int64_t v) except -1:
         cdef Record *record
@@ -711,6 +812,8 @@ cdef class Kernel:
         cdef int64_t a, b, c, u, v, w, x, n, hops
         cdef int order
         cdef Pair star[4]
+        if self.tracking and self._mean_reached():
+            return "complete"
         while self._pop(&target):
             a, b, c = target.a, target.b, target.c
             if gx_map_get(&self.apex, _edge(a, b), -1) != c:
@@ -767,6 +870,8 @@ cdef class Kernel:
                         if self._legalize(n, star, 4) < 0:
                             return "step-limit"
                 self._drain()
+                if self.tracking and self._mean_reached():
+                    return "complete"  # the region-wide target is met (CriterionMet)
                 if gx_map_get(&self.apex, _edge(a, b), -1) != c:
                     break
         return "complete"
