@@ -301,3 +301,42 @@ def test_factor_and_left_triangles_are_reported(
     assert code == 0
     report = json.loads(out)
     assert mpq(report["total_area"]) / report["triangles"] <= mpq("10.88") / 2 / 2
+
+
+@pytest.mark.parametrize(
+    ("criterion", "method"),
+    [(["--max-area", "0.5"], "bisection"), (["--factor", "0.1"], "bisection"),
+     (["--min-angle", "30"], "centroid")],
+)
+def test_every_engine_records_the_same_trace(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, criterion: list[str], method: str
+) -> None:
+    """--engine fast / python / transient: the same trace and the same mesh, byte for byte
+    (from a PSLG: the triangulation's steps included)."""
+    source = tmp_path / "pentagon.poly"
+    source.write_text(PENTAGON_POLY)
+    texts = set()
+    for engine in ("fast", "python", "transient"):
+        out, trace = tmp_path / f"{engine}.off", tmp_path / f"{engine}.jsonl"
+        code, _, err = run(capsys, "refine", source, *criterion, "--method", method,
+                           "--engine", engine, "-o", out, "--trace", trace, "--exact")
+        assert code == 0, err
+        texts.add((out.read_text(), trace.read_text()))
+    assert len(texts) == 1
+
+
+def test_triangulate_engines_record_the_same_trace(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    source = tmp_path / "pentagon.poly"
+    source.write_text(PENTAGON_POLY)
+    texts = set()
+    for engine in ("fast", "python"):
+        trace = tmp_path / f"{engine}.jsonl"
+        code, _, err = run(capsys, "triangulate", source, "--engine", engine, "--trace", trace)
+        assert code == 0, err
+        texts.add(trace.read_text())
+    assert len(texts) == 1
+    code, _, err = run(capsys, "triangulate", source, "--engine", "transient")
+    assert code == 2  # a usage error: argparse's usage, then the problem
+    assert "argument --engine: invalid choice: 'transient'" in err

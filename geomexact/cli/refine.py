@@ -143,7 +143,9 @@ def command_refine(args: argparse.Namespace) -> int:
     region = _refine_region(args)
     construction = None
     if isinstance(loaded.value, PSLG):
-        construction = triangulate(loaded.value)
+        construction = triangulate(
+            loaded.value, engine="python" if args.engine == "transient" else args.engine
+        )
         mesh = construction.mesh
     elif isinstance(loaded.value, Mesh2):
         mesh = loaded.value
@@ -162,7 +164,7 @@ def command_refine(args: argparse.Namespace) -> int:
     result = refine(
         mesh, criterion, region=region, method=args.method, delaunay=not args.no_delaunay,
         centroid=args.centroid, constraint_midpoints=not args.plain_centroids,
-        max_steps=args.max_steps, on_step=progress,
+        max_steps=args.max_steps, on_step=progress, engine=args.engine,
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
@@ -278,6 +280,9 @@ def add_parser(commands: Subcommands) -> None:
     refine_.add_argument("--plain-centroids", action="store_true",
                          help="do not bisect a constraint second-longest edge of a terminal "
                               "triangle; always insert the centroid")
+    refine_.add_argument("--engine", choices=("fast", "python", "transient"), default="fast",
+                         help="fast (default: compiled where it applies), python, or "
+                              "transient (the reference); all record the same trace")
     refine_.add_argument("--max-steps", type=non_negative, metavar="N",
                          help="stop after N steps (status 'step-limit')")
     refine_.add_argument("--trace", metavar="FILE",

@@ -44,6 +44,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
             keep_convex_hull=args.keep_convex_hull,
             split_segments=args.split_segments,
             merge_duplicates=args.merge_duplicates,
+            engine=args.engine,
         )
         mesh, trace = construction.mesh, construction.trace
         algorithm = "constrained delaunay" if loaded.value.segments else "delaunay"
@@ -104,6 +105,9 @@ def add_parser(commands: Subcommands) -> None:
     triangulate_.add_argument("--check", action="store_true",
                               help="validate the result and check Delaunay-ness (exit 1 if not)")
     triangulate_.add_argument("--trace", metavar="FILE", help="write the trace (JSON Lines)")
+    triangulate_.add_argument("--engine", choices=("fast", "python"), default="fast",
+                              help="fast (default: compiled when built) or python; both "
+                                   "record the same trace")
     add_exact_flag(triangulate_)
     add_force_flag(triangulate_)
     add_json_flag(triangulate_)
