@@ -45,11 +45,12 @@ def square() -> Mesh2:
 
 
 def options(criterion: Criterion, region: Region | None = None, delaunay: bool = True,
-            method: str = "bisection", on_step: Any = None) -> dict[str, Any]:
+            method: str = "bisection", on_step: Any = None, centroid: str = "area",
+            constraint_midpoints: bool = True) -> dict[str, Any]:
     """The options ``refine()`` gives the engines."""
     return {"criterion": criterion, "region": as_region(region), "method": method,
-            "delaunay": delaunay, "centroid": "area", "constraint_midpoints": True,
-            "on_step": on_step}
+            "delaunay": delaunay, "centroid": centroid,
+            "constraint_midpoints": constraint_midpoints, "on_step": on_step}
 
 
 def python_run(mesh: Mesh2, max_steps: int | None, **kw: Any) -> CompiledRun:
@@ -362,11 +363,189 @@ def test_factor_random_pslgs(pslg: Any, delaunay: bool, limit: int | None, facto
     same(start, AverageAreaFactor(factor), max_steps=limit, delaunay=delaunay, region=region)
 
 
+# --- methods centroid and quasi (centroid="area": insert_in_quadrilateral) ------------------
+METHODS = ["centroid", "quasi"]
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("area", ["1/8", "0.01", "0.001"])
+@pytest.mark.parametrize("delaunay", [True, False])
+@pytest.mark.parametrize("midpoints", [True, False])
+def test_methods_square(method: str, area: str, delaunay: bool, midpoints: bool) -> None:
+    run = same(square(), MaxArea(area), method=method, delaunay=delaunay,
+               constraint_midpoints=midpoints)
+    assert run.status == "complete"
+    check(run.mesh)
+    ops = {step.op for step in run.steps}
+    if area != "1/8":
+        assert "insert_in_quadrilateral" in ops
+    if method == "quasi" and delaunay and midpoints and area == "0.001":
+        assert "flip" in ops
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("region", [
+    Circle(mpq(1, 3), mpq(1, 2), mpq(1, 4)), Rectangle(0, 0, mpq(1, 2), mpq(1, 5)),
+    Polygon([(0, 0), (1, 0), (0, 1)]), Circle(5, 5, 1),
+])
+def test_methods_regions(method: str, region: Region) -> None:
+    same(square(), MaxArea("1e-3"), method=method, region=region)
+    same(square(), AverageAreaFactor("1/60"), method=method, region=region, delaunay=False)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("limit", [0, 1, 2, 7, 100, 333])
+@pytest.mark.parametrize("delaunay", [True, False])
+def test_methods_step_limits(method: str, limit: int, delaunay: bool) -> None:
+    run = same(square(), MaxArea("1e-3"), max_steps=limit, method=method, delaunay=delaunay)
+    assert run.status == "step-limit" and len(run.steps) == limit
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_methods_criteria(method: str) -> None:
+    """Criteria rated in Python, the average-area factor, non-dyadic and huge inputs."""
+    start = square()
+    same(start, MaxEdgeLength("0.05"), method=method)
+    same(start, CallableCriterion(lambda a, b, c: doubled_area(a, b, c) > mpq(1, 500),
+                                  priority=lambda a, b, c: (a.x + a.y, -doubled_area(a, b, c))),
+         method=method, constraint_midpoints=False)
+    for factor in ("1/2", "1/300", "7/12345"):
+        same(start, AverageAreaFactor(factor), method=method)
+    same(start, AverageAreaFactor("1/2000"), method=method, max_steps=150)
+    off_grid = mesh_from_triangles(
+        [(mpq(1, 3), 0), (mpq(2, 3), 0), (mpq(2, 3), 1), (mpq(1, 3), 1), ("0.1", "0.5")],
+        [(0, 1, 2), (0, 2, 3), (4, 0, 3)], [(0, 1, 7), (1, 2, 7), (2, 3, 7)])
+    for delaunay in (True, False):
+        same(off_grid, MaxArea("2e-3"), method=method, delaunay=delaunay)
+        same(off_grid, AverageAreaFactor("1/50"), method=method, delaunay=delaunay)
+    same(off_grid, MaxArea("2e-3"), region=Circle(mpq(1, 2), 0, mpq(1, 3)), max_steps=150,
+         method=method, constraint_midpoints=False)
+    big = 1 << 70
+    huge = mesh_from_triangles([(0, 0), (big, 0), (big, big), (0, big)],
+                               [(0, 1, 2), (0, 2, 3)])
+    same(huge, MaxArea(mpq(big * big, 100)), method=method)
+    tiny = mpq(1, 1 << 80)
+    small = mesh_from_triangles([(0, 0), (tiny, 0), (tiny, tiny), (0, tiny)],
+                                [(0, 1, 2), (0, 2, 3)])
+    same(small, MaxArea(tiny * tiny / 50), method=method)
+
+
+def test_methods_deep_refinement() -> None:
+    """Centroids far below the input's scale leave the kernel's integer grid (float
+    filters and exact fallbacks on the rounded centroids)."""
+    start = square()
+    region = Rectangle(0, 0, mpq(1, 10**9), mpq(1, 10**9))  # at the corner (0, 0)
+    for method in METHODS:
+        run = same(start, MaxArea(mpq(1, 10**30)), method=method, region=region,
+                   max_steps=3000)
+        assert run.status == "step-limit"
+        # the kernel's grid here is 2^-58 (coordinates below 2^2)
+        assert max(run.mesh.point(v).x.denominator
+                   for v in range(4, run.mesh.vertex_count)) > 2**58
+
+
+@given(st.lists(st.tuples(st.integers(-40, 40), st.integers(-40, 40)), min_size=4,
+                max_size=4, unique=True), st.sampled_from([1, 2, 64, 3, 1 << 40]),
+       st.integers(-(1 << 20), 1 << 20))
+def test_grid_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]], denominator: int,
+                                               shift: int) -> None:
+    """The kernel's integer path of ``rounded_area_centroid`` (grid quadrilaterals) gives
+    exactly the Python function's point, or defers to it (ties round half up; negative
+    coordinates floor)."""
+    from geomexact.centroids import rounded_area_centroid
+    from geomexact.predicates import Orientation, orient2d
+    from geomexact.refinement import lepp_kernel
+
+    pu, pv, pw, px = (point2(mpq(x, denominator) + shift, mpq(y, denominator))
+                      for x, y in raw)
+    ccw = Orientation.COUNTERCLOCKWISE
+    if not all(orient2d(p, q, r) == ccw for p, q, r in (
+            (pu, px, pv), (px, pv, pw), (pv, pw, pu), (pw, pu, px))):
+        return  # not a strictly convex quadrilateral u, x, v, w
+    start = mesh_from_triangles([pu, pv, pw, px], [(0, 1, 2), (1, 0, 3)])
+    kernel = lepp_kernel.Kernel(start, MaxArea(1), as_region(None), True, True, None, None,
+                                Progress, None)
+    point = kernel.grid_centroid(0, 1, 2, 3)
+    if denominator != 3:
+        assert point is not None or denominator == 1 << 40
+    if point is not None:
+        assert point == rounded_area_centroid(pu, pv, pw, px)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_methods_superior(superior: Mesh2, method: str) -> None:
+    area = total_area(superior)
+    run = same(superior, MaxArea(area / 2000), method=method)
+    assert run.status == "complete"
+    assert "insert_in_quadrilateral" in {step.op for step in run.steps}
+    same(superior, MaxArea(area / 500), method=method, delaunay=False)
+    same(superior, MaxArea(area / 500), method=method, constraint_midpoints=False)
+    same(superior, MaxEdgeLength(mpq(1, 20)), max_steps=300, method=method)
+    same(superior, AverageAreaFactor("1/4"), method=method)
+    same(superior, AverageAreaFactor("1/2"), region=Circle(-88, 47, 1), method=method)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_methods_default_engine_matches_python(method: str) -> None:
+    start = square()
+    for criterion in (MaxArea("1/500"), AverageAreaFactor("1/700")):
+        fast = refine(start, criterion, method=method)
+        python = refine(start, criterion, method=method, engine="python")
+        assert fast.trace == python.trace and fast.mesh == python.mesh
+        assert attrs.evolve(fast.stats, seconds=0) == attrs.evolve(python.stats, seconds=0)
+        assert replay(start, fast.trace) == fast.mesh
+
+
+@given(meshes_with_traces(max_steps=10), st.sampled_from(METHODS), st.booleans(),
+       st.booleans(), REGIONS, st.sampled_from([None, 0, 3, 25]),
+       st.sampled_from(["area", "edge", "factor"]))
+def test_methods_random_meshes(case: tuple[Mesh2, Mesh2, Any], method: str, delaunay: bool,
+                               midpoints: bool, region: Region | None, limit: int | None,
+                               kind: str) -> None:
+    _, start, _ = case
+    area = total_area(start)
+    criterion: Criterion = (
+        MaxArea(area / 30) if kind == "area"
+        else MaxEdgeLength(mpq(1, 4) * 256) if kind == "edge"
+        else AverageAreaFactor("1/7")
+    )
+    same(start, criterion, max_steps=limit, delaunay=delaunay, region=region, method=method,
+         constraint_midpoints=midpoints)
+
+
+@given(pslgs(max_boundary=9, max_points=8), st.sampled_from(METHODS), st.booleans(),
+       st.booleans(), st.sampled_from([None, 40]))
+def test_methods_random_pslgs(pslg: Any, method: str, delaunay: bool, midpoints: bool,
+                              limit: int | None) -> None:
+    start = triangulate(pslg).mesh
+    same(start, MaxArea(total_area(start) / 60), max_steps=limit, delaunay=delaunay,
+         method=method, constraint_midpoints=midpoints)
+
+
+@given(st.lists(st.tuples(st.integers(0, 64), st.integers(0, 64)), min_size=3, max_size=30,
+                unique=True), st.sampled_from([1, 8, 3]), st.sampled_from(METHODS))
+def test_methods_random_point_sets(raw: list[tuple[int, int]], denominator: int,
+                                   method: str) -> None:
+    """Lattice points: cocircular quadruples (quasi's incircle ties, legalization)."""
+    points = [point2(mpq(x, denominator), mpq(y, denominator)) for x, y in raw]
+    try:
+        start = triangulate(points).mesh
+    except Exception:  # collinear input: nothing to refine
+        return
+    if start.triangle_count == 0:
+        return
+    same(start, MaxArea(total_area(start) / 40), method=method)
+
+
 # --- the subset ---------------------------------------------------------------------------
 def test_outside_the_subset_returns_none() -> None:
     start = square()
-    assert run_compiled(start, None, **options(MaxArea("0.1"), method="centroid")) is None
-    assert run_compiled(start, None, **options(MaxArea("0.1"), method="quasi")) is None
+    for method in ("centroid", "quasi"):
+        assert run_compiled(start, None, **options(MaxArea("0.1"), method=method)) is not None
+        for centroid in ("area-exact", "vertices"):
+            assert run_compiled(start, None, **options(
+                MaxArea("0.1"), method=method, centroid=centroid)) is None
+        assert run_compiled(start, 5, **options(MinAngle(30), method=method)) is None
     assert run_compiled(start, 5, **options(MinAngle(30))) is None
     assert run_compiled(start, None, **options(Wide("0.5"))) is None
     assert run_compiled(start, None, **options(AverageAreaFactor("0.5"))) is not None

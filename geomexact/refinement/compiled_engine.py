@@ -7,7 +7,10 @@ the same steps, digests, final mesh, status and counters as the fast engine — 
 the kernel is not built or the run is outside its subset (then the caller runs the Python
 engine):
 
-* method ``"bisection"``, with or without Delaunay legalization;
+* method ``"bisection"``, with or without Delaunay legalization; methods ``"centroid"``
+  and ``"quasi"`` with ``centroid="area"`` (the rounded area centroid, computed by
+  :func:`geomexact.centroids.rounded_area_centroid` and recorded as
+  ``insert_in_quadrilateral``), with or without ``delaunay`` and ``constraint_midpoints``;
 * a criterion on single triangles with no ``angle_threshold`` (minimum angle), or
   ``AverageAreaFactor`` (the exact type; no other region-wide target): ``MaxArea`` and
   ``AverageAreaFactor`` are rated in C on dyadic triangles, any other criterion through
@@ -26,6 +29,7 @@ from typing import Any, Literal
 
 import attrs
 
+from geomexact.centroids import rounded_area_centroid
 from geomexact.criteria import AverageAreaFactor, MaxArea
 from geomexact.mesh2d import Mesh2, Triangle
 from geomexact.numbers import mpq
@@ -49,7 +53,6 @@ AVAILABLE: bool = _lepp_kernel is not None
 """True when the extension is built and importable."""
 
 
-
 @attrs.frozen(slots=True)
 class CompiledRun:
     """What ``refine()`` needs from a run: the final snapshot, the trace (steps and the
@@ -71,7 +74,10 @@ def supports(mesh: Mesh2, **options: Any) -> bool:
     criterion = options["criterion"]
     return (
         AVAILABLE
-        and options["method"] == "bisection"
+        and (
+            options["method"] == "bisection"
+            or (options["method"] in ("centroid", "quasi") and options["centroid"] == "area")
+        )
         and criterion.angle_threshold is None
         and (
             type(criterion) is AverageAreaFactor
@@ -82,7 +88,7 @@ def supports(mesh: Mesh2, **options: Any) -> bool:
 
 
 def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> CompiledRun | None:
-    """Run Lepp-bisection in the kernel, or return None (not built, or outside the
+    """Run Lepp refinement in the kernel, or return None (not built, or outside the
     subset).  ``options`` are those ``refine()`` gives ``FastRefinement``: ``criterion``,
     ``region``, ``method``, ``delaunay``, ``centroid``, ``constraint_midpoints``,
     ``on_step``."""
@@ -97,6 +103,8 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
     kernel = _lepp_kernel.Kernel(
         mesh, criterion, region, isinstance(region, Whole), bool(options["delaunay"]),
         limit, on_step, Progress, doubled, type(criterion) is AverageAreaFactor,
+        method=options["method"], constraint_midpoints=bool(options["constraint_midpoints"]),
+        centroid=rounded_area_centroid,
     )
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)

@@ -1,12 +1,14 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
 # cython: initializedcheck=False, infer_types=False
-"""Typed Lepp-bisection kernel: ``refine(..., method="bisection")`` on C data structures.
+"""Typed Lepp refinement kernel: ``refine(..., engine="fast")`` on C data structures.
 
-Contract: :class:`Kernel` runs exactly the loop of ``geomexact.refinement.fast_engine.FastRefinement``
-for method ``"bisection"`` (with or without Delaunay legalization), a criterion rating
-single triangles (no angle threshold) or ``AverageAreaFactor`` (the region-wide mean-area
-target), any region, no triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the same
-digest after every step, the same counters, and seals the same ``Mesh2``
+Contract: :class:`Kernel` runs exactly the loop of
+``geomexact.refinement.fast_engine.FastRefinement`` for the methods ``"bisection"``,
+``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; centroid kind ``"area"``,
+with or without constraint midpoints), a criterion rating single triangles (no angle
+threshold) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
+triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the
+same digest after every step, the same counters, and seals the same ``Mesh2``
 (``geomexact.refinement.compiled_engine`` checks the subset and is the only caller).
 
 Where the C data live:
@@ -42,6 +44,7 @@ import immutables
 
 from geomexact import digest as _digest
 from geomexact import predicates as _predicates
+from geomexact.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.criteria import doubled_area as _doubled_area
 from geomexact.errors import PreconditionError
 from geomexact.refinement.queue import rank as _rank
@@ -110,7 +113,8 @@ cdef struct Record:
     int64_t u
     int64_t v
     gx_u128 digest
-    int8_t op          # 0 bisect, 1 flip
+    int64_t extra      # insert_in_quadrilateral: index of (x, y) in Kernel.inserted
+    int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral
 
 cdef struct Pair:
     int64_t a
@@ -183,6 +187,11 @@ cdef class Kernel:
     cdef int64_t triangles
     cdef int F
     cdef bint whole, delaunay, max_area
+    # the method: 0 bisection, 1 centroid, 2 quasi; legalize: Delaunay legalization after
+    # insertions (delaunay and not quasi); quasi_flips: quasi with delaunay
+    cdef int method
+    cdef bint legalize, quasi_flips, constraint_midpoints, grid_centroids
+    cdef object unit  # 2**F
     cdef gx_i128 area_limit
     # AverageAreaFactor: the region's doubled area (grid part in grid units, the rest as
     # a rational), its triangle count, and the target mean doubled area
@@ -192,9 +201,9 @@ cdef class Kernel:
     cdef double target_grid
     cdef object pysum, target2, target_scaled
     cdef public int64_t targets, searches, hops
-    cdef list points, pykeys, step_objects
+    cdef list points, pykeys, step_objects, inserted
     cdef dict segments, new_markers
-    cdef object rate, contains, on_step, progress, scale
+    cdef object rate, contains, on_step, progress, scale, centroid
 
     def __cinit__(self):
         self.vs = NULL
@@ -217,12 +226,17 @@ cdef class Kernel:
         gx_map_free(&self.segs)
 
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
-                 on_step, progress, max_area_doubled, bint average=False):
+                 on_step, progress, max_area_doubled, bint average=False,
+                 method="bisection", bint constraint_midpoints=True, centroid=None):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
         grid triangles), else None (``criterion.rate`` rates every triangle).
         ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
         region is bad, key −(doubled area), rated in C on grid triangles; the run stops
-        when the region's mean area reaches ``criterion.target_mean_area``)."""
+        when the region's mean area reaches ``criterion.target_mean_area``).
+        ``method``: ``"bisection"``, ``"centroid"`` or ``"quasi"``;
+        ``constraint_midpoints`` as ``refine()``; ``centroid``: the function giving the
+        point inserted into a terminal quadrilateral (``rounded_area_centroid``), recorded
+        as ``insert_in_quadrilateral`` (required for the methods other than bisection)."""
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
         cdef int64_t g
@@ -247,6 +261,7 @@ cdef class Kernel:
                 bound = max(bound, int(abs(value)) + 1)
         self.F = max(0, 60 - int(bound).bit_length())
         self.scale = mpq(2) ** (2 * self.F)
+        self.unit = 2 ** int(self.F)
         outgoing = start.outgoing
         for i in range(count):
             point = self.points[i]
@@ -272,6 +287,23 @@ cdef class Kernel:
         self.limit = -1 if max_steps is None else max_steps
         self.whole = whole
         self.delaunay = delaunay
+        if method == "bisection":
+            self.method = 0
+        elif method == "centroid":
+            self.method = 1
+        elif method == "quasi":
+            self.method = 2
+        else:
+            raise ValueError(f"unknown method {method!r}")
+        if self.method and centroid is None:
+            raise ValueError("the centroid and quasi methods need a centroid function")
+        self.legalize = delaunay and self.method != 2
+        self.quasi_flips = delaunay and self.method == 2
+        self.constraint_midpoints = constraint_midpoints
+        self.centroid = centroid
+        # rounded_area_centroid computed on grid quadrilaterals in integers
+        self.grid_centroids = centroid is rounded_area_centroid
+        self.inserted = []
         self.contains = region.contains
         self.rate = criterion.rate
         self.on_step = on_step
@@ -373,6 +405,102 @@ cdef class Kernel:
         self.nv = n + 1
         self.digest += _to_u128(_vertex_hash(n, mx, my))
         return n
+
+    cdef int64_t _add_point(self, point, bint known=False, int64_t gx=0,
+                            int64_t gy=0) except -1:
+        """A new vertex at the ``Point2`` ``point`` (as ``FastRefinement._add_vertex``,
+        no marker); ``known``: it is the grid point (gx, gy)."""
+        cdef int64_t n = self.nv
+        cdef Vertex *vertex
+        if n >= MAX_VERTICES:
+            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+        if n == self.cap_v:
+            self._grow(<void **>&self.vs, &self.cap_v, sizeof(Vertex), 1)
+        self.points.append(point)
+        vertex = &self.vs[n]
+        vertex.at.fx = point[2]
+        vertex.at.fy = point[3]
+        if known:
+            vertex.at.grid = True
+            vertex.at.gx = gx
+            vertex.at.gy = gy
+        else:
+            vertex.at.grid = self._on_grid(point[0], &vertex.at.gx) and self._on_grid(
+                point[1], &vertex.at.gy)
+        keys = _digest._VERTEX_KEYS
+        if n >= len(keys):
+            _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
+        vertex.key = keys[n]
+        vertex.hint = -1
+        vertex.inside = -1
+        self.nv = n + 1
+        self.digest += _to_u128(_vertex_hash(n, point[0], point[1]))
+        return n
+
+    cdef bint _grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
+                             int64_t *out) except -1:
+        """``rounded_area_centroid(u, v, w, x)`` in grid integers when the four corners
+        and the first candidate are grid points and that candidate is strictly inside
+        (``out``: its grid coordinates); False otherwise (the caller asks Python).
+
+        With s the shortest squared side in grid units, the rounding exponent is
+        e = floor(log2(s × 2^-2F)) // 2 − CENTROID_BITS, i.e. 2^(e + F) grid units; the
+        exact centroid is u + n / D (D = 3 (A1 + A2), Ai the doubled areas), rounded
+        half up to a multiple of 2^(e + F)."""
+        cdef Vertex *pu = &self.vs[u]
+        cdef Vertex *pv = &self.vs[v]
+        cdef Vertex *pw = &self.vs[w]
+        cdef Vertex *px = &self.vs[x]
+        cdef gx_i128 shortest, length, dx, dy
+        cdef int64_t exponent, cx, cy
+        cdef int k
+        cdef Vertex *ends[5]
+        if not (pu.at.grid and pv.at.grid and pw.at.grid and px.at.grid):
+            return False
+        ends[0], ends[1], ends[2], ends[3], ends[4] = pu, px, pv, pw, pu
+        shortest = -1
+        for k in range(4):
+            dx = <gx_i128>ends[k + 1].at.gx - ends[k].at.gx
+            dy = <gx_i128>ends[k + 1].at.gy - ends[k].at.gy
+            length = dx * dx + dy * dy
+            if shortest < 0 or length < shortest:
+                shortest = length
+        exponent = ((_from_i128(shortest).bit_length() - 1 - 2 * self.F) // 2
+                    - CENTROID_BITS + self.F)
+        if exponent < 0 or exponent > 62:
+            return False
+        a1 = _from_i128(gx_grid_area2(pu.at.gx, pu.at.gy, pv.at.gx, pv.at.gy,
+                                      pw.at.gx, pw.at.gy))
+        a2 = _from_i128(gx_grid_area2(pv.at.gx, pv.at.gy, pu.at.gx, pu.at.gy,
+                                      px.at.gx, px.at.gy))
+        denominator = 3 * (a1 + a2)
+        if denominator <= 0:
+            return False
+        half = denominator << exponent
+        whole = half << 1
+        for k in range(2):
+            if k == 0:
+                base = pu.at.gx
+                offset = (a1 * ((pv.at.gx - pu.at.gx) + (pw.at.gx - pu.at.gx))
+                          + a2 * ((pv.at.gx - pu.at.gx) + (px.at.gx - pu.at.gx)))
+            else:
+                base = pu.at.gy
+                offset = (a1 * ((pv.at.gy - pu.at.gy) + (pw.at.gy - pu.at.gy))
+                          + a2 * ((pv.at.gy - pu.at.gy) + (px.at.gy - pu.at.gy)))
+            # floor((base + offset / D) / 2^e + 1/2), base = q 2^e + r
+            q = base >> exponent
+            r = base - (q << exponent)
+            rounded = (q + (2 * (r * denominator + offset) + half) // whole) << exponent
+            if abs(rounded) > GRID_LIMIT:
+                return False
+            out[k] = rounded
+        cx, cy = out[0], out[1]
+        return (
+            gx_grid_orient(pu.at.gx, pu.at.gy, px.at.gx, px.at.gy, cx, cy) == 1
+            and gx_grid_orient(px.at.gx, px.at.gy, pv.at.gx, pv.at.gy, cx, cy) == 1
+            and gx_grid_orient(pv.at.gx, pv.at.gy, pw.at.gx, pw.at.gy, cx, cy) == 1
+            and gx_grid_orient(pw.at.gx, pw.at.gy, pu.at.gx, pu.at.gy, cx, cy) == 1
+        )
 
     cdef int _grow(self, void **array, Py_ssize_t *capacity, size_t item,
                    size_t width) except -1:
@@ -639,7 +767,14 @@ cdef class Kernel:
             self._account(a, b, c, -1)
         return 0
 
-    cdef int _record(self, int op, int64_t u, int64_t v) except -1:
+    cdef object _step(self, Record *record):
+        """The Step of a record."""
+        if record.op == 2:
+            x, y = self.inserted[record.extra]
+            return Step("insert_in_quadrilateral", (record.u, record.v, x, y))
+        return Step("flip" if record.op else "bisect", (record.u, record.v))
+
+    cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
         cdef Record *record
         if self.nrec == self.cap_rec:
             self._grow(<void **>&self.records, &self.cap_rec, sizeof(Record), 1)
@@ -647,12 +782,13 @@ cdef class Kernel:
         record.op = op
         record.u = u
         record.v = v
+        record.extra = extra
         record.digest = self.digest
         self.nrec += 1
         if not self.nrec & 4095:
             PyErr_CheckSignals()  # Ctrl-C stops a long run (C loops never check it)
         if self.on_step is not None:
-            step = Step("flip" if op else "bisect", (u, v))
+            step = self._step(record)
             self.step_objects.append(step)
             self.on_step(self.progress(self.nrec, step, self.triangles, self.nv, self.nheap))
         return 0
@@ -760,6 +896,119 @@ cdef class Kernel:
         self._record(1, u, v)
         return 0
 
+    cdef int64_t _centroid(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
+        """``FastRefinement.centroid`` with ``centroid="area"`` on the interior edge
+        (u, v) with apexes w, x: the new vertex, or -1 at the step limit (no change)."""
+        cdef int64_t n
+        cdef int64_t at[2]
+        if self.limit >= 0 and self.nrec >= self.limit:
+            return -1
+        if self.grid_centroids and self._grid_centroid(u, v, w, x, at):
+            qx = mpq(at[0], self.unit)
+            qy = mpq(at[1], self.unit)
+            point = tuple.__new__(Point2, (qx, qy, float(qx), float(qy)))
+            n = self._add_point(point, True, at[0], at[1])
+        else:
+            points = self.points
+            point = self.centroid(points[u], points[v], points[w], points[x])
+            n = self._add_point(point)
+        # (u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n)
+        self._removed(u, v, w)
+        self._removed(v, u, x)
+        gx_map_del(&self.apex, _edge(u, v))
+        gx_map_del(&self.apex, _edge(v, u))
+        self._triangle(u, x, n)
+        self._triangle(x, v, n)
+        self._triangle(v, w, n)
+        self._triangle(w, u, n)
+        self.triangles += 2
+        self.inserted.append((point[0], point[1]))
+        self._record(2, u, v, len(self.inserted) - 1)
+        return n
+
+    cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
+        """``FastRefinement._add`` (no attributes): the triangle (a, b, c), its hints,
+        noted as created."""
+        self._set(a, b, c)
+        self._set(b, c, a)
+        self._set(c, a, b)
+        self.vs[a].hint = b
+        self.vs[b].hint = c
+        self.vs[c].hint = a
+        if a < b and a < c:
+            self._created(a, b, c)
+        elif b < c:
+            self._created(b, c, a)
+        else:
+            self._created(c, a, b)
+        return 0
+
+    cdef bint _constraint(self, int64_t u, int64_t v) except -1:
+        """``Refinement.constraint`` (no attributes): a boundary or segment edge."""
+        if gx_map_get(&self.apex, _edge(u, v), -1) < 0:
+            return True
+        if gx_map_get(&self.apex, _edge(v, u), -1) < 0:
+            return True
+        return gx_map_get(&self.segs, _edge(u, v) if u < v else _edge(v, u), -1) >= 0
+
+    cdef int _insert_midpoint(self, int64_t u, int64_t v) except -2:
+        """``Refinement.insert_midpoint``: bisect (u, v), then legalize the midpoint's
+        star (as ``FastRefinement._star`` lists it); 0, or -1 at the step limit."""
+        cdef int64_t w, x, n
+        cdef Pair star[4]
+        w = gx_map_get(&self.apex, _edge(u, v), -1)
+        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        n = self._bisect(u, v)
+        if n < 0:
+            return -1
+        if not self.legalize:
+            return 0
+        # the star of the midpoint, counter-clockwise, after the boundary gap
+        if x < 0:
+            star[0].a, star[0].b = v, w
+            star[1].a, star[1].b = w, u
+            return self._legalize(n, star, 2)
+        if w < 0:
+            star[0].a, star[0].b = u, x
+            star[1].a, star[1].b = x, v
+            return self._legalize(n, star, 2)
+        star[0].a, star[0].b = u, x
+        star[1].a, star[1].b = x, v
+        star[2].a, star[2].b = v, w
+        star[3].a, star[3].b = w, u
+        return self._legalize(n, star, 4)
+
+    cdef int _split_pair(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
+        """``Refinement.split_pair`` (no angle threshold, so never refused): the midpoint
+        of a constraint second-longest edge of (u, v, w), then of (v, u, x), else the
+        centroid of the quadrilateral; legalized when Delaunay.  0, or -1 at the step
+        limit."""
+        cdef int64_t p, q, r, n, side
+        cdef Pair star[4]
+        if self.constraint_midpoints:
+            for side in range(2):
+                if side == 0:
+                    p, q, r = u, v, w
+                else:
+                    p, q, r = v, u, x
+                # Refinement.second_edge(p, q, r): the longer of (q, r), (r, p)
+                if _before(self._lengths(q, r, r, p), q, r, r, p):
+                    p, q = q, r
+                else:
+                    p, q = r, p
+                if self._constraint(p, q):
+                    return self._insert_midpoint(p, q)
+        n = self._centroid(u, v, w, x)
+        if n < 0:
+            return -1
+        if self.legalize:
+            star[0].a, star[0].b = u, x
+            star[1].a, star[1].b = x, v
+            star[2].a, star[2].b = v, w
+            star[3].a, star[3].b = w, u
+            return self._legalize(n, star, 4)
+        return 0
+
     cdef int _push_pending(self, int64_t a, int64_t b) except -1:
         if self.npending == self.cap_pending:
             self._grow(<void **>&self.pending, &self.cap_pending, sizeof(Pair), 1)
@@ -811,6 +1060,7 @@ cdef class Kernel:
         cdef Entry target
         cdef int64_t a, b, c, u, v, w, x, n, hops
         cdef int order
+        cdef bint constrained
         cdef Pair star[4]
         if self.tracking and self._mean_reached():
             return "complete"
@@ -841,8 +1091,10 @@ cdef class Kernel:
                     if x < 0 or gx_map_get(
                         &self.segs, _edge(u, v) if u < v else _edge(v, u), -1
                     ) >= 0:
+                        constrained = True
                         break
                     if self._lengths(u, v, v, x) != -1 and self._lengths(u, v, x, u) != -1:
+                        constrained = False
                         break
                     hops += 1
                     order = self._lengths(u, x, x, v)
@@ -851,11 +1103,24 @@ cdef class Kernel:
                     else:
                         w, u = u, x
                 self.hops += hops
-                # -- act: bisect, then legalize around the midpoint ------------------------
+                # -- act ---------------------------------------------------------------
+                if self.method != 0 and not constrained:
+                    if self.quasi_flips and self._incircle(u, v, w, x) == 1:
+                        if self._flip(u, v) < 0:
+                            return "step-limit"
+                    elif self._split_pair(u, v, w, x) < 0:
+                        return "step-limit"
+                    self._drain()
+                    if self.tracking and self._mean_reached():
+                        return "complete"
+                    if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                        break
+                    continue
+                # bisect, then legalize around the midpoint
                 n = self._bisect(u, v)
                 if n < 0:
                     return "step-limit"
-                if self.delaunay:
+                if self.legalize:
                     # the star of the midpoint, counter-clockwise, after the boundary gap
                     if x < 0:
                         star[0].a, star[0].b = v, w
@@ -924,8 +1189,7 @@ cdef class Kernel:
         if steps is None:
             steps = []
             for i in range(self.nrec):
-                record = &self.records[i]
-                steps.append(Step("flip" if record.op else "bisect", (record.u, record.v)))
+                steps.append(self._step(&self.records[i]))
         digests = [_from_u128(self.records[i].digest) for i in range(self.nrec)]
         return mesh, steps, digests
 
@@ -939,6 +1203,18 @@ cdef class Kernel:
         if not 0 <= i < self.nv:
             raise IndexError(i)
         return bool(self.vs[i].at.grid), self.vs[i].at.gx, self.vs[i].at.gy, self.F
+
+    def grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x):
+        """The grid path of ``rounded_area_centroid`` for the quadrilateral of triangles
+        (u, v, w), (v, u, x): the Point2, or None where the kernel asks Python (for
+        tests)."""
+        cdef int64_t at[2]
+        for vertex in (u, v, w, x):
+            if not 0 <= vertex < self.nv:
+                raise IndexError(vertex)
+        if not self._grid_centroid(u, v, w, x, at):
+            return None
+        return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
 
     def grid_area_limit(self):
         """The MaxArea bound in grid units (for tests)."""
