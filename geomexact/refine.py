@@ -29,7 +29,8 @@ Three engines run the same algorithm and record identical traces
   (:mod:`geomexact.refinement.fast_engine`);
 * ``"fast"`` (the default): the compiled kernel (:mod:`geomexact.refinement.compiled_engine`,
   a C extension built at install when a compiler is present) for the runs it implements —
-  Lepp-bisection with a size criterion (no minimum angle) and no triangle attributes — and the
+  every method with a size criterion (no minimum angle), centroid kind ``"area"`` and no
+  triangle attributes — and the
   ``"python"`` engine otherwise.
 
 >>> from geomexact.criteria import MaxArea
