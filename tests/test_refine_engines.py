@@ -73,10 +73,11 @@ def test_engines_record_the_same_trace(
         "factor": AverageAreaFactor(mpq(1, 3)),
         "angle": MinAngle(27),
     }[kind]
-    if (kind == "angle" and (method == "bisection" or not delaunay)) or (
-        centroid == "area-exact"
-    ):
-        # exact area centroids grow coordinates geometrically: keep those runs short
+    if kind == "angle" or centroid == "area-exact":
+        # exact area centroids grow coordinates geometrically: keep those runs short; and
+        # minimum-angle runs on random meshes need not terminate (random convex polygons
+        # can have input angles below 27° that the small-angle rules do not bound — a
+        # known limit, specs/refine.md), while this test is about engine equality
         limit = 40 if limit is None else limit
     result = both(start, criterion, method=method, delaunay=delaunay, centroid=centroid,
                   constraint_midpoints=midpoints, region=region, max_steps=limit)
