@@ -869,30 +869,8 @@ cdef class Kernel:
         self._removed(v, u, x)
         gx_map_del(&self.apex, _edge(u, v))
         gx_map_del(&self.apex, _edge(v, u))
-        self._set(x, w, u)
-        self._set(w, u, x)
-        self._set(u, x, w)
-        self.vs[x].hint = w
-        self.vs[w].hint = u
-        self.vs[u].hint = x
-        if x < w and x < u:
-            self._created(x, w, u)
-        elif w < u:
-            self._created(w, u, x)
-        else:
-            self._created(u, x, w)
-        self._set(w, x, v)
-        self._set(x, v, w)
-        self._set(v, w, x)
-        self.vs[w].hint = x
-        self.vs[x].hint = v
-        self.vs[v].hint = w
-        if w < x and w < v:
-            self._created(w, x, v)
-        elif x < v:
-            self._created(x, v, w)
-        else:
-            self._created(v, w, x)
+        self._triangle(x, w, u)
+        self._triangle(w, x, v)
         self._record(1, u, v)
         return 0
 
