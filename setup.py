@@ -1,14 +1,14 @@
 """Build hook: the optional compiled kernels.
 
-* ``geomexact/refinement/lepp_kernel.pyx``: Lepp-bisection (``geomexact.refine``);
-* ``geomexact/delaunay_kernel.pyx``: the Delaunay triangulation of a point set
-  (``geomexact.delaunay.triangulate_points``).
+* ``geomexact/mesh2d/refinement/engines/lepp_kernel.pyx``: Lepp-bisection (``geomexact.mesh2d.refinement.api``);
+* ``geomexact/mesh2d/delaunay/delaunay_kernel.pyx``: the Delaunay triangulation of a point set
+  (``geomexact.mesh2d.delaunay.triangulation.triangulate_points``).
 
-Both include the shared C pieces ``geomexact/kernel_support.h`` (declared in
-``geomexact/kernel_support.pxd``).  All metadata lives in pyproject.toml.  The extensions
+Both include the shared C pieces ``geomexact/kernel/ckernel.h`` (declared in
+``geomexact/kernel/ckernel.pxd``).  All metadata lives in pyproject.toml.  The extensions
 are optional, each on its own: without Cython or a C compiler, or when a build fails, the
 package installs without it and the caller uses its pure-Python code
-(``geomexact.refinement.compiled_engine`` / ``geomexact.delaunay_compiled`` return None).
+(``geomexact.mesh2d.refinement.engines.compiled`` / ``geomexact.mesh2d.delaunay.compiled`` return None).
 Set ``GEOMEXACT_NO_EXTENSION=1`` to skip them on purpose.
 """
 
@@ -59,8 +59,8 @@ def _remove_stale(name: str) -> None:
 
 
 KERNELS = [
-    ("geomexact.refinement.lepp_kernel", "geomexact/refinement/lepp_kernel.pyx"),
-    ("geomexact.delaunay_kernel", "geomexact/delaunay_kernel.pyx"),
+    ("geomexact.mesh2d.refinement.engines.lepp_kernel", "geomexact/mesh2d/refinement/engines/lepp_kernel.pyx"),
+    ("geomexact.mesh2d.delaunay.delaunay_kernel", "geomexact/mesh2d/delaunay/delaunay_kernel.pyx"),
 ]
 
 
@@ -77,8 +77,8 @@ def _extensions() -> list[Extension]:
         extension = Extension(
             name,
             [source],
-            include_dirs=["geomexact"],  # kernel_support.h
-            depends=["geomexact/kernel_support.h", "geomexact/kernel_support.pxd"],
+            include_dirs=["geomexact/kernel"],  # ckernel.h
+            depends=["geomexact/kernel/ckernel.h", "geomexact/kernel/ckernel.pxd"],
             # the float filters' error bounds assume one rounding per operation: no FMA
             extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"],
         )

@@ -15,7 +15,7 @@ Workloads (fixed seed, so runs are comparable):
 
 Competitors, in the same run, on the same points:
 
-* ``geomexact``: :func:`geomexact.delaunay.triangulate_points` / :func:`triangulate`, the
+* ``geomexact``: :func:`geomexact.mesh2d.delaunay.triangulation.triangulate_points` / :func:`triangulate`, the
   whole construction (snapshot *and* replayable trace).  Turning the input floats into exact
   points is not timed (every competitor gets its input ready-made).
 * ``triangle``: the ``triangle`` package (Shewchuk's Triangle): ``"Q"`` for points, ``"pQ"``
@@ -48,10 +48,10 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from geomexact import __version__, io
-from geomexact.delaunay import triangulate, triangulate_points
-from geomexact.numbers import mpq
-from geomexact.points import Point2, point2
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.delaunay.triangulation import triangulate, triangulate_points
+from geomexact.kernel.numbers import mpq
+from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.pslg import PSLG
 
 TARGET_SECONDS_1E4 = 0.4
 TARGET_SECT_SPEEDUP_1E4 = 25.0

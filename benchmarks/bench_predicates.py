@@ -40,8 +40,8 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from geomexact import predicates
-from geomexact.points import Point2, Point3, point2, point3
+from geomexact.kernel import predicates
+from geomexact.kernel.points import Point2, Point3, point2, point3
 
 TARGET_RATIO = 2.0
 

@@ -9,21 +9,6 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-from geomexact.convex import (
-    ConvexDecomposition,
-    ConvexDecompositionError,
-    convex_decomposition,
-)
-from geomexact.delaunay import (
-    Construction,
-    SegmentError,
-    is_delaunay,
-    make_delaunay,
-    non_delaunay_edges,
-    triangulate,
-    triangulate_points,
-    vertices_mesh,
-)
 from geomexact.errors import (
     FormatError,
     GeomexactError,
@@ -34,39 +19,14 @@ from geomexact.errors import (
     TraceError,
     TransientSealedError,
 )
-from geomexact.measures import signed_area, total_area, triangle_area
-from geomexact.mesh2d import Mesh2, canonical_triangle, empty_mesh
-from geomexact.numbers import (
+from geomexact.kernel.numbers import (
     format_rational,
     mpq,
     parse_rational,
     to_rational,
 )
-from geomexact.ops import (
-    apply,
-    bisect,
-    flip,
-    insert_centroid,
-    insert_in_edge,
-    insert_in_triangle,
-    legalize,
-)
-from geomexact.points import Point2, Point3, point2, point3
-from geomexact.polylla import (
-    EdgeLabels,
-    PolyllaError,
-    PolyllaRun,
-    label_edges,
-    polylla,
-    polylla_run,
-)
-from geomexact.polymesh import (
-    PolygonMesh,
-    check_polygon_mesh,
-    mesh_stats,
-    validate_polygon_mesh,
-)
-from geomexact.predicates import (
+from geomexact.kernel.points import Point2, Point3, point2, point3
+from geomexact.kernel.predicates import (
     CircleLocation,
     Comparison,
     Orientation,
@@ -76,12 +36,59 @@ from geomexact.predicates import (
     orient2d,
     orient3d,
 )
-from geomexact.pslg import PSLG
-from geomexact.step import Step
-from geomexact.summary import mesh_summary
-from geomexact.trace import Trace, first_divergence, read_trace, replay, trace_of, write_trace
-from geomexact.transient import Transient2, mesh_from_triangles
-from geomexact.validate import Violation, check, validate
+from geomexact.mesh2d.delaunay.triangulation import (
+    Construction,
+    SegmentError,
+    is_delaunay,
+    make_delaunay,
+    non_delaunay_edges,
+    triangulate,
+    triangulate_points,
+    vertices_mesh,
+)
+from geomexact.mesh2d.measures import signed_area, total_area, triangle_area
+from geomexact.mesh2d.ops import (
+    apply,
+    bisect,
+    flip,
+    insert_centroid,
+    insert_in_edge,
+    insert_in_triangle,
+    legalize,
+)
+from geomexact.mesh2d.polygonal.convex import (
+    ConvexDecomposition,
+    ConvexDecompositionError,
+    convex_decomposition,
+)
+from geomexact.mesh2d.polygonal.polygon_mesh import (
+    PolygonMesh,
+    check_polygon_mesh,
+    mesh_stats,
+    validate_polygon_mesh,
+)
+from geomexact.mesh2d.polygonal.polylla_meshing import (
+    EdgeLabels,
+    PolyllaError,
+    PolyllaRun,
+    label_edges,
+    polylla,
+    polylla_run,
+)
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle, empty_mesh
+from geomexact.mesh2d.summary import mesh_summary
+from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
+from geomexact.mesh2d.validation import Violation, check, validate
+from geomexact.trace.record import (
+    Trace,
+    first_divergence,
+    read_trace,
+    replay,
+    trace_of,
+    write_trace,
+)
+from geomexact.trace.step import Step
 
 __all__ = [
     "PSLG",
@@ -159,19 +166,21 @@ __all__ = [
     "write_trace",
 ]
 
-# -- Lepp refinement (geomexact.refine; issue 4) ---------------------------------------------
-# Kept as one block: importing geomexact.refine also registers the step
-# ``insert_in_quadrilateral`` (geomexact.centroids), so that refinement traces replay after
+# -- Lepp refinement (geomexact.mesh2d.refinement.api; issue 4)
+# ---------------------------------------------
+# Kept as one block: importing geomexact.mesh2d.refinement.api also registers the step
+# ``insert_in_quadrilateral`` (geomexact.mesh2d.refinement.centroids), so that refinement traces
+# replay after
 # a plain ``import geomexact``.
-from geomexact.criteria import (
+from geomexact.mesh2d.longest_edge import Lepp, lepp
+from geomexact.mesh2d.refinement.api import RefineStats, Result, refine
+from geomexact.mesh2d.refinement.criteria import (
     AverageAreaFactor,
     MaxArea,
     MaxEdgeLength,
     MinAngle,
 )
-from geomexact.lepp import Lepp, lepp
-from geomexact.refine import RefineStats, Result, refine
-from geomexact.regions import Circle, Polygon, Rectangle
+from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle
 
 __all__ += [
     "AverageAreaFactor",

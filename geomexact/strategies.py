@@ -1,8 +1,8 @@
 """Public hypothesis strategies for geomexact values.
 
-Every strategy returns exact objects (``mpq`` rationals, :class:`~geomexact.points.Point2` /
-:class:`~geomexact.points.Point3` built with :func:`~geomexact.points.point2` /
-:func:`~geomexact.points.point3`).  Size and range arguments are validated eagerly: a bad
+Every strategy returns exact objects (``mpq`` rationals, :class:`~geomexact.kernel.points.Point2` /
+:class:`~geomexact.kernel.points.Point3` built with :func:`~geomexact.kernel.points.point2` /
+:func:`~geomexact.kernel.points.point3`).  Size and range arguments are validated eagerly: a bad
 argument raises ``hypothesis.errors.InvalidArgument`` when the strategy is built, as in
 hypothesis itself.
 
@@ -19,15 +19,15 @@ from typing import Any, Literal, TypeAlias
 from hypothesis import strategies as st
 from hypothesis.errors import InvalidArgument
 
-from geomexact import ops
 from geomexact.errors import PreconditionError
-from geomexact.mesh2d import Mesh2
-from geomexact.numbers import Rational, mpq
-from geomexact.points import Point2, Point3, point2, point3
-from geomexact.predicates import Orientation, orient2d
-from geomexact.pslg import PSLG
-from geomexact.trace import Trace, trace_of
-from geomexact.transient import Transient2, mesh_from_triangles
+from geomexact.kernel.numbers import Rational, mpq
+from geomexact.kernel.points import Point2, Point3, point2, point3
+from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.mesh2d import ops
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
+from geomexact.trace.record import Trace, trace_of
 
 __all__ = [
     "MAGNITUDES",

@@ -13,12 +13,12 @@ import pytest
 
 from geomexact import __version__, io
 from geomexact.cli import main
-from geomexact.mesh2d import Mesh2
-from geomexact.ops import bisect, bisect_in, flip, flip_in, insert_centroid_in
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
-from geomexact.trace import trace_of, write_trace
-from geomexact.transient import Transient2
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.ops import bisect, bisect_in, flip, flip_in, insert_centroid_in
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.trace.record import trace_of, write_trace
+from geomexact.mesh2d.transient import Transient2
 
 SUMMARY_KEYS = {
     "vertices", "triangles", "edges", "boundary_edges", "constrained_edges",
@@ -572,8 +572,8 @@ def test_python_m_geomexact_version() -> None:
     assert completed.returncode == 0, completed.stderr
     first, kernels = completed.stdout.strip().splitlines()
     assert first == f"geomexact {__version__}"
-    from geomexact import delaunay_compiled
-    from geomexact.refinement import compiled_engine
+    from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
+    from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 
     expected = [name for name, built in (("lepp-bisection", compiled_engine.AVAILABLE),
                                          ("delaunay", delaunay_compiled.AVAILABLE)) if built]
@@ -643,6 +643,6 @@ def test_refine_writes_the_polylla_mesh_of_the_result(
 
 
 def report_area(report: dict[str, Any]) -> object:
-    from geomexact.numbers import parse_rational
+    from geomexact.kernel.numbers import parse_rational
 
     return parse_rational(report["total_area"])

@@ -18,15 +18,15 @@ from test_polylla_support import (
     undirected,
 )
 
-import geomexact.convex as convex_module
+import geomexact.mesh2d.polygonal.convex as convex_module
 from geomexact import Mesh2, Point2, mesh_from_triangles, mpq, point2
-from geomexact.convex import (
+from geomexact.mesh2d.polygonal.convex import (
     ConvexDecompositionError,
     convex_decomposition,
 )
 from geomexact.errors import PreconditionError
-from geomexact.polylla import polylla
-from geomexact.polymesh import PolygonMesh
+from geomexact.mesh2d.polygonal.polylla_meshing import polylla
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 
 # A hexagon (one polygon of 4 triangles) with two reflex corners, at 1 and 4, that the
 # triangulation edge {1, 4} repairs at once: criterion 1 inserts it alone; angle-first

@@ -46,7 +46,7 @@ from geomexact import (
     replay,
     validate,
 )
-from geomexact.delaunay import (
+from geomexact.mesh2d.delaunay.triangulation import (
     SegmentError,
     insertion_order,
     is_delaunay,
@@ -55,9 +55,9 @@ from geomexact.delaunay import (
     triangulate,
     triangulate_points,
 )
-from geomexact.numbers import to_rational
-from geomexact.points import Point2
-from geomexact.pslg import RegionSeed
+from geomexact.kernel.numbers import to_rational
+from geomexact.kernel.points import Point2
+from geomexact.mesh2d.pslg import RegionSeed
 from geomexact.strategies import (
     MAGNITUDES,
     coordinates,
@@ -506,7 +506,7 @@ def test_polygon_triangulation_has_n_minus_2_triangles(polygon: list[Point2]) ->
 
 def _segments_meet(points: list[Point2], segments: list[tuple[int, int]]) -> bool:
     """A vertex strictly inside a segment, or two segments crossing at an inner point of
-    both (independent of geomexact.segments)."""
+    both (independent of geomexact.mesh2d.segments)."""
     for u, v in segments:
         for w, p in enumerate(points):
             if w not in (u, v) and on_closed_segment(p, points[u], points[v]):

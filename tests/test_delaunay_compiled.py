@@ -1,5 +1,5 @@
-"""The compiled Delaunay kernel (``geomexact.delaunay_kernel`` through
-``geomexact.delaunay_compiled``) against the Python builder ``_DelaunayBuilder``: the same
+"""The compiled Delaunay kernel (``geomexact.mesh2d.delaunay.delaunay_kernel`` through
+``geomexact.mesh2d.delaunay.compiled``) against the Python builder ``_DelaunayBuilder``: the same
 steps, the same digest after every step, the same final mesh (``outgoing`` hints
 included) on every input — random, lattices (cocircular ties), collinear prefixes,
 duplicates, huge / tiny / beyond-double coordinates, non-dyadic rationals, real point
@@ -18,21 +18,21 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from geomexact import io
-from geomexact.delaunay import (
+from geomexact.mesh2d.delaunay.triangulation import (
     _DelaunayBuilder,
     duplicate_points,
     insertion_order,
     triangulate_points,
     vertices_mesh,
 )
-from geomexact.delaunay_compiled import AVAILABLE, CompiledConstruction, run_compiled
-from geomexact.mesh2d import Mesh2
-from geomexact.numbers import mpq
-from geomexact.points import Point2, point2
-from geomexact.predicates import Orientation, orient2d
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.delaunay.compiled import AVAILABLE, CompiledConstruction, run_compiled
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.kernel.numbers import mpq
+from geomexact.kernel.points import Point2, point2
+from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.mesh2d.pslg import PSLG
 from geomexact.strategies import coordinates, dyadic_rationals, points2
-from geomexact.trace import replay
+from geomexact.trace.record import replay
 
 pytestmark = pytest.mark.skipif(not AVAILABLE, reason="the compiled Delaunay kernel is not built")
 
@@ -102,7 +102,7 @@ def test_random_doubles_replay() -> None:
     vertices, start, first, rest = setup
     run = run_compiled(vertices, start, first, rest)
     assert run is not None
-    from geomexact.trace import Trace
+    from geomexact.trace.record import Trace
 
     trace = Trace(start.digest, run.steps, run.digests)
     assert replay(start, trace) == run.mesh
@@ -201,7 +201,7 @@ def test_non_dyadic_rationals() -> None:
 
 def test_grid_states() -> None:
     """Doubles in [0, 1) at or above 2**-8 are on the grid, exact non-doubles are not."""
-    from geomexact import delaunay_kernel  # type: ignore[attr-defined]
+    from geomexact.mesh2d.delaunay import delaunay_kernel  # type: ignore[attr-defined]
 
     points = [point2(mpq(1, 2), mpq(3, 4)), point2(mpq(2) ** -8, mpq(0)),
               point2(mpq(2) ** -60, mpq(1, 2)), point2(mpq(1, 3), mpq(1, 2)),
@@ -215,7 +215,8 @@ def test_grid_states() -> None:
 
 
 def test_hashes_match_digest() -> None:
-    from geomexact import delaunay_kernel, digest  # type: ignore[attr-defined]
+    from geomexact.kernel import digest
+    from geomexact.mesh2d.delaunay import delaunay_kernel  # type: ignore[attr-defined]
 
     for cell in [(0, 1, 2), (5, 3, 9), (70000, 2, 123456)]:
         assert delaunay_kernel.cell_hash(*cell) == digest.cell_hash(cell)

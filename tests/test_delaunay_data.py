@@ -26,7 +26,7 @@ from test_delaunay_support import (
 )
 
 from geomexact import PSLG, Mesh2, io, replay, validate
-from geomexact.delaunay import (
+from geomexact.mesh2d.delaunay.triangulation import (
     Construction,
     is_delaunay,
     make_delaunay,
@@ -34,8 +34,8 @@ from geomexact.delaunay import (
     triangulate,
     triangulate_points,
 )
-from geomexact.numbers import Rational
-from geomexact.points import Point2
+from geomexact.kernel.numbers import Rational
+from geomexact.kernel.points import Point2
 
 
 def _superior() -> PSLG:

@@ -13,8 +13,8 @@ from pathlib import Path
 from test_delaunay_support import assert_sound
 
 from geomexact import PSLG, mpq, point2, read_trace, replay, write_trace
-from geomexact.delaunay import triangulate
-from geomexact.pslg import RegionSeed
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.pslg import RegionSeed
 
 PROJECT = Path(__file__).resolve().parent.parent
 
@@ -22,8 +22,8 @@ PROJECT = Path(__file__).resolve().parent.parent
 SCRIPT = r"""
 import hashlib, importlib.resources, json, random, sys
 from geomexact import PSLG, io, mpq, point2
-from geomexact.delaunay import triangulate
-from geomexact.trace import trace_text
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.trace.record import trace_text
 
 def cases():
     path = importlib.resources.files("geomexact") / "data" / "superior.poly"

@@ -1,7 +1,7 @@
 """Independent exact checks used by the Delaunay tests (no tests here).
 
 Everything is recomputed from the mesh tables and the exact predicates, never through
-``geomexact.delaunay`` itself: the convex hull (monotone chain), polygon areas (shoelace),
+``geomexact.mesh2d.delaunay.triangulation`` itself: the convex hull (monotone chain), polygon areas (shoelace),
 the empty-circle property, Euler characteristics, boundary loops, and the points of an
 input segment.
 """
@@ -22,10 +22,10 @@ from geomexact import (
     replay,
     validate,
 )
-from geomexact.delaunay import Construction
-from geomexact.mesh2d import canonical_triangle
-from geomexact.numbers import ZERO, Rational, mpq
-from geomexact.points import Point2
+from geomexact.mesh2d.delaunay.triangulation import Construction
+from geomexact.mesh2d.snapshot import canonical_triangle
+from geomexact.kernel.numbers import ZERO, Rational, mpq
+from geomexact.kernel.points import Point2
 
 CCW = Orientation.COUNTERCLOCKWISE
 CW = Orientation.CLOCKWISE

@@ -15,7 +15,7 @@ from test_io_support import grid_meshes, plain, same_doubles
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq
 from geomexact.errors import FormatError, OverwriteError
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.pslg import PSLG
 
 ROUND_TRIP = [".vtk", ".vtu", ".msh", ".mesh", ".obj", ".ply"]
 XDMF = [

@@ -12,7 +12,7 @@ from test_io_support import grid_meshes, plain, write
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, point2
 from geomexact.errors import FormatError
-from geomexact.polymesh import PolygonMesh
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 
 TRIANGLE = "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
 

@@ -13,7 +13,7 @@ from test_io_support import grid_meshes, pslgs, write
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, point2
 from geomexact.errors import FormatError
-from geomexact.pslg import PSLG, RegionSeed
+from geomexact.mesh2d.pslg import PSLG, RegionSeed
 
 
 @given(pslgs())

@@ -11,8 +11,8 @@ import pytest
 from geomexact import Mesh2, io, mesh_from_triangles, point2
 from geomexact.errors import FormatError, OverwriteError
 from geomexact.io.registry import Format
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
 
 MESH = mesh_from_triangles([(0, 0), (1, 0), (0, 1)], [(0, 1, 2)])
 

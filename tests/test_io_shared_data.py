@@ -10,9 +10,9 @@ import pytest
 from test_io_support import geometric_triangles, plain, same_doubles
 
 from geomexact import Mesh2, io, mpq, point2, total_area, validate
-from geomexact.numbers import to_float
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
+from geomexact.kernel.numbers import to_float
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
 
 # file, kind, vertices, triangles|polygons|segments, holes, a note the reader must make
 MESHES = [

@@ -9,8 +9,8 @@ from pathlib import Path
 from hypothesis import strategies as st
 
 from geomexact import Mesh2, mesh_from_triangles, mpq, point2
-from geomexact.numbers import Rational, to_float
-from geomexact.pslg import PSLG, RegionSeed
+from geomexact.kernel.numbers import Rational, to_float
+from geomexact.mesh2d.pslg import PSLG, RegionSeed
 
 DATA = Path(__file__).resolve().parent / "data"
 BAD = DATA / "bad"

@@ -13,7 +13,7 @@ from test_io_support import grid_meshes, pslgs, same_doubles, write
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, point2
 from geomexact.errors import FormatError, OverwriteError
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.pslg import PSLG
 
 SQUARE = mesh_from_triangles(
     [(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)], [(0, 1, 5), (1, 2, 6)]

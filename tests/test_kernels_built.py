@@ -14,15 +14,15 @@ from pathlib import Path
 
 import pytest
 
-from geomexact import delaunay_compiled
-from geomexact.refinement import compiled_engine
+from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
+from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 
 PACKAGE = Path(__file__).resolve().parent.parent / "geomexact"
 SOURCES = {
-    "geomexact.refinement.lepp_kernel": PACKAGE / "refinement" / "lepp_kernel.pyx",
-    "geomexact.delaunay_kernel": PACKAGE / "delaunay_kernel.pyx",
+    "geomexact.mesh2d.refinement.engines.lepp_kernel": PACKAGE / "mesh2d" / "refinement" / "engines" / "lepp_kernel.pyx",
+    "geomexact.mesh2d.delaunay.delaunay_kernel": PACKAGE / "mesh2d" / "delaunay" / "delaunay_kernel.pyx",
 }
-SHARED = [PACKAGE / "kernel_support.h", PACKAGE / "kernel_support.pxd"]
+SHARED = [PACKAGE / "kernel" / "ckernel.h", PACKAGE / "kernel" / "ckernel.pxd"]
 
 
 def can_build() -> bool:

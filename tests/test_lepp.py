@@ -12,7 +12,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from geomexact import PreconditionError, mesh_from_triangles, mpq, point2
-from geomexact.lepp import (
+from geomexact.mesh2d.longest_edge import (
     edge_order,
     edges_by_length,
     is_constraint_edge,
@@ -20,10 +20,10 @@ from geomexact.lepp import (
     longest_edge,
     second_longest_edge,
 )
-from geomexact.mesh2d import Mesh2, canonical_triangle
-from geomexact.predicates import Comparison, compare_squared_lengths
+from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle
+from geomexact.kernel.predicates import Comparison, compare_squared_lengths
 from geomexact.strategies import meshes_with_traces
-from geomexact.transient import Transient2
+from geomexact.mesh2d.transient import Transient2
 
 
 def square(constrained: bool = False) -> Mesh2:
@@ -39,9 +39,9 @@ def squared(mesh: Mesh2, u: int, v: int) -> object:
 
 
 def test_module_doctest() -> None:
-    """The example in the module docstring holds (``geomexact.lepp`` the attribute is the
+    """The example in the module docstring holds (``geomexact.mesh2d.longest_edge`` the attribute is the
     function, so the module comes from ``sys.modules``)."""
-    assert doctest.testmod(sys.modules["geomexact.lepp"]).failed == 0
+    assert doctest.testmod(sys.modules["geomexact.mesh2d.longest_edge"]).failed == 0
 
 
 # -- edge order -----------------------------------------------------------------------------

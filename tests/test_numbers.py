@@ -13,7 +13,7 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from geomexact.errors import GeomexactError, RationalParseError
-from geomexact.numbers import (
+from geomexact.kernel.numbers import (
     format_decimal,
     format_float,
     format_rational,

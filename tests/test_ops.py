@@ -28,9 +28,9 @@ from geomexact import (
     total_area,
     validate,
 )
-from geomexact.ops import apply_in, flip_in
+from geomexact.mesh2d.ops import apply_in, flip_in
 from geomexact.strategies import convex_polygons, meshes_with_traces
-from geomexact.transient import Transient2
+from geomexact.mesh2d.transient import Transient2
 
 
 def unit_square(constrained: bool = True) -> Mesh2:

@@ -28,11 +28,11 @@ from test_polylla_support import (
 )
 
 from geomexact import Mesh2, empty_mesh, mesh_from_triangles, mpq, point2
-from geomexact.convex import convex_decomposition
-from geomexact.delaunay import triangulate
-from geomexact.lepp import longest_edge
-from geomexact.mesh2d import canonical_triangle
-from geomexact.polylla import (
+from geomexact.mesh2d.polygonal.convex import convex_decomposition
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.longest_edge import longest_edge
+from geomexact.mesh2d.snapshot import canonical_triangle
+from geomexact.mesh2d.polygonal.polylla_meshing import (
     HalfEdgeTable,
     PolyllaError,
     label_edges,
@@ -40,7 +40,7 @@ from geomexact.polylla import (
     polylla_run,
 )
 from geomexact.strategies import triangulations
-from geomexact.transient import Transient2
+from geomexact.mesh2d.transient import Transient2
 
 PROJECT = Path(__file__).resolve().parent.parent
 
@@ -247,7 +247,7 @@ def test_polylla_partitions_the_triangulation_into_simple_polygons(mesh: Mesh2) 
 @given(any_meshes())
 def test_regions_are_the_lepp_terminal_edge_classes(mesh: Mesh2) -> None:
     """The unrepaired polygons are exactly the classes of triangles whose Lepp (computed
-    independently by geomexact.lepp) ends at the same terminal edge."""
+    independently by geomexact.mesh2d.longest_edge) ends at the same terminal edge."""
     raw = polylla_run(mesh, repair=False)
     assert_partition(mesh, raw.mesh, simple=False)
     regions = sorted((frozenset(canonical_triangle(*t) for t in source)
@@ -322,9 +322,9 @@ def test_overlapping_triangles_raise_polylla_error() -> None:
 _SCRIPT = """
 import hashlib, random
 from geomexact import point2
-from geomexact.delaunay import triangulate
-from geomexact.polylla import polylla_run
-from geomexact.convex import convex_decomposition
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.polygonal.polylla_meshing import polylla_run
+from geomexact.mesh2d.polygonal.convex import convex_decomposition
 rng = random.Random(7)
 points = list(dict.fromkeys(point2(rng.randint(0, 40), rng.randint(0, 40)) for _ in range(300)))
 mesh = triangulate(points).mesh

@@ -12,7 +12,7 @@ from test_polylla_support import is_convex
 
 from geomexact import io
 from geomexact.cli import main
-from geomexact.polymesh import PolygonMesh
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 
 # the pentagon of the convex module's doctest: one Polylla polygon, reflex at vertex 0
 PENTAGON_OFF = """OFF

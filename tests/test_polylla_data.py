@@ -11,12 +11,12 @@ import pytest
 from test_polylla_support import assert_partition, assert_sound_run, is_convex
 
 from geomexact import Mesh2, io
-from geomexact.convex import convex_decomposition
-from geomexact.delaunay import triangulate
-from geomexact.mesh2d import canonical_triangle
-from geomexact.polylla import polylla, polylla_run
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.polygonal.convex import convex_decomposition
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.snapshot import canonical_triangle
+from geomexact.mesh2d.polygonal.polylla_meshing import polylla, polylla_run
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
 
 
 def read_mesh(path: Path) -> Mesh2:

@@ -11,12 +11,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-import geomexact.polymesh as polymesh_module
+import geomexact.mesh2d.polygonal.polygon_mesh as polymesh_module
 from geomexact import InvalidMeshError, mesh_from_triangles, mpq, point2
 from geomexact.errors import PreconditionError
-from geomexact.points import Point2
-from geomexact.polylla import polylla
-from geomexact.polymesh import (
+from geomexact.kernel.points import Point2
+from geomexact.mesh2d.polygonal.polylla_meshing import polylla
+from geomexact.mesh2d.polygonal.polygon_mesh import (
     PolygonMesh,
     check_polygon_mesh,
     interior_angles_degrees,
@@ -27,7 +27,7 @@ from geomexact.polymesh import (
     reflex_vertices,
     validate_polygon_mesh,
 )
-from geomexact.predicates import orient2d
+from geomexact.kernel.predicates import orient2d
 from geomexact.strategies import near_degenerate_points2, points2
 
 SQUARE = [point2(0, 0), point2(2, 0), point2(2, 2), point2(0, 2), point2(1, 1)]
@@ -38,9 +38,9 @@ def kinds(mesh: PolygonMesh, **options: object) -> list[str]:
 
 
 def test_module_doctests() -> None:
-    # ``geomexact.polylla`` is also the function re-exported by the package: import the
+    # ``geomexact.mesh2d.polygonal.polylla_meshing`` is also the function re-exported by the package: import the
     # module by name
-    polylla_module = importlib.import_module("geomexact.polylla")
+    polylla_module = importlib.import_module("geomexact.mesh2d.polygonal.polylla_meshing")
     assert doctest.testmod(polylla_module).failed == 0
     assert doctest.testmod(polymesh_module).failed == 0
 

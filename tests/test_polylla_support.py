@@ -1,6 +1,6 @@
 """Shared helpers of the Polylla and convex-decomposition tests: mesh strategies with many
 exact ties, constraints and holes, an independent recomputation of terminal-edge regions
-from :func:`geomexact.lepp.lepp`, and the invariants every result must satisfy."""
+from :func:`geomexact.mesh2d.longest_edge.lepp`, and the invariants every result must satisfy."""
 
 from __future__ import annotations
 
@@ -10,14 +10,14 @@ from hypothesis import assume
 from hypothesis import strategies as st
 
 from geomexact import Mesh2, mesh_from_triangles, mpq, point2, total_area
-from geomexact.delaunay import triangulate
+from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.errors import PreconditionError
-from geomexact.lepp import lepp, longest_edge
-from geomexact.mesh2d import Edge, Triangle, canonical_triangle
-from geomexact.points import Point2
-from geomexact.polylla import PolyllaRun
-from geomexact.polymesh import PolygonMesh
-from geomexact.predicates import Orientation, orient2d
+from geomexact.mesh2d.longest_edge import lepp, longest_edge
+from geomexact.mesh2d.snapshot import Edge, Triangle, canonical_triangle
+from geomexact.kernel.points import Point2
+from geomexact.mesh2d.polygonal.polylla_meshing import PolyllaRun
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.kernel.predicates import Orientation, orient2d
 from geomexact.strategies import coordinates, pslgs, triangulations
 
 
@@ -77,7 +77,7 @@ def undirected(edge: Edge) -> Edge:
 
 
 def lepp_regions(mesh: Mesh2) -> list[frozenset[Triangle]]:
-    """Terminal-edge regions recomputed from scratch with :func:`geomexact.lepp.lepp`:
+    """Terminal-edge regions recomputed from scratch with :func:`geomexact.mesh2d.longest_edge.lepp`:
     triangles grouped by where their Lepp ends.  An interior terminal edge that is the
     longest edge of both its triangles gathers both sides; any other terminal edge gathers
     only the side the path arrived from."""

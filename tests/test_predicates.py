@@ -14,11 +14,11 @@ import sympy
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from geomexact import predicates as P
+from geomexact.kernel import predicates as P
 from geomexact.errors import PreconditionError
-from geomexact.numbers import mpq
-from geomexact.points import Point2, Point3, point2, point3
-from geomexact.predicates import (
+from geomexact.kernel.numbers import mpq
+from geomexact.kernel.points import Point2, Point3, point2, point3
+from geomexact.kernel.predicates import (
     AngleThreshold,
     CircleLocation,
     Comparison,

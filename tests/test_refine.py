@@ -1,4 +1,4 @@
-"""Lepp refinement (``geomexact.refine``): the unit-square 2^k case, each method's steps,
+"""Lepp refinement (``geomexact.mesh2d.refinement.api``): the unit-square 2^k case, each method's steps,
 step limits, progress, regions, attributes, small input angles, and the properties every
 run must have (exact area, valid meshes, criterion met, Delaunay kept, segments kept,
 replay, input unchanged).  Spec: ``specs/refine.md``."""
@@ -28,21 +28,21 @@ from geomexact import (
     total_area,
     validate,
 )
-from geomexact.criteria import (
+from geomexact.mesh2d.refinement.criteria import (
     AverageAreaFactor,
     Criterion,
     MaxArea,
     MaxEdgeLength,
     MinAngle,
 )
-from geomexact.delaunay import make_delaunay, triangulate
-from geomexact.mesh2d import full_digest
-from geomexact.predicates import Orientation, orient2d
-from geomexact.pslg import PSLG
-from geomexact.refine import Progress, Result, refine
-from geomexact.regions import Circle, Polygon, Rectangle, Region, Whole
+from geomexact.mesh2d.delaunay.triangulation import make_delaunay, triangulate
+from geomexact.mesh2d.snapshot import full_digest
+from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.refinement.api import Progress, Result, refine
+from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, Whole
 from geomexact.strategies import meshes_with_traces, pslgs
-from geomexact.trace import read_trace, replay_iter, write_trace
+from geomexact.trace.record import read_trace, replay_iter, write_trace
 
 
 def unit_square(constrained: bool = True) -> Mesh2:
@@ -109,7 +109,7 @@ def assert_run_is_sound(start: Mesh2, result: Result, *, every_step: bool = Fals
 def test_module_doctests() -> None:
     """The example in the module docstring holds (the package's ``refine`` attribute is
     the function, so the module is taken from ``sys.modules``)."""
-    assert doctest.testmod(sys.modules["geomexact.refine"]).failed == 0
+    assert doctest.testmod(sys.modules["geomexact.mesh2d.refinement.api"]).failed == 0
 
 
 # -- the unit square ------------------------------------------------------------------------
@@ -543,11 +543,11 @@ RUN_IN_CHILD = """
 import json
 from importlib import resources
 from geomexact import io
-from geomexact.criteria import MinAngle, MaxArea
-from geomexact.delaunay import triangulate
-from geomexact.refine import refine
-from geomexact.regions import Circle
-from geomexact.trace import trace_text
+from geomexact.mesh2d.refinement.criteria import MinAngle, MaxArea
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.refinement.api import refine
+from geomexact.mesh2d.refinement.regions import Circle
+from geomexact.trace.record import trace_text
 source = resources.files("geomexact") / "data" / "superior.poly"
 with resources.as_file(source) as path:
     mesh = triangulate(io.read(path, format="poly")).mesh

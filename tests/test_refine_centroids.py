@@ -1,5 +1,5 @@
 """The rounded area centroid of a terminal quadrilateral and the step
-``insert_in_quadrilateral`` (``geomexact.centroids``)."""
+``insert_in_quadrilateral`` (``geomexact.mesh2d.refinement.centroids``)."""
 
 from __future__ import annotations
 
@@ -19,9 +19,9 @@ from geomexact import (
     total_area,
     validate,
 )
-from geomexact.centroids import CENTROID_BITS, rounded_area_centroid
-from geomexact.ops import quadrilateral_area_centroid
-from geomexact.predicates import Orientation, orient2d
+from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
+from geomexact.mesh2d.ops import quadrilateral_area_centroid
+from geomexact.kernel.predicates import Orientation, orient2d
 from geomexact.strategies import convex_polygons
 
 
@@ -29,8 +29,7 @@ def test_module_doctest() -> None:
     """The module's docstring examples (none yet besides prose) run cleanly."""
     import doctest
 
-    from geomexact import centroids
-
+    from geomexact.mesh2d.refinement import centroids
     assert doctest.testmod(centroids).failed == 0
 
 

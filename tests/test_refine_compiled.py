@@ -1,5 +1,5 @@
-"""The compiled Lepp-bisection kernel (``geomexact.refinement.lepp_kernel`` through
-``geomexact.refinement.compiled_engine``) against the Python engine (``FastRefinement``, run
+"""The compiled Lepp-bisection kernel (``geomexact.mesh2d.refinement.engines.lepp_kernel`` through
+``geomexact.mesh2d.refinement.engines.compiled``) against the Python engine (``FastRefinement``, run
 directly): the same steps, the same digest after every step, the same progress reports,
 the same final snapshot (every table) and the same stats.  Skipped when the extension is
 not built."""
@@ -16,7 +16,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, replay, total_area
-from geomexact.criteria import (
+from geomexact.mesh2d.refinement.criteria import (
     AverageAreaFactor,
     CallableCriterion,
     Criterion,
@@ -25,15 +25,15 @@ from geomexact.criteria import (
     MinAngle,
     doubled_area,
 )
-from geomexact.delaunay import triangulate
-from geomexact.points import Point2, point2
-from geomexact.refine import Progress, refine
-from geomexact.refinement import compiled_engine
-from geomexact.refinement.compiled_engine import CompiledRun, run_compiled
-from geomexact.refinement.fast_engine import FastRefinement
-from geomexact.regions import Circle, Polygon, Rectangle, Region, as_region
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.refinement.api import Progress, refine
+from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
+from geomexact.mesh2d.refinement.engines.compiled import CompiledRun, run_compiled
+from geomexact.mesh2d.refinement.engines.batch import FastRefinement
+from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, as_region
 from geomexact.strategies import meshes_with_traces, pslgs
-from geomexact.validate import check
+from geomexact.mesh2d.validation import check
 
 pytestmark = pytest.mark.skipif(
     not compiled_engine.AVAILABLE, reason="the compiled kernel is not built")
@@ -324,7 +324,7 @@ def test_factor_superior(superior: Mesh2) -> None:
 
 def test_factor_kernel_state() -> None:
     """The kernel's region area, count and target equal the Python engine's."""
-    from geomexact.refinement import lepp_kernel
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
 
     start = square()
     for region in (None, Rectangle(0, 0, mpq(1, 2), mpq(1, 5)), Circle(5, 5, 1)):
@@ -452,9 +452,9 @@ def test_grid_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]], deno
     """The kernel's integer path of ``rounded_area_centroid`` (grid quadrilaterals) gives
     exactly the Python function's point, or defers to it (ties round half up; negative
     coordinates floor)."""
-    from geomexact.centroids import rounded_area_centroid
-    from geomexact.predicates import Orientation, orient2d
-    from geomexact.refinement import lepp_kernel
+    from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
+    from geomexact.kernel.predicates import Orientation, orient2d
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
 
     pu, pv, pw, px = (point2(mpq(x, denominator) + shift, mpq(y, denominator))
                       for x, y in raw)
@@ -566,8 +566,8 @@ def test_engines_route_through_the_kernel_only_when_fast(monkeypatch: pytest.Mon
     def refuse(*_: Any, **__: Any) -> None:
         raise AssertionError("the kernel ran")
 
-    # the module (geomexact.refine, the attribute, is the function)
-    monkeypatch.setattr(sys.modules["geomexact.refine"], "run_compiled", refuse)
+    # the module (geomexact.mesh2d.refinement.api, the attribute, is the function)
+    monkeypatch.setattr(sys.modules["geomexact.mesh2d.refinement.api"], "run_compiled", refuse)
     refine(start, criterion, engine="python")
     refine(start, criterion, engine="transient")
     with pytest.raises(AssertionError, match="the kernel ran"):
@@ -575,8 +575,8 @@ def test_engines_route_through_the_kernel_only_when_fast(monkeypatch: pytest.Mon
 
 
 def test_hashes_match_digest() -> None:
-    from geomexact import digest
-    from geomexact.refinement import lepp_kernel
+    from geomexact.kernel import digest
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
 
     for cell in [(0, 1, 2), (5, 3, 9), (70000, 2, 123456)]:
         assert lepp_kernel.cell_hash(*cell) == digest.cell_hash(cell)

@@ -11,9 +11,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from geomexact import PreconditionError, mpq, point2
-from geomexact import criteria as criteria_module
-from geomexact import regions as regions_module
-from geomexact.criteria import (
+from geomexact.mesh2d.refinement import criteria as criteria_module
+from geomexact.mesh2d.refinement import regions as regions_module
+from geomexact.mesh2d.refinement.criteria import (
     AverageAreaFactor,
     CallableCriterion,
     Criterion,
@@ -24,9 +24,9 @@ from geomexact.criteria import (
     doubled_area,
     smallest_angle_cos2,
 )
-from geomexact.points import Point2
-from geomexact.predicates import angle_degrees
-from geomexact.regions import (
+from geomexact.kernel.points import Point2
+from geomexact.kernel.predicates import angle_degrees
+from geomexact.mesh2d.refinement.regions import (
     CallableRegion,
     Circle,
     Polygon,

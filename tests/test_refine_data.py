@@ -12,13 +12,13 @@ from typing import Any
 import pytest
 
 from geomexact import Mesh2, io, is_delaunay, replay, total_area, validate
-from geomexact.criteria import AverageAreaFactor, Criterion, MaxArea, MinAngle
-from geomexact.delaunay import triangulate
-from geomexact.polymesh import PolygonMesh
-from geomexact.predicates import angle_degrees
-from geomexact.pslg import PSLG
-from geomexact.refine import Result, refine
-from geomexact.regions import Circle, Polygon, Rectangle, Region, Whole
+from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, Criterion, MaxArea, MinAngle
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.kernel.predicates import angle_degrees
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.refinement.api import Result, refine
+from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, Whole
 
 MESHES = [
     "polylla-refinement/500poisson.off",

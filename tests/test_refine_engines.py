@@ -10,17 +10,17 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from geomexact import Mesh2, mpq, replay, total_area
-from geomexact.criteria import (
+from geomexact.mesh2d.refinement.criteria import (
     AverageAreaFactor,
     Criterion,
     MaxArea,
     MaxEdgeLength,
     MinAngle,
 )
-from geomexact.delaunay import triangulate
-from geomexact.pslg import PSLG
-from geomexact.refine import Result, refine
-from geomexact.regions import Circle, Polygon, Rectangle, Region, Whole
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.refinement.api import Result, refine
+from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, Whole
 from geomexact.strategies import meshes_with_traces, pslgs
 
 REGIONS = st.sampled_from([

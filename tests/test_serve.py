@@ -1,4 +1,4 @@
-"""``geomexact serve`` over HTTP (geomexact.viz.serve): listing, viewing, uploading,
+"""``geomexact serve`` over HTTP (geomexact.server): listing, viewing, uploading,
 and its limits (request size, run time, concurrent jobs, loopback names, paths)."""
 
 from __future__ import annotations
@@ -16,11 +16,11 @@ from typing import Any
 import pytest
 
 from geomexact import io
-from geomexact.delaunay import triangulate
-from geomexact.pslg import PSLG
-from geomexact.trace import write_trace
-from geomexact.viz import serve
-from geomexact.viz.serve import MeshServer, ServeOptions, make_server
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.trace.record import write_trace
+from geomexact import server as serve
+from geomexact.server import MeshServer, ServeOptions, make_server
 
 SUPERIOR = Path(__file__).resolve().parent.parent / "geomexact" / "data" / "superior.poly"
 SQUARE_OFF = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"
@@ -207,7 +207,7 @@ def test_upload_a_triangle_pair(server: MeshServer, served: Path) -> None:
 
 
 @pytest.mark.skipif("refine" not in serve.available_actions(),
-                    reason="geomexact.refine is not installed")
+                    reason="geomexact.mesh2d.refinement.api is not installed")
 def test_upload_refines(server: MeshServer) -> None:
     """Action refine with a maximum area: more triangles than the triangulation, every
     one at most that area, with the refinement's trace."""
@@ -281,7 +281,7 @@ def test_run_time_is_bounded(strict_server: MeshServer) -> None:
     heavy = (b"v 0 0\nv 1 0\nv 1 1\nv 0 1\ns 0 1\ns 1 2\ns 2 3\ns 3 0\n")
     action = "refine" if "refine" in serve.available_actions() else None
     if action is None:
-        pytest.skip("needs geomexact.refine for a long job")
+        pytest.skip("needs geomexact.mesh2d.refinement.api for a long job")
     status, page = upload(strict_server, [("square.pslg", heavy)], action="refine",
                           criterion="max_area", value="1e-9", method="centroid",
                           max_steps="5000000")

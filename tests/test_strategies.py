@@ -5,7 +5,7 @@ from __future__ import annotations
 from hypothesis import given
 
 from geomexact import PSLG, Mesh2, Orientation, orient2d, validate
-from geomexact.points import Point2
+from geomexact.kernel.points import Point2
 from geomexact.strategies import convex_polygons, pslgs, simple_polygons, triangulations
 
 

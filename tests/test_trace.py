@@ -26,11 +26,11 @@ from geomexact import (
     trace_of,
     write_trace,
 )
-from geomexact.ops import bisect_in, insert_in_edge_in, legalize_in
-from geomexact.points import point2
+from geomexact.mesh2d.ops import bisect_in, insert_in_edge_in, legalize_in
+from geomexact.kernel.points import point2
 from geomexact.strategies import meshes_with_traces
-from geomexact.trace import parse_trace, replay_iter, trace_text
-from geomexact.transient import Transient2
+from geomexact.trace.record import parse_trace, replay_iter, trace_text
+from geomexact.mesh2d.transient import Transient2
 
 
 def square() -> Mesh2:
@@ -155,10 +155,10 @@ def test_replay_prefix_is_the_intermediate_mesh(
 _WORKLOAD = r"""
 import random, sys
 from geomexact import mesh_from_triangles, trace_of
-from geomexact.ops import bisect_in, insert_centroid_in, legalize_in, flip_in
+from geomexact.mesh2d.ops import bisect_in, insert_centroid_in, legalize_in, flip_in
 from geomexact.errors import PreconditionError
-from geomexact.trace import trace_text
-from geomexact.transient import Transient2
+from geomexact.trace.record import trace_text
+from geomexact.mesh2d.transient import Transient2
 n = 6
 points = [(x, y) for y in range(n) for x in range(n)]
 triangles = []

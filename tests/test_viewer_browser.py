@@ -19,10 +19,10 @@ import attrs
 import pytest
 
 from geomexact import io
-from geomexact.delaunay import triangulate
-from geomexact.mesh2d import Mesh2
-from geomexact.pslg import PSLG
-from geomexact.viz import serve
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.pslg import PSLG
+from geomexact import server as serve
 from geomexact.viz.scene import Scene, doubles, indices
 from geomexact.viz.viewer import payload, render_page, viewer_html
 
@@ -452,7 +452,7 @@ def server(tmp_path: Path) -> Iterator[serve.MeshServer]:
 
 def test_served_page_refines_an_upload(watch: Watch, server: serve.MeshServer) -> None:
     """Through the served pages: the index lists superior.poly and opens it in the viewer;
-    the upload form refines it (or triangulates it, without geomexact.refine) and shows
+    the upload form refines it (or triangulates it, without geomexact.mesh2d.refinement.api) and shows
     the result with its trace; every request goes to the local server."""
     page = watch.page
     page.goto(server.url)

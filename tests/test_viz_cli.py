@@ -150,7 +150,7 @@ def test_serve_defaults_are_the_servers(tmp_path: Path) -> None:
     """The CLI keeps its own copy of the server defaults (importing the server would load
     matplotlib at every start): they must agree with ServeOptions'."""
     from geomexact.cli.parser import build_parser
-    from geomexact.viz.serve import ServeOptions
+    from geomexact.server import ServeOptions
 
     args = build_parser().parse_args(["serve", str(tmp_path)])
     defaults = ServeOptions(tmp_path)
@@ -196,7 +196,7 @@ def test_serve_runs_until_interrupted(tmp_path: Path) -> None:
 def test_serve_warns_off_loopback(capsys: pytest.CaptureFixture[str], tmp_path: Path,
                                   monkeypatch: pytest.MonkeyPatch) -> None:
     """--host other than loopback prints a warning that there is no authentication."""
-    from geomexact.viz import serve
+    from geomexact import server as serve
 
     def refuse(options: serve.ServeOptions, **_: object) -> None:
         raise KeyboardInterrupt

@@ -10,13 +10,13 @@ import pytest
 from matplotlib.image import imread
 
 from geomexact import io
-from geomexact.delaunay import triangulate
+from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.errors import OverwriteError, TraceError
-from geomexact.mesh2d import Mesh2
-from geomexact.points import point2
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
-from geomexact.transient import mesh_from_triangles
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.kernel.points import point2
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.transient import mesh_from_triangles
 from geomexact.viz.pictures import (
     figure_bytes,
     min_angles,

@@ -10,15 +10,15 @@ import pytest
 from hypothesis import given
 
 from geomexact import io
-from geomexact.delaunay import triangulate
+from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.errors import TraceError
-from geomexact.mesh2d import Mesh2
-from geomexact.points import point2
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG, RegionSeed
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.kernel.points import point2
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG, RegionSeed
 from geomexact.strategies import meshes_with_traces
-from geomexact.trace import Trace, replay
-from geomexact.transient import Transient2, mesh_from_triangles
+from geomexact.trace.record import Trace, replay
+from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
 from geomexact.viz.scene import (
     History,
     doubles,
@@ -90,7 +90,7 @@ def test_step_changes_of_a_flip() -> None:
     diagonal; the offsets say so."""
     start = square()
     t = Transient2(start)
-    from geomexact.ops import flip_in
+    from geomexact.mesh2d.ops import flip_in
 
     flip_in(t, 0, 2)
     t.seal()
@@ -112,7 +112,7 @@ def test_recreated_triangle_keeps_its_slot() -> None:
     the history has four cells, not six."""
     start = square()
     t = Transient2(start)
-    from geomexact.ops import flip_in
+    from geomexact.mesh2d.ops import flip_in
 
     flip_in(t, 0, 2)
     flip_in(t, 1, 3)
@@ -165,8 +165,8 @@ def test_trace_start_of_a_pslg_is_its_vertices(superior: PSLG) -> None:
 
 def test_step_label_shows_exact_decimals() -> None:
     """Rational arguments are shown as the shortest exact decimal, else p/q."""
-    from geomexact.numbers import parse_rational
-    from geomexact.step import Step
+    from geomexact.kernel.numbers import parse_rational
+    from geomexact.trace.step import Step
 
     assert step_label(Step("carve", (parse_rational("0.55"), parse_rational("-1/3")))) == \
         "carve(0.55, -1/3)"

@@ -16,13 +16,13 @@ from typing import Any
 import pytest
 
 from geomexact import io
-from geomexact.delaunay import triangulate
+from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.errors import OverwriteError, TraceError
-from geomexact.mesh2d import Mesh2
-from geomexact.points import point2
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
-from geomexact.transient import mesh_from_triangles
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.kernel.points import point2
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.transient import mesh_from_triangles
 from geomexact.viz import viewer
 from geomexact.viz.scene import INDEX_TYPE, history_of, scene_of
 from geomexact.viz.viewer import (
@@ -221,7 +221,7 @@ def test_viewer_script_parses() -> None:
 
 def test_scene_summary_is_the_info_summary() -> None:
     """The exact statistics shown in the page are those of geomexact info."""
-    from geomexact.summary import mesh_summary
+    from geomexact.mesh2d.summary import mesh_summary
 
     mesh = square()
     assert payload_of(viewer_html(mesh))["scene"]["summary"] == mesh_summary(mesh)

@@ -15,14 +15,19 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, violation_reports
-from geomexact.mesh2d import Mesh2
-from geomexact.polymesh import PolygonMesh, isolated_polygon_vertices, validate_polygon_mesh
-from geomexact.validate import validate
+from geomexact.mesh2d.polygonal.polygon_mesh import (
+    PolygonMesh,
+    isolated_polygon_vertices,
+    validate_polygon_mesh,
+)
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.validation import validate
 
 
 def command_check(args: argparse.Namespace) -> int:
-    """Validate a triangle mesh (:func:`geomexact.validate`) or a polygon mesh
-    (:func:`geomexact.polymesh.validate_polygon_mesh`, with its geometric checks); exit 1
+    """Validate a triangle mesh (:func:`geomexact.mesh2d.validation`) or a polygon mesh
+    (:func:`geomexact.mesh2d.polygonal.polygon_mesh.validate_polygon_mesh`, with its geometric
+    checks); exit 1
     listing every violation."""
     loaded = load(args.file, args.format, args.verbose)
     value = loaded.value

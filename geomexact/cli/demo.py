@@ -20,12 +20,12 @@ from geomexact.cli.kinds import Value
 from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.summaries import pslg_summary
 from geomexact.cli.writing import write
-from geomexact.delaunay import triangulate
 from geomexact.errors import OverwriteError
-from geomexact.mesh2d import Mesh2
-from geomexact.pslg import PSLG
-from geomexact.summary import mesh_summary
-from geomexact.trace import Trace, write_trace
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.summary import mesh_summary
+from geomexact.trace.record import Trace, write_trace
 
 DEMO_INPUT = "superior.poly"
 DEMO_SOURCE = "Unity-Technologies/triangle.net @ 730f6c4, Data/superior.poly"
@@ -102,9 +102,9 @@ DEMO_MIN_ANGLE = 30
 def _demo_refine(run: DemoRun) -> None:
     """Lepp-centroid (Delaunay) refinement of the triangulation to a 30° minimum angle,
     and the Polylla polygon mesh of the result."""
-    from geomexact.criteria import MinAngle
-    from geomexact.polylla import polylla
-    from geomexact.refine import refine
+    from geomexact.mesh2d.polygonal.polylla_meshing import polylla
+    from geomexact.mesh2d.refinement.api import refine
+    from geomexact.mesh2d.refinement.criteria import MinAngle
 
     if run.mesh is None:
         raise RuntimeError("the demo's triangulate step must run before refine")

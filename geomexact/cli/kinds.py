@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import TypeAlias
 
-from geomexact.mesh2d import Mesh2
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
 
 Value: TypeAlias = Mesh2 | PSLG | PolygonMesh
 

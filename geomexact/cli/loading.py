@@ -9,7 +9,7 @@ import attrs
 from geomexact import io
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.kinds import Value, kind_name
-from geomexact.mesh2d import Mesh2
+from geomexact.mesh2d.snapshot import Mesh2
 
 
 @attrs.frozen

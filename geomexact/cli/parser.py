@@ -49,8 +49,8 @@ class _Parser(argparse.ArgumentParser):
 def version_text() -> str:
     """``geomexact X.Y.Z`` and the compiled kernels this install has (refinement and
     triangulation run their pure-Python engines without them, slower, same results)."""
-    from geomexact import delaunay_compiled
-    from geomexact.refinement import compiled_engine
+    from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
+    from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 
     built = [name for name, available in (("lepp-bisection", compiled_engine.AVAILABLE),
                                           ("delaunay", delaunay_compiled.AVAILABLE))

@@ -22,18 +22,18 @@ from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import write
-from geomexact.delaunay import triangulate
 from geomexact.errors import OverwriteError
-from geomexact.mesh2d import Mesh2
-from geomexact.pslg import PSLG
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
 
 
 def command_polylla(args: argparse.Namespace) -> int:
     """Polylla polygon mesh of a triangle mesh (a PSLG is triangulated first), optionally
     decomposed into convex polygons; writes the polygons and optionally a picture."""
-    from geomexact.convex import convex_decomposition
-    from geomexact.polylla import polylla_run
-    from geomexact.polymesh import mesh_stats, nonconvex_polygons
+    from geomexact.mesh2d.polygonal.convex import convex_decomposition
+    from geomexact.mesh2d.polygonal.polygon_mesh import mesh_stats, nonconvex_polygons
+    from geomexact.mesh2d.polygonal.polylla_meshing import polylla_run
 
     loaded = load(args.input, args.format, args.verbose)
     if isinstance(loaded.value, PSLG):

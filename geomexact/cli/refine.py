@@ -1,4 +1,5 @@
-"""``geomexact refine``: Lepp refinement (:mod:`geomexact.refine`) of a triangle mesh to a
+"""``geomexact refine``: Lepp refinement (:mod:`geomexact.mesh2d.refinement.api`) of a triangle
+mesh to a
 criterion in a region, with its progress line, option parsing and trace streaming."""
 
 from __future__ import annotations
@@ -25,14 +26,14 @@ from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import write
-from geomexact.delaunay import triangulate
 from geomexact.errors import OverwriteError
-from geomexact.mesh2d import Mesh2
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
-from geomexact.summary import mesh_summary
-from geomexact.trace import Trace, write_trace
-from geomexact.validate import validate
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.summary import mesh_summary
+from geomexact.mesh2d.validation import validate
+from geomexact.trace.record import Trace, write_trace
 
 
 class _RefineProgress:
@@ -73,8 +74,8 @@ class _RefineProgress:
 
 
 def _refine_criterion(args: argparse.Namespace) -> Any:
-    from geomexact import criteria
-    from geomexact.numbers import parse_rational
+    from geomexact.kernel.numbers import parse_rational
+    from geomexact.mesh2d.refinement import criteria
 
     if args.max_area is not None:
         return criteria.MaxArea(parse_rational(args.max_area))
@@ -119,8 +120,8 @@ def _polygon_region_vertices(path: str, format: str | None, verbose: bool) -> li
 
 
 def _refine_region(args: argparse.Namespace) -> Any:
-    from geomexact import regions
-    from geomexact.numbers import parse_rational
+    from geomexact.kernel.numbers import parse_rational
+    from geomexact.mesh2d.refinement import regions
 
     if args.circle is not None:
         x, y, radius = (parse_rational(text) for text in args.circle)
@@ -136,7 +137,7 @@ def _refine_region(args: argparse.Namespace) -> Any:
 def command_refine(args: argparse.Namespace) -> int:
     """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
     a region; writes the mesh, the trace and optionally every intermediate mesh."""
-    from geomexact.refine import refine
+    from geomexact.mesh2d.refinement.api import refine
 
     loaded = load(args.input, args.format, args.verbose)
     criterion = _refine_criterion(args)
@@ -183,12 +184,12 @@ def command_refine(args: argparse.Namespace) -> int:
         write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
     if args.polylla:
-        from geomexact.polylla import polylla
+        from geomexact.mesh2d.polygonal.polylla_meshing import polylla
 
         written += write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
                           exact=args.exact)
     if args.print_iter:
-        from geomexact.trace import replay_iter
+        from geomexact.trace.record import replay_iter
 
         directory = Path(args.print_iter)
         directory.mkdir(parents=True, exist_ok=True)

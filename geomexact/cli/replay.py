@@ -20,11 +20,11 @@ from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
 from geomexact.cli.writing import write
-from geomexact.delaunay import vertices_mesh
 from geomexact.errors import TraceError
-from geomexact.mesh2d import Mesh2
-from geomexact.pslg import PSLG
-from geomexact.trace import read_trace, replay
+from geomexact.mesh2d.delaunay.triangulation import vertices_mesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.trace.record import read_trace, replay
 
 
 def command_replay(args: argparse.Namespace) -> int:

@@ -13,7 +13,7 @@ from geomexact.cli.exit_codes import EXIT_OK
 
 def command_serve(args: argparse.Namespace) -> int:
     """Serve a directory's meshes in the viewer, and refine uploads, until Ctrl-C."""
-    from geomexact.viz import serve as serving
+    from geomexact import server as serving
 
     options = serving.ServeOptions(
         Path(args.directory), host=args.host, port=args.port,

@@ -5,11 +5,11 @@ from __future__ import annotations
 from typing import Any
 
 from geomexact.cli.kinds import Value
-from geomexact.mesh2d import Mesh2
-from geomexact.numbers import format_rational
-from geomexact.polymesh import PolygonMesh, mesh_stats
-from geomexact.pslg import PSLG
-from geomexact.summary import mesh_summary
+from geomexact.kernel.numbers import format_rational
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh, mesh_stats
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.summary import mesh_summary
 
 
 def pslg_summary(pslg: PSLG) -> dict[str, Any]:
@@ -35,7 +35,8 @@ def pslg_summary(pslg: PSLG) -> dict[str, Any]:
 
 def polygon_mesh_summary(mesh: PolygonMesh) -> dict[str, Any]:
     """Counts, polygon sizes, convexity, interior angles and areas of a polygon mesh
-    (:func:`geomexact.polymesh.mesh_stats`); ``vertices`` counts every vertex of the file,
+    (:func:`geomexact.mesh2d.polygonal.polygon_mesh.mesh_stats`); ``vertices`` counts every vertex
+    of the file,
     ``used_vertices`` those of some polygon."""
     stats = mesh_stats(mesh)
     del stats["inserted_edges"]

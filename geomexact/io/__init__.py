@@ -20,7 +20,6 @@ from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
 
-from geomexact.collector import collector_paused
 from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
@@ -36,9 +35,10 @@ from geomexact.io.triangle import (
     write_triangle,
 )
 from geomexact.io.triangle_list import read_triangle_list, write_triangle_list
-from geomexact.mesh2d import Mesh2
-from geomexact.polymesh import PolygonMesh
-from geomexact.pslg import PSLG
+from geomexact.kernel.collector import collector_paused
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
 
 _FORMATS = (
     Format(

@@ -20,9 +20,9 @@ from typing import Any
 from geomexact.errors import FormatError, OverwriteError, RationalParseError, UnsupportedValueError
 from geomexact.io.files import write_bytes_atomic
 from geomexact.io.registry import TriangleTable, Value, build_mesh
-from geomexact.mesh2d import Mesh2
-from geomexact.numbers import to_float, to_rational
-from geomexact.points import Point2, point2
+from geomexact.kernel.numbers import to_float, to_rational
+from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.snapshot import Mesh2
 
 EXTENSIONS = (".vtk", ".vtu", ".xdmf", ".xmf", ".msh", ".mesh", ".obj", ".ply")
 # extension -> meshio's formats (modules) to read it with, first one also to write it

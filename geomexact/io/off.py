@@ -29,10 +29,10 @@ from geomexact.io.registry import (
     parse_number,
     write_files,
 )
-from geomexact.mesh2d import Mesh2
-from geomexact.numbers import ZERO, Rational
-from geomexact.points import Point2, point2
-from geomexact.polymesh import PolygonMesh
+from geomexact.kernel.numbers import ZERO, Rational
+from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.snapshot import Mesh2
 
 _BRACES = "{}"
 

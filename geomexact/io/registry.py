@@ -28,13 +28,13 @@ import attrs
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
 from geomexact.io.files import write_text_atomic
-from geomexact.mesh2d import Attributes, Mesh2, empty_mesh
-from geomexact.numbers import ZERO, Rational, format_float, format_rational, parse_rational
-from geomexact.points import Point2
-from geomexact.polymesh import PolygonMesh
-from geomexact.predicates import Orientation, orient2d
-from geomexact.pslg import PSLG
-from geomexact.transient import Transient2
+from geomexact.kernel.numbers import ZERO, Rational, format_float, format_rational, parse_rational
+from geomexact.kernel.points import Point2
+from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Attributes, Mesh2, empty_mesh
+from geomexact.mesh2d.transient import Transient2
 
 Value: TypeAlias = Mesh2 | PSLG | PolygonMesh
 """What a reader returns and a writer accepts."""
@@ -153,7 +153,7 @@ def parse_int(path: str, line: int, token: str, what: str) -> int:
 
 
 def parse_number(path: str, line: int, token: str, what: str) -> Rational:
-    """``token`` parsed exactly (:func:`geomexact.numbers.parse_rational`), or a FormatError
+    """``token`` parsed exactly (:func:`geomexact.kernel.numbers.parse_rational`), or a FormatError
     embedding the parser's message."""
     try:
         return parse_rational(token)

@@ -43,10 +43,10 @@ from geomexact.io.registry import (
     with_extension,
     write_files,
 )
-from geomexact.mesh2d import Attributes, Mesh2
-from geomexact.numbers import Rational
-from geomexact.points import Point2, point2
-from geomexact.pslg import PSLG, RegionSeed
+from geomexact.kernel.numbers import Rational
+from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.pslg import PSLG, RegionSeed
+from geomexact.mesh2d.snapshot import Attributes, Mesh2
 
 NODE, ELE, NEIGH, POLY = ".node", ".ele", ".neigh", ".poly"
 

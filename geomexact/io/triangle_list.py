@@ -22,9 +22,9 @@ from geomexact.io.registry import (
     parse_number,
     write_files,
 )
-from geomexact.mesh2d import Mesh2
-from geomexact.numbers import Rational
-from geomexact.points import Point2, point2
+from geomexact.kernel.numbers import Rational
+from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.snapshot import Mesh2
 
 _NAMES = ("x1", "y1", "x2", "y2", "x3", "y3")
 

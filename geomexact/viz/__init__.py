@@ -5,7 +5,7 @@
 - :func:`viewer_html` / :func:`write_viewer`: one self-contained HTML file (JavaScript and
   CSS inline, no network request at any time) with pan and zoom, statistics, hover
   details, a file-open control and, for a trace, a step slider;
-- :mod:`geomexact.viz.serve`: ``geomexact serve``, a local HTTP server that lists mesh
+- :mod:`geomexact.server`: ``geomexact serve``, a local HTTP server that lists mesh
   files, opens them in the viewer and refines uploaded ones.
 
 Guide: ``docs/viewer.md``; payload format: ``specs/viewer.md``.

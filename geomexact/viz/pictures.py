@@ -24,8 +24,8 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize
 from matplotlib.figure import Figure
 
 from geomexact.io.files import write_bytes_atomic
-from geomexact.mesh2d import Edge, Triangle
-from geomexact.trace import Trace
+from geomexact.mesh2d.snapshot import Edge, Triangle
+from geomexact.trace.record import Trace
 from geomexact.viz.scene import (
     Scene,
     Viewable,

@@ -20,17 +20,17 @@ from typing import Any, TypeAlias
 
 import attrs
 
-from geomexact.delaunay import vertices_mesh
-from geomexact.mesh2d import Edge, Mesh2, Triangle, canonical_triangle
-from geomexact.numbers import format_rational, to_float
-from geomexact.points import Point2
-from geomexact.polymesh import PolygonMesh
-from geomexact.predicates import Orientation, orient2d
-from geomexact.pslg import PSLG
-from geomexact.step import Step
-from geomexact.summary import mesh_summary
-from geomexact.trace import Trace, apply_checked, check_start
-from geomexact.transient import Transient2
+from geomexact.kernel.numbers import format_rational, to_float
+from geomexact.kernel.points import Point2
+from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.mesh2d.delaunay.triangulation import vertices_mesh
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
+from geomexact.mesh2d.summary import mesh_summary
+from geomexact.mesh2d.transient import Transient2
+from geomexact.trace.record import Trace, apply_checked, check_start
+from geomexact.trace.step import Step
 
 Viewable: TypeAlias = Mesh2 | PSLG | PolygonMesh
 
@@ -423,7 +423,7 @@ def step_label(step: Step) -> str:
 
 def history_of(start: Mesh2, trace: Trace) -> History:
     """Replay ``trace`` on ``start`` once, checking every digest (as
-    :func:`geomexact.trace.replay` does), and record what each step changed and the final
+    :func:`geomexact.trace.record.replay` does), and record what each step changed and the final
     mesh.
     O(total changes); raises :class:`TraceError` when ``start`` is not the trace's input
     or a step diverges."""

@@ -25,7 +25,7 @@ from typing import Any
 import attrs
 
 from geomexact.io.files import write_text_atomic
-from geomexact.trace import Trace
+from geomexact.trace.record import Trace
 from geomexact.viz.scene import (
     DEFAULT_EXACT_BUDGET,
     History,

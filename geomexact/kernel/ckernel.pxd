@@ -1,0 +1,116 @@
+# cython: language_level=3
+"""Cython declarations of ``geomexact/kernel/ckernel.h`` (the C pieces shared by the
+compiled kernels) and the Python <-> 128-bit conversions they use.  ``cimport`` only: there
+is no module of this name at run time."""
+
+from libc.stdint cimport int64_t, int8_t, uint64_t
+
+cdef extern from "ckernel.h":
+    # Cython sees the 128-bit types as 64-bit ones; they never cross into Python
+    # directly (the hi/lo helpers do that).
+    ctypedef long long gx_i128
+    ctypedef unsigned long long gx_u128
+    ctypedef struct gx_map:
+        uint64_t mask
+        uint64_t count
+        uint64_t *keys
+        int64_t *values
+    uint64_t GX_EMPTY
+    int gx_map_alloc(gx_map *m, uint64_t slots)
+    void gx_map_free(gx_map *m)
+    uint64_t gx_map_slot(const gx_map *m, uint64_t key) nogil
+    int gx_map_grow(gx_map *m) nogil
+    int64_t gx_map_get(const gx_map *m, uint64_t key, int64_t missing) nogil
+    int gx_map_set(gx_map *m, uint64_t key, int64_t value) nogil
+    int gx_map_del(gx_map *m, uint64_t key) nogil
+    gx_u128 gx_u128_make(uint64_t hi, uint64_t lo)
+    uint64_t gx_u128_hi(gx_u128 x)
+    uint64_t gx_u128_lo(gx_u128 x)
+    gx_u128 gx_cell_hash(uint64_t ka, uint64_t kb, uint64_t kc) nogil
+    int gx_grid_lengths(int64_t, int64_t, int64_t, int64_t,
+                        int64_t, int64_t, int64_t, int64_t) nogil
+    int gx_grid_orient(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil
+    int gx_grid_dot(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil
+    gx_i128 gx_grid_area2(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil
+    int gx_grid_incircle(int64_t, int64_t, int64_t, int64_t,
+                         int64_t, int64_t, int64_t, int64_t) nogil
+    int gx_float_orient(double, double, double, double, double, double) nogil
+    int gx_float_incircle(double, double, double, double,
+                          double, double, double, double) nogil
+    int gx_float_lengths(double, double, double, double,
+                         double, double, double, double) nogil
+    int gx_float_dot(double, double, double, double, double, double) nogil
+    void gx_set_constants(gx_u128 m0, gx_u128 m1, gx_u128 m2, gx_u128 mf,
+                          double orient_c, double orient_k,
+                          double incircle_c, double incircle_k,
+                          double lengths_c, double lengths_k,
+                          double dot_c, double dot_k)
+
+
+cdef inline gx_u128 _to_u128(object value) except *:
+    """A Python int taken mod 2**128."""
+    value = value & ((1 << 128) - 1)
+    return gx_u128_make(<uint64_t>(value >> 64), <uint64_t>(value & 0xFFFFFFFFFFFFFFFF))
+
+
+cdef inline object _from_u128(gx_u128 value):
+    return (<object>gx_u128_hi(value) << 64) | <object>gx_u128_lo(value)
+
+
+cdef inline object _from_i128(gx_i128 value):
+    cdef gx_u128 bits = <gx_u128>value
+    result = _from_u128(bits)
+    if gx_u128_hi(bits) >> 63:
+        result -= 1 << 128
+    return result
+
+
+cdef inline gx_i128 _to_i128(object value) except *:
+    """A Python int with |value| < 2**126."""
+    return <gx_i128>_to_u128(value)
+
+
+cdef inline int _init_constants() except -1:
+    """Fill the C constants (cell-hash multipliers, filter constants) of this module's
+    copy of ckernel.h from geomexact.kernel.digest and geomexact.kernel.predicates."""
+    from geomexact.kernel import digest as _digest
+    from geomexact.kernel import predicates as _predicates
+    m0, m1, m2, _ = _digest._POSITION_MULTIPLIERS
+    gx_set_constants(
+        _to_u128(m0), _to_u128(m1), _to_u128(m2), _to_u128(_digest._FINAL_MULTIPLIER),
+        _predicates.ORIENT2D_C, _predicates.ORIENT2D_K,
+        _predicates.INCIRCLE_C, _predicates.INCIRCLE_K,
+        _predicates.LENGTHS_C, _predicates.LENGTHS_K,
+        _predicates.DOT_C, _predicates.DOT_K,
+    )
+    return 0
+
+
+cdef struct GridPoint:
+    # a vertex as the predicates see it: its doubles, and when ``grid`` is set, its exact
+    # coordinates times 2**F (the kernel's grid) in gx, gy
+    double fx
+    double fy
+    int64_t gx
+    int64_t gy
+    int8_t grid
+
+
+cdef inline int filtered_orient(GridPoint *a, GridPoint *b, GridPoint *c) noexcept nogil:
+    """The sign of orient2d(a, b, c): exact on the grid, else the certified float filter;
+    2 when the filter cannot decide (the caller runs the exact predicate)."""
+    if a.grid and b.grid and c.grid:
+        return gx_grid_orient(a.gx, a.gy, b.gx, b.gy, c.gx, c.gy)
+    return gx_float_orient(a.fx, a.fy, b.fx, b.fy, c.fx, c.fy)
+
+
+cdef inline int filtered_incircle(GridPoint *a, GridPoint *b, GridPoint *c,
+                                  GridPoint *d) noexcept nogil:
+    """The sign of incircle(a, b, c, d), as :func:`filtered_orient` (on the grid only when
+    the reduced differences fit, see ``gx_grid_incircle``); 2 when undecided."""
+    cdef int result = 2
+    if a.grid and b.grid and c.grid and d.grid:
+        result = gx_grid_incircle(a.gx, a.gy, b.gx, b.gy, c.gx, c.gy, d.gx, d.gy)
+    if result == 2:
+        result = gx_float_incircle(a.fx, a.fy, b.fx, b.fy, c.fx, c.fy, d.fx, d.fy)
+    return result

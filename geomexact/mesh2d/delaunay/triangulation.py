@@ -1,0 +1,683 @@
+"""Delaunay property of 2D meshes (exact).
+
+An interior edge {u, v} with triangles (u, v, w) and (v, u, x) is *locally Delaunay* when x
+is not strictly inside the circle through u, v, w.  A mesh is (constrained) Delaunay when
+every unconstrained interior edge is locally Delaunay; constrained segments are exempt.
+Cocircular quadrilaterals count as Delaunay.  See ``specs/delaunay.md``.
+"""
+
+from __future__ import annotations
+
+import collections
+import math
+import random
+from collections.abc import Sequence
+from typing import Literal, TypeAlias
+
+import attrs
+import immutables
+
+from geomexact.errors import PreconditionError
+from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.digest import MODULUS, cell_hash
+from geomexact.kernel.points import Point2
+from geomexact.kernel.predicates import CircleLocation, Orientation, incircle, orient2d
+from geomexact.mesh2d.delaunay.compiled import run_compiled
+from geomexact.mesh2d.ops import (
+    carve_exterior_in,
+    carve_in,
+    constrain_in,
+    containing_triangle,
+    exterior_triangles,
+    flip_in,
+    insert_in_edge_in,
+    set_region_in,
+)
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.segments import crossing_point, meeting_pairs, within_box
+from geomexact.mesh2d.snapshot import (
+    Edge,
+    Mesh2,
+    canonical_triangle,
+    empty_mesh,
+    next_boundary_edge,
+    previous_boundary_edge,
+    walk_star,
+)
+from geomexact.mesh2d.transient import Transient2
+from geomexact.trace.record import Trace, trace_of
+from geomexact.trace.step import Step
+
+_MASK = MODULUS - 1
+CCW = Orientation.COUNTERCLOCKWISE
+CW = Orientation.CLOCKWISE
+COLLINEAR = Orientation.COLLINEAR
+INSIDE = CircleLocation.INSIDE
+
+Engine: TypeAlias = Literal["fast", "python"]
+ENGINES: tuple[str, ...] = ("fast", "python")
+
+
+def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
+    """Sorted (u, v), u < v, of the unconstrained interior edges that are not locally
+    Delaunay.  Edges between triangles with different attributes are exempt like
+    constrained ones (they bound regions; no flip may cross them).  O(n) exact incircle
+    tests."""
+    halfedges, vertices, segments = mesh.halfedges, mesh.vertices, mesh.segments
+    attributes = mesh.triangle_attributes
+    found = []
+    for key, w in halfedges.items():
+        u, v = key
+        if u > v or key in segments:
+            continue
+        x = halfedges.get((v, u))
+        if x is None:
+            continue
+        if len(attributes) and attributes.get(canonical_triangle(u, v, w)) != attributes.get(
+            canonical_triangle(v, u, x)
+        ):
+            continue
+        location = incircle(vertices[u], vertices[v], vertices[w], vertices[x])
+        if location == CircleLocation.INSIDE:
+            found.append((u, v))
+    return sorted(found)
+
+
+def is_delaunay(mesh: Mesh2) -> bool:
+    """True when every unconstrained interior edge is locally Delaunay (exact)."""
+    return not non_delaunay_edges(mesh)
+
+
+# ---------------------------------------------------------------------------------------
+# Delaunay triangulation of a point set (incremental, BRIO + snake order, walk)
+# ---------------------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class Construction:
+    """A triangulation run: the mesh of isolated input vertices it started from
+    (``start``), the result (``mesh``), the trace replaying ``start`` to ``mesh``, and the
+    duplicate input points that were merged (pairs ``(dropped id, kept id)``; the dropped
+    vertex stays isolated)."""
+
+    start: Mesh2
+    mesh: Mesh2
+    trace: Trace
+    duplicates: tuple[tuple[int, int], ...] = ()
+
+
+def vertices_mesh(pslg: PSLG) -> Mesh2:
+    """The mesh of the PSLG's vertices (ids = PSLG ids, markers and attributes kept), with
+    no triangles and no segments: the start of every triangulation trace."""
+    transient = Transient2(empty_mesh())
+    for index, point in enumerate(pslg.vertices):
+        attributes = pslg.vertex_attributes[index] if pslg.vertex_attributes else ()
+        transient.add_vertex(point, pslg.marker(index), attributes)
+    return transient.seal()
+
+
+def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
+    """Pairs (later id, first id) of points with equal exact coordinates, in id order.
+    Points are bucketed by their doubles (exact coordinates when a double is not finite)
+    and compared exactly within a bucket.  Expected O(n)."""
+    doubles = [(point.fx, point.fy) for point in points]
+    if len(set(doubles)) == len(doubles) and all(
+        math.isfinite(x) and math.isfinite(y) for x, y in doubles
+    ):
+        return []  # distinct finite doubles: distinct exact points
+    buckets: dict[tuple[object, object], list[int]] = {}
+    duplicates: list[tuple[int, int]] = []
+    for index, point in enumerate(points):
+        key: tuple[object, object] = (point.fx, point.fy)
+        if not (math.isfinite(point.fx) and math.isfinite(point.fy)):
+            key = (point.x, point.y)
+        bucket = buckets.get(key)
+        if bucket is None:
+            buckets[key] = [index]
+            continue
+        for kept in bucket:
+            if points[kept] == point:
+                duplicates.append((index, kept))
+                break
+        else:
+            bucket.append(index)
+    return duplicates
+
+
+def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
+    """A biased randomized insertion order (Amenta–Choi–Rote): a seeded shuffle cut into
+    rounds of doubling size, each round sorted along a snake (boustrophedon) curve over a
+    grid of about 2 points per cell.  Deterministic for given points and seed; O(n log n).
+
+    Each round is sorted by (column, y along the column's direction, vertex id), computed
+    from the halved doubles (differences of halves never overflow near the double limit;
+    a non-finite double counts as the lowest finite one): column = min(cells - 1,
+    int((x - low_x) / span * cells)), with ``cells = max(1, int(sqrt(len(round) / 2)))``
+    and ``span`` the larger side of the finite bounding box (1.0 when it is a point).
+    The arithmetic is vectorised (numpy, IEEE doubles, the same operations in the same
+    order), so the order is the one this definition gives, bit for bit.
+    """
+    import numpy as np
+
+    order = list(range(len(points)))
+    random.Random(seed).shuffle(order)
+    if not points:
+        return order
+    shuffled = np.array(order, dtype=np.int64)
+    halves = np.array([(points[i].fx, points[i].fy) for i in order], dtype=np.float64) * 0.5
+    finite = np.isfinite(halves)
+    lows, highs = [], []
+    for axis in (0, 1):
+        values = halves[finite[:, axis], axis]
+        lows.append(float(values.min()) if values.size else 0.0)
+        highs.append(float(values.max()) if values.size else 0.0)
+    low_x, low_y = lows
+    span = max(highs[0] - low_x, highs[1] - low_y) or 1.0
+    xs = np.where(finite[:, 0], halves[:, 0], low_x)
+    ys = np.where(finite[:, 1], halves[:, 1], low_y)
+    bounds = []
+    end = len(order)
+    while end > 0:
+        begin = end // 2 if end > 64 else 0
+        bounds.append((begin, end))
+        end = begin
+    result: list[int] = []
+    for begin, end in reversed(bounds):
+        cells = max(1, int(math.sqrt((end - begin) / 2)))
+        # (x - low_x) / span * cells is in [0, cells]: truncation is int()
+        columns = np.minimum(
+            cells - 1, ((xs[begin:end] - low_x) / span * cells).astype(np.int64)
+        )
+        along = np.where(columns % 2 == 0, ys[begin:end] - low_y, low_y - ys[begin:end])
+        vertices = shuffled[begin:end]
+        result.extend(vertices[np.lexsort((vertices, along, columns))].tolist())
+    return result
+
+
+class _DelaunayBuilder:
+    """The batch builder of :func:`triangulate_points`: a plain half-edge dict, the
+    incremental digest and the steps, owned by one call (same step semantics as
+    :mod:`geomexact.mesh2d.ops`, checked by replaying the trace in the tests)."""
+
+    __slots__ = ("apex", "digest", "digests", "hashes", "last", "points", "steps")
+
+    def __init__(self, points: Sequence[Point2], digest: int) -> None:
+        self.points = points
+        self.apex: dict[tuple[int, int], int] = {}
+        # cell hash of each live triangle, keyed by its canonical form: a triangle is
+        # hashed once even when a later flip removes it
+        self.hashes: dict[tuple[int, int, int], int] = {}
+        self.digest = digest
+        self.steps: list[Step] = []
+        self.digests: list[int] = []
+        self.last: tuple[int, int] = (0, 0)
+
+    def _add(self, a: int, b: int, c: int) -> None:
+        apex = self.apex
+        apex[(a, b)] = c
+        apex[(b, c)] = a
+        apex[(c, a)] = b
+        key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
+        value = self.hashes[key] = cell_hash(key)
+        self.digest = (self.digest + value) & _MASK
+
+    def _remove(self, a: int, b: int, c: int) -> None:
+        apex = self.apex
+        del apex[(a, b)]
+        del apex[(b, c)]
+        del apex[(c, a)]
+        key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
+        self.digest = (self.digest - self.hashes.pop(key)) & _MASK
+
+    def _record(self, op: str, args: tuple[int, ...]) -> None:
+        self.steps.append(Step(op, args))
+        self.digests.append(self.digest)
+
+    def make_triangle(self, a: int, b: int, c: int) -> None:
+        pa, pb, pc = self.points[a], self.points[b], self.points[c]
+        if orient2d(pa, pb, pc) == CCW:
+            self._add(a, b, c)
+        else:
+            self._add(a, c, b)
+        self._record("make_triangle", (a, b, c))
+        self.last = (a, b) if (a, b) in self.apex else (a, c)
+
+    def locate(self, p: Point2) -> tuple[str, tuple[int, int, int]]:
+        """Walk from the last triangle to ``p``: ("inside", (a, b, c)), ("edge", (u, v, _))
+        or ("outside", (u, v, _)) for a boundary half-edge (u, v) with p strictly right."""
+        apex, points = self.apex, self.points
+        a, b = self.last
+        c = apex[(a, b)]
+        if orient2d(points[a], points[b], p) == CW:
+            d = apex.get((b, a))
+            if d is None:
+                return "outside", (a, b, -1)
+            a, b, c = b, a, d
+        while True:
+            pa, pb, pc = points[a], points[b], points[c]
+            o1 = orient2d(pb, pc, p)
+            if o1 == CW:
+                d = apex.get((c, b))
+                if d is None:
+                    return "outside", (b, c, -1)
+                a, b, c = c, b, d
+                continue
+            o2 = orient2d(pc, pa, p)
+            if o2 == CW:
+                d = apex.get((a, c))
+                if d is None:
+                    return "outside", (c, a, -1)
+                a, b, c = a, c, d
+                continue
+            o0 = orient2d(pa, pb, p)
+            if o0 == CW:  # only possible in the first triangle
+                d = apex.get((b, a))
+                if d is None:
+                    return "outside", (a, b, -1)
+                a, b, c = b, a, d
+                continue
+            if o1 == COLLINEAR:
+                return "edge", (b, c, a)
+            if o2 == COLLINEAR:
+                return "edge", (c, a, b)
+            if o0 == COLLINEAR:
+                return "edge", (a, b, c)
+            return "inside", (a, b, c)
+
+    def insert(self, vertex: int) -> None:
+        p = self.points[vertex]
+        where, (a, b, c) = self.locate(p)
+        apex = self.apex
+        pending: list[tuple[int, int]]
+        if where == "inside":
+            self._remove(a, b, c)
+            self._add(a, b, vertex)
+            self._add(b, c, vertex)
+            self._add(c, a, vertex)
+            self._record("attach_in_triangle", (vertex, a, b, c))
+            pending = [(c, a), (b, c), (a, b)]
+        elif where == "edge":
+            u, v = a, b
+            w, x = apex.get((u, v)), apex.get((v, u))
+            pending = []
+            if w is not None:
+                self._remove(u, v, w)
+                self._add(u, vertex, w)
+                self._add(vertex, v, w)
+                pending += [(v, w), (w, u)]
+            if x is not None:
+                self._remove(v, u, x)
+                self._add(v, vertex, x)
+                self._add(vertex, u, x)
+                pending += [(u, x), (x, v)]
+            self._record("attach_in_edge", (vertex, u, v))
+        else:
+            pending = self._attach_outside(vertex, a, b)
+        self.last = (vertex, pending[0][0])
+        self._legalize(vertex, pending)
+
+    def _attach_outside(self, vertex: int, u: int, v: int) -> list[tuple[int, int]]:
+        apex, points = self.apex, self.points
+        p = points[vertex]
+        visible = [(u, v)]
+
+        def find(a: int, b: int) -> int | None:
+            return apex.get((a, b))
+
+        edge = next_boundary_edge(find, u, v)
+        while orient2d(points[edge[0]], points[edge[1]], p) == CW:
+            visible.append(edge)
+            edge = next_boundary_edge(find, *edge)
+        edge = previous_boundary_edge(find, u, v)
+        while orient2d(points[edge[0]], points[edge[1]], p) == CW:
+            visible.insert(0, edge)
+            edge = previous_boundary_edge(find, *edge)
+        for a, b in visible:
+            self._add(b, a, vertex)
+        self._record("attach_outside", (vertex, u, v))
+        return [(b, a) for a, b in visible]
+
+    def _legalize(self, vertex: int, pending: list[tuple[int, int]]) -> None:
+        """Lawson flips of the edges (a, b) opposite ``vertex`` in triangles
+        (vertex, a, b)... given as (a, b) with apex(a, b) == vertex."""
+        apex, points, hashes = self.apex, self.points, self.hashes
+        steps, digests = self.steps, self.digests
+        p = points[vertex]
+        digest = self.digest
+        while pending:
+            a, b = pending.pop()
+            q = apex.get((b, a))
+            if q is None or apex.get((a, b)) != vertex:
+                continue
+            if incircle(points[a], points[b], p, points[q]) != INSIDE:
+                continue
+            # flip (a, b): triangles (a, b, vertex), (b, a, q) -> (q, vertex, a), (vertex, q, b)
+            old1 = ((a, b, vertex) if a < b and a < vertex else
+                    (b, vertex, a) if b < vertex else (vertex, a, b))
+            old2 = (b, a, q) if b < a and b < q else (a, q, b) if a < q else (q, b, a)
+            new1 = ((q, vertex, a) if q < vertex and q < a else
+                    (vertex, a, q) if vertex < a else (a, q, vertex))
+            new2 = ((vertex, q, b) if vertex < q and vertex < b else
+                    (q, b, vertex) if q < b else (b, vertex, q))
+            del apex[(a, b)]
+            del apex[(b, a)]
+            apex[(q, vertex)] = a
+            apex[(vertex, a)] = q
+            apex[(a, q)] = vertex
+            apex[(vertex, q)] = b
+            apex[(q, b)] = vertex
+            apex[(b, vertex)] = q
+            hash1 = hashes[new1] = cell_hash(new1)
+            hash2 = hashes[new2] = cell_hash(new2)
+            digest = (digest + hash1 + hash2 - hashes.pop(old1) - hashes.pop(old2)) & _MASK
+            steps.append(Step("flip", (a, b)))
+            digests.append(digest)
+            pending.append((q, b))
+            pending.append((a, q))
+        self.digest = digest
+
+    def seal(self, start: Mesh2) -> Mesh2:
+        apex = self.apex
+        outgoing = {u: v for u, v in apex}
+        return attrs.evolve(
+            start,
+            halfedges=immutables.Map(apex),
+            outgoing=immutables.Map(outgoing),
+            triangle_count=len(apex) // 3,
+            digest=self.digest,
+        )
+
+
+def triangulate_points(
+    points: PSLG | Sequence[Point2],
+    *,
+    merge_duplicates: bool = False,
+    seed: int = 0,
+    engine: Engine = "fast",
+) -> Construction:
+    """The Delaunay triangulation of a point set (a PSLG's segments, holes and regions are
+    ignored here; see :func:`triangulate`).
+
+    Incremental insertion in a biased randomized order with a visibility walk: expected
+    O(n log n).  Vertex ids are the input positions.  Points outside the current hull are
+    joined to every hull edge they see strictly, so the result covers the convex hull;
+    cocircular points are resolved by the tie rule of :func:`geomexact.mesh2d.ops.legalize_in`
+    (no flip on a tie), which makes the result depend on the insertion order only there.
+    Raises :class:`PreconditionError` for fewer than 3 distinct points, all points
+    collinear, or duplicate points unless ``merge_duplicates`` (then every copy after the
+    first stays isolated and is listed in ``Construction.duplicates``).
+
+    ``engine``: ``"fast"`` runs the compiled kernel (:mod:`geomexact.mesh2d.delaunay.compiled`)
+    when it is built, else the Python builder; ``"python"`` always runs the Python builder.
+    Both record the same trace and build the same mesh.
+    """
+    if engine not in ENGINES:
+        raise PreconditionError("triangulate", f"unknown engine {engine!r}; choose from {ENGINES}")
+    pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
+    vertices = pslg.vertices
+    duplicates = duplicate_points(vertices)
+    if duplicates and not merge_duplicates:
+        shown = ", ".join(f"{d} = {k}" for d, k in duplicates[:10])
+        more = f" and {len(duplicates) - 10} more" if len(duplicates) > 10 else ""
+        raise PreconditionError(
+            "triangulate",
+            f"{len(duplicates)} duplicate points (vertex = earlier vertex): {shown}{more}; "
+            "pass merge_duplicates=True (--merge-duplicates) to keep only the first copy",
+            duplicates=tuple(duplicates),
+        )
+    dropped = {d for d, _ in duplicates}
+    order = [v for v in insertion_order(vertices, seed=seed) if v not in dropped]
+    if len(order) < 3:
+        raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3")
+    a, b = order[0], order[1]
+    third = next(
+        (k for k in range(2, len(order))
+         if orient2d(vertices[a], vertices[b], vertices[order[k]]) != COLLINEAR),
+        None,
+    )
+    if third is None:
+        raise PreconditionError("triangulate", "all points are collinear: no triangle exists")
+    start = vertices_mesh(pslg)
+    c = order.pop(third)
+    from geomexact import __version__
+
+    with collector_paused():
+        compiled = (
+            run_compiled(vertices, start, (a, b, c), order[2:]) if engine == "fast" else None
+        )
+        if compiled is not None:
+            mesh, steps, digests = compiled.mesh, compiled.steps, compiled.digests
+        else:
+            builder = _DelaunayBuilder(vertices, start.digest)
+            builder.make_triangle(a, b, c)
+            for vertex in order[2:]:
+                builder.insert(vertex)
+            mesh, steps, digests = builder.seal(start), builder.steps, builder.digests
+        # the engine is not a parameter of the construction: both record this trace
+        trace = Trace(start.digest, steps, digests,
+                      {"algorithm": "delaunay", "seed": seed,
+                       "merge_duplicates": merge_duplicates}, __version__)
+    return Construction(start, mesh, trace, tuple(duplicates))
+
+
+# ---------------------------------------------------------------------------------------
+# Lawson flips, segment recovery, constrained Delaunay triangulation of a PSLG
+# ---------------------------------------------------------------------------------------
+def make_delaunay_in(t: Transient2) -> int:
+    """Lawson's flip algorithm on a transient: flip every unconstrained interior edge that
+    is not locally Delaunay (a strict incircle test: cocircular quadrilaterals are left
+    alone) until none is left; edges are examined from a stack seeded with all edges in
+    sorted order, and the four outer edges of each flipped quadrilateral are pushed back.
+    Terminates (each flip lifts the triangulation strictly, Lawson 1977).  Returns the
+    number of flips."""
+    pending = sorted(t.iter_edges(), reverse=True)
+    flips = 0
+    while pending:
+        u, v = pending.pop()
+        w, x = t.apex(u, v), t.apex(v, u)
+        if w is None or x is None or t.segment_marker(u, v) is not None:
+            continue
+        pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
+        if incircle(pu, pv, pw, px) != INSIDE:
+            continue
+        if orient2d(px, pw, pu) != CCW or orient2d(pw, px, pv) != CCW:
+            continue
+        if t.triangle_attributes((u, v, w)) != t.triangle_attributes((v, u, x)):
+            continue
+        flip_in(t, u, v)
+        flips += 1
+        pending.extend(sorted([(min(a, b), max(a, b)) for a, b in
+                               ((u, x), (x, v), (v, w), (w, u))], reverse=True))
+    return flips
+
+
+def make_delaunay(mesh: Mesh2) -> tuple[Mesh2, Trace]:
+    """The (constrained) Delaunay triangulation of the same vertices, segments and
+    domain as ``mesh``, by Lawson flips; the trace records the flips."""
+    transient = Transient2(mesh)
+    make_delaunay_in(transient)
+    result = transient.seal()
+    return result, trace_of(mesh, transient, {"algorithm": "lawson"})
+
+
+class SegmentError(PreconditionError):
+    """Input segments that cross each other or pass through a vertex, when splitting them
+    is not allowed.  ``pairs`` lists the offending pairs: ((u, v), (a, b)) for two
+    segments that meet, ((u, v), w) for a segment through vertex w."""
+
+    def __init__(self, pairs: list[tuple[tuple[int, int], object]]) -> None:
+        shown = "; ".join(
+            f"segments {first} and {second} meet" if isinstance(second, tuple)
+            else f"segment {first} passes through vertex {second}"
+            for first, second in pairs[:20]
+        )
+        more = f" (and {len(pairs) - 20} more)" if len(pairs) > 20 else ""
+        super().__init__(
+            "triangulate",
+            "segments cross or pass through vertices (pass split_segments=True / "
+            f"--split-segments to split them there): {shown or 'segments meet'}{more}",
+            pairs=tuple(pairs),
+        )
+        self.pairs = tuple(pairs)
+
+
+def _offending_pairs(pslg: PSLG) -> list[tuple[tuple[int, int], object]]:
+    """Pairs of input segments that meet improperly, then segments through vertices."""
+    points = pslg.vertices
+    segments = [(u, v) for u, v, _ in pslg.segments]
+    found: list[tuple[tuple[int, int], object]] = list(meeting_pairs(points, segments))
+    for u, v in segments:
+        for w in range(len(points)):
+            if w not in (u, v) and orient2d(points[u], points[v], points[w]) == COLLINEAR \
+                    and within_box(points[w], points[u], points[v]):
+                found.append(((u, v), w))
+    return found
+
+
+def _insert_segment(t: Transient2, u: int, v: int, marker: int, split: bool,
+                    pslg: PSLG) -> None:
+    """Make {u, v} (a union of) constrained edges: split at vertices on it and (when
+    ``split``) at crossings with constrained edges, then flip away the edges it crosses
+    (Sloan 1993)."""
+    work = [(u, v)]
+    while work:
+        a, b = work.pop()
+        if a == b:
+            continue
+        if t.apex(a, b) is not None or t.apex(b, a) is not None:
+            if t.segment_marker(a, b) is None:
+                constrain_in(t, a, b, marker)
+            continue
+        crossed, stop = _crossed_edges(t, a, b)
+        if stop is not None:
+            kind, data = stop
+            if not split:
+                raise SegmentError(_offending_pairs(pslg))
+            if kind == "vertex":
+                w = data[0]
+            else:  # a constrained edge (p, q) crosses ab: split both at the crossing
+                p, q = data
+                point = crossing_point(t.point(a), t.point(b), t.point(p), t.point(q))
+                w = insert_in_edge_in(t, p, q, point)
+            work.append((w, b))
+            work.append((a, w))
+            continue
+        _flip_out(t, a, b, crossed)
+        constrain_in(t, a, b, marker)
+
+
+def _crossed_edges(
+    t: Transient2, a: int, b: int
+) -> tuple[list[tuple[int, int]], tuple[str, tuple[int, ...]] | None]:
+    """Edges crossed by segment ab, walking from a; or a stop: ("vertex", (w,)) for the
+    first vertex w strictly inside ab, ("constrained", (p, q)) for the first constrained
+    edge crossed."""
+    pa, pb = t.point(a), t.point(b)
+    current: tuple[int, int] | None = None  # (vertex left of ab, vertex right of ab)
+    for _, first, second in walk_star(t.apex, a, t.outgoing(a)):
+        side = orient2d(pa, pb, t.point(first))
+        other = orient2d(pa, pb, t.point(second))
+        for vertex, orientation in ((first, side), (second, other)):
+            if orientation == COLLINEAR and within_box(t.point(vertex), pa, pb):
+                return [], ("vertex", (vertex,))
+        if side == CW and other == CCW:
+            current = (second, first)
+            break
+    if current is None:
+        raise PreconditionError("triangulate", f"segment ({a}, {b}) leaves the mesh at {a}")
+    crossed: list[tuple[int, int]] = []
+    while True:
+        left, right = current
+        if t.segment_marker(left, right) is not None:
+            return crossed, ("constrained", (left, right))
+        crossed.append(current)
+        c = t.apex(left, right)
+        if c is None:
+            raise PreconditionError("triangulate", f"segment ({a}, {b}) leaves the mesh")
+        if c == b:
+            return crossed, None
+        side = orient2d(pa, pb, t.point(c))
+        if side == COLLINEAR:
+            return crossed, ("vertex", (c,))
+        current = (c, right) if side == CCW else (left, c)
+
+
+def _flip_out(t: Transient2, a: int, b: int, crossed: list[tuple[int, int]]) -> None:
+    """Flip the edges crossing ab until ab is an edge (Sloan's queue: an edge whose
+    quadrilateral is not strictly convex waits at the back)."""
+    pa, pb = t.point(a), t.point(b)
+    queue = collections.deque(crossed)
+    stalled = 0
+    while queue:
+        u, v = queue.popleft()
+        w, x = t.apex(u, v), t.apex(v, u)
+        assert w is not None and x is not None  # crossing edges are interior
+        pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
+        if orient2d(px, pw, pu) != CCW or orient2d(pw, px, pv) != CCW:
+            queue.append((u, v))
+            stalled += 1
+            if stalled > len(queue) + 1:
+                raise PreconditionError("triangulate", f"cannot recover segment ({a}, {b})")
+            continue
+        stalled = 0
+        flip_in(t, u, v)
+        if {w, x} == {a, b}:
+            continue
+        sw, sx = orient2d(pa, pb, pw), orient2d(pa, pb, px)
+        if sw * sx < 0:
+            queue.append((w, x) if sw == CCW else (x, w))
+
+
+def triangulate(
+    pslg: PSLG | Sequence[Point2],
+    *,
+    keep_convex_hull: bool = False,
+    split_segments: bool = False,
+    merge_duplicates: bool = False,
+    seed: int = 0,
+    engine: Engine = "fast",
+) -> Construction:
+    """The constrained Delaunay triangulation of a PSLG (a point set gives its Delaunay
+    triangulation).
+
+    1. :func:`triangulate_points` on all vertices;
+    2. each segment, in input order, is recovered by flips (Sloan) and constrained; a
+       vertex lying on a segment or two crossing segments raise :class:`SegmentError`
+       listing them, unless ``split_segments`` (then the segment is split at the vertex, and
+       crossing segments at their exact crossing point, a new vertex);
+    3. Lawson flips make it constrained Delaunay;
+    4. unless ``keep_convex_hull``, triangles outside the segments are removed (when the
+       PSLG has segments), then each hole seed's region, then regional attributes are set.
+
+    Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
+    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1).
+    """
+    pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
+    points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed,
+                                    engine=engine)
+    if not (pslg.segments or pslg.holes or pslg.regions):
+        return points_run
+    remap = dict(points_run.duplicates)
+    transient = Transient2(points_run.mesh)
+    with collector_paused():
+        for u, v, marker in pslg.segments:
+            _insert_segment(transient, remap.get(u, u), remap.get(v, v), marker,
+                            split_segments, pslg)
+        make_delaunay_in(transient)
+        if pslg.segments and not keep_convex_hull and exterior_triangles(transient):
+            carve_exterior_in(transient)
+        for hole in pslg.holes:
+            if containing_triangle(transient, hole) is not None:
+                carve_in(transient, hole.x, hole.y)
+        for region in pslg.regions:
+            if containing_triangle(transient, region.point) is not None:
+                set_region_in(transient, region.point.x, region.point.y, (region.attribute,))
+        mesh = transient.seal()
+    first = points_run.trace
+    trace = Trace(
+        first.input_digest,
+        (*first.steps, *transient.steps),
+        (*first.digests, *transient.step_digests),
+        {**dict(first.parameters), "keep_convex_hull": keep_convex_hull,
+         "split_segments": split_segments},
+        first.version,
+    )
+    return Construction(points_run.start, mesh, trace, points_run.duplicates)

@@ -1,0 +1,1 @@
+"""Polygon meshes: the polygon-mesh value, Polylla, and convex decomposition."""

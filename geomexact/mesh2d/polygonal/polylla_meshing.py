@@ -1,0 +1,651 @@
+"""Polylla: polygonal meshes from terminal-edge regions (exact).
+
+Salinas-Fernández, Hitschfeld, Ojeda, Hitschfeld-Kahler, *Generation of unstructured
+polygonal meshes with Polylla*, Engineering with Computers 38 (2022) 4287–4305.
+
+Given a triangulation, Polylla merges all triangles whose longest-edge propagation path
+(Lepp, :mod:`geomexact.mesh2d.longest_edge`) ends at the same terminal edge into one polygon:
+
+1. **Label phase** (exact): each triangle's longest edge by the edge order of
+   :func:`geomexact.mesh2d.longest_edge.edge_order` (exact squared lengths; equal lengths: smaller
+   ``(min id, max id)`` pair first).  An edge is *internal* when some triangle's Lepp
+   crosses it, *frontier* otherwise (so every boundary edge, constrained segment and edge
+   between triangles of different attributes is a frontier edge), and *terminal* when some
+   triangle's Lepp ends at it.
+2. **Traversal phase**: from one seed per terminal edge (the triangle whose Lepp ends
+   there), the region's triangles are collected across internal edges and its boundary is
+   walked along frontier edges: one counter-clockwise vertex cycle per region.
+3. **Repair phase**: a region whose cycle goes along an edge and straight back (a
+   *barrier edge*, both sides in the region) has a *barrier-edge tip*; the middle internal
+   edge around the tip becomes a frontier edge, splitting the polygon.  A region whose
+   cycle touches itself at a vertex (it wraps around other regions) is cut between the two
+   visits.  Repeated until every polygon is simple.
+
+The tie rules are written in ``specs/polylla.md``.  Everything runs on flat lists of
+half-edges (``3 t + i`` is edge i of triangle t), O(n) apart from sorting; the label phase
+runs on numpy arrays with the certified float filter of the exact length comparison, and
+the exact comparison wherever the filter does not decide.
+
+>>> from geomexact.mesh2d.transient import mesh_from_triangles
+>>> square = mesh_from_triangles([(0, 0), (2, 0), (2, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
+>>> polylla(square).polygons
+((0, 1, 2, 3),)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from typing import Any
+
+import attrs
+import numpy as np
+
+from geomexact.errors import GeomexactError
+from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.points import Point2
+from geomexact.kernel.predicates import LENGTHS_C, LENGTHS_K, Comparison, compare_squared_lengths
+from geomexact.mesh2d.longest_edge import edge_order
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle
+
+__all__ = [
+    "EdgeLabels",
+    "HalfEdgeTable",
+    "PolyllaError",
+    "PolyllaRun",
+    "label_edges",
+    "polylla",
+    "polylla_run",
+]
+
+_EQUAL = Comparison.EQUAL
+
+
+class PolyllaError(GeomexactError, RuntimeError):
+    """An invariant of the Polylla construction failed (e.g. on a triangulation that is
+    not a valid mesh): raised instead of returning a wrong polygon mesh."""
+
+
+# -----------------------------------------------------------------------------------------
+# flat half-edge tables
+# -----------------------------------------------------------------------------------------
+class HalfEdgeTable:
+    """Counter-clockwise triangles as flat half-edge lists, with a frontier flag per
+    half-edge.  Half-edge ``h = 3 t + i`` goes from ``origin[h]`` (vertex i of triangle t)
+    to the next vertex of t; ``twin[h]`` is the reverse half-edge, -1 on the boundary.
+
+    Owned by the function that builds it (mutable, like a transient); shared by
+    :mod:`geomexact.mesh2d.polygonal.polylla_meshing` and :mod:`geomexact.mesh2d.polygonal.convex`.
+    """
+
+    __slots__ = ("frontier", "key_order", "origin", "origin_array", "points", "sorted_keys",
+                 "target_array", "triangles", "twin", "twin_array")
+
+    def __init__(self, points: Sequence[Point2], triangles: Sequence[Triangle]) -> None:
+        self.points = list(points)
+        self.triangles = list(triangles)
+        corners = np.array(self.triangles, dtype=np.int64).reshape(-1, 3)
+        origin = corners.reshape(-1)
+        target = corners[:, [1, 2, 0]].reshape(-1)
+        size = len(self.points) + 1
+        if size * size >= 2**62:  # pragma: no cover - beyond memory long before
+            raise PolyllaError(f"{size - 1} vertices are too many for packed edge keys")
+        keys = origin * size + target  # the half-edge (u, v) as one integer
+        order = np.argsort(keys, kind="stable")
+        ordered = keys[order]
+        if len(ordered) > 1 and bool((ordered[1:] == ordered[:-1]).any()):
+            raise PolyllaError("two triangles share a directed edge: the triangles overlap")
+        reverse = target * size + origin
+        found = np.searchsorted(ordered, reverse)
+        found[found == len(ordered)] = 0
+        twin = np.where(ordered[found] == reverse, order[found], -1) if len(ordered) else found
+        self.origin_array = origin
+        self.target_array = target
+        self.twin_array = twin
+        self.sorted_keys = ordered
+        self.key_order = order
+        self.origin: list[int] = origin.tolist()
+        self.twin: list[int] = twin.tolist()
+        self.frontier = bytearray(len(self.origin))
+
+    def find(self, origins: Any, targets: Any) -> Any:
+        """The half-edges (origin, target) for arrays of origins and targets; -1 where
+        there is none."""
+        size = len(self.points) + 1
+        keys = np.asarray(origins, dtype=np.int64) * size + np.asarray(targets, dtype=np.int64)
+        ordered = self.sorted_keys
+        if not len(ordered):
+            return np.full(len(keys), -1, dtype=np.int64)
+        found = np.searchsorted(ordered, keys)
+        found[found == len(ordered)] = 0
+        return np.where(ordered[found] == keys, self.key_order[found], -1)
+
+    @classmethod
+    def from_mesh(cls, mesh: Mesh2) -> HalfEdgeTable:
+        """The table of ``mesh``'s triangles in sorted canonical order."""
+        vertices = mesh.vertices
+        return cls([vertices[i] for i in range(len(vertices))], mesh.triangles())
+
+    def __len__(self) -> int:
+        return len(self.origin)
+
+    def target(self, h: int) -> int:
+        """The vertex half-edge ``h`` points to."""
+        return self.origin[h + 1 if h % 3 != 2 else h - 2]
+
+    def edge(self, h: int) -> Edge:
+        """Half-edge ``h`` as the pair (origin, target)."""
+        return self.origin[h], self.target(h)
+
+    def next_frontier(self, h: int) -> int:
+        """The frontier half-edge that follows frontier half-edge ``h`` on the boundary of
+        its polygon (turning clockwise around the target of ``h`` across internal
+        edges)."""
+        frontier, twin = self.frontier, self.twin
+        g = h + 1 if h % 3 != 2 else h - 2
+        while not frontier[g]:
+            g = twin[g]
+            g = g + 1 if g % 3 != 2 else g - 2
+        return g
+
+    def fan(self, h: int) -> list[int]:
+        """The internal half-edges leaving the target of frontier half-edge ``h``, in
+        clockwise order, up to the next frontier half-edge."""
+        frontier, twin = self.frontier, self.twin
+        found = []
+        g = h + 1 if h % 3 != 2 else h - 2
+        while not frontier[g]:
+            found.append(g)
+            g = twin[g]
+            g = g + 1 if g % 3 != 2 else g - 2
+        return found
+
+    def components(self, triangles: Sequence[int]) -> list[list[int]]:
+        """The given triangles (ids) grouped into classes connected across internal
+        (non-frontier) edges, each sorted; classes ordered by their smallest triangle."""
+        wanted = set(triangles)
+        frontier, twin = self.frontier, self.twin
+        result = []
+        for start in sorted(wanted):
+            if start not in wanted:
+                continue
+            wanted.discard(start)
+            group = [start]
+            stack = [start]
+            while stack:
+                t = stack.pop()
+                for h in (3 * t, 3 * t + 1, 3 * t + 2):
+                    if not frontier[h]:
+                        u = twin[h] // 3
+                        if u in wanted:
+                            wanted.discard(u)
+                            group.append(u)
+                            stack.append(u)
+            group.sort()
+            result.append(group)
+        return result
+
+    def boundary_cycle(self, triangles: Sequence[int]) -> list[int]:
+        """The frontier half-edges of a class of triangles connected across internal edges,
+        in boundary order starting from the smallest; :class:`PolyllaError` when they do
+        not form one closed walk (the class would not be a disk)."""
+        frontier = self.frontier
+        count = 0
+        first = -1
+        for t in triangles:
+            for h in (3 * t, 3 * t + 1, 3 * t + 2):
+                if frontier[h]:
+                    count += 1
+                    if first < 0 or h < first:
+                        first = h
+        if first < 0:
+            raise PolyllaError(f"triangles {self.triangles[triangles[0]]}… have no frontier "
+                               "edge around them")
+        twin = self.twin
+        cycle = [first]
+        h = first
+        while True:  # next_frontier, inlined
+            h = h + 1 if h % 3 != 2 else h - 2
+            while not frontier[h]:
+                h = twin[h]
+                h = h + 1 if h % 3 != 2 else h - 2
+            if h == first or len(cycle) > count:
+                break
+            cycle.append(h)
+        if len(cycle) != count:
+            raise PolyllaError(
+                f"the boundary of the polygon with triangle {self.triangles[first // 3]} is "
+                f"not one closed walk ({len(cycle)} of {count} frontier half-edges)"
+            )
+        return cycle
+
+    def all_polygons(self) -> tuple[list[list[int]], list[list[int]]]:
+        """(triangles, boundary cycle) of every class of triangles connected across
+        internal edges, classes ordered by their smallest triangle; :class:`PolyllaError`
+        when a class's frontier half-edges do not form exactly one closed walk.  O(n)."""
+        frontier, twin = self.frontier, self.twin
+        count = len(self.triangles)
+        label = [-1] * count
+        groups: list[list[int]] = []
+        for start in range(count):
+            if label[start] >= 0:
+                continue
+            number = len(groups)
+            label[start] = number
+            group = [start]
+            stack = [start]
+            while stack:
+                t = stack.pop()
+                for h in (3 * t, 3 * t + 1, 3 * t + 2):
+                    if not frontier[h]:
+                        u = twin[h] // 3
+                        if label[u] < 0:
+                            label[u] = number
+                            group.append(u)
+                            stack.append(u)
+            group.sort()
+            groups.append(group)
+        cycles: list[list[int] | None] = [None] * len(groups)
+        seen = bytearray(len(frontier))
+        for first in range(len(frontier)):
+            if not frontier[first] or seen[first]:
+                continue
+            cycle = [first]
+            seen[first] = 1
+            h = first
+            while True:  # next_frontier, inlined
+                h = h + 1 if h % 3 != 2 else h - 2
+                while not frontier[h]:
+                    h = twin[h]
+                    h = h + 1 if h % 3 != 2 else h - 2
+                if seen[h]:
+                    break
+                seen[h] = 1
+                cycle.append(h)
+            number = label[first // 3]
+            if h != first or cycles[number] is not None:
+                raise PolyllaError(f"the boundary of the polygon with triangle "
+                                   f"{self.triangles[first // 3]} is not one closed walk")
+            cycles[number] = cycle
+        done = [cycle for cycle in cycles if cycle is not None]
+        if len(done) != len(groups):
+            raise PolyllaError("a class of triangles has no frontier edge around it")
+        return groups, done
+
+    def polygon(self, cycle: Sequence[int]) -> tuple[int, ...]:
+        """The vertex cycle of a boundary cycle, rotated to start at its smallest vertex."""
+        origin = self.origin
+        vertices = [origin[h] for h in cycle]
+        start = vertices.index(min(vertices))
+        return tuple(vertices[start:] + vertices[:start])
+
+    def sealed(
+        self, groups: Sequence[Sequence[int]], cycles: Sequence[Sequence[int]]
+    ) -> PolygonMesh:
+        """A polygon mesh of the given triangle classes and their boundary cycles, polygons
+        sorted by their vertex tuples."""
+        triangles = self.triangles
+        rows = sorted(
+            (self.polygon(cycle), tuple(triangles[t] for t in group))
+            for group, cycle in zip(groups, cycles, strict=True)
+        )
+        return PolygonMesh(
+            vertices=self.points,
+            polygons=[row[0] for row in rows],
+            sources=[row[1] for row in rows],
+        )
+
+
+# -----------------------------------------------------------------------------------------
+# label phase
+# -----------------------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class EdgeLabels:
+    """The label phase's result, each a sorted tuple of ``(min, max)`` edges.
+
+    ``internal`` and ``frontier`` partition the edges; ``terminal`` lists the edges where
+    some Lepp ends: an interior terminal edge (a longest edge of both its triangles) is
+    internal, a terminal edge on the boundary, on a constrained segment, or one that is the
+    longest edge of one triangle but only tied-longest on the other side (whose own Lepp
+    goes on), is a frontier edge."""
+
+    internal: tuple[Edge, ...]
+    frontier: tuple[Edge, ...]
+    terminal: tuple[Edge, ...]
+
+
+# The float filters below repeat those of compare_squared_lengths on numpy arrays: the same
+# differences and squares; the error bound t * (m + 2t) * C with t and m sums of the same
+# absolute values (m over more points here, so at least as large), added in another order.
+# A reordered float sum differs from the real sum by a few units in the last place, far
+# inside the margin of LENGTHS_C (9u) over the derived minimum 8.001u.  Whatever a filter
+# does not decide goes to the exact functions.
+
+
+@np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified: exact path
+def _longest_edges(table: HalfEdgeTable, fx: Any, fy: Any, squares: Any, widths: Any) -> Any:
+    """For each triangle t, the half-edge ``3 t + i`` of its longest edge in the edge order
+    of :func:`geomexact.mesh2d.longest_edge.edge_order` (certified float filter, else
+    ``edge_order``)."""
+    count = len(table.triangles)
+    s3 = squares.reshape(-1, 3)
+    w3 = widths.reshape(-1, 3)
+    ax = np.abs(fx)[table.origin_array].reshape(-1, 3)
+    ay = np.abs(fy)[table.origin_array].reshape(-1, 3)
+    m = ((((ax[:, 0] + ay[:, 0]) + ax[:, 1]) + ay[:, 1]) + ax[:, 2]) + ay[:, 2]
+    rows = np.arange(count)
+    first = np.argmax(s3, axis=1)  # NaN (beyond doubles) is never certified below
+    second, third = (first + 1) % 3, (first + 2) % 3
+    longest, width = s3[rows, first], w3[rows, first]
+    t2 = (width + w3[rows, second]) + LENGTHS_K
+    t3 = (width + w3[rows, third]) + LENGTHS_K
+    certain = ((longest - s3[rows, second] > t2 * (m + (t2 + t2)) * LENGTHS_C)
+               & (longest - s3[rows, third] > t3 * (m + (t3 + t3)) * LENGTHS_C))
+    result = 3 * rows + first
+    points = table.points
+    for t in np.flatnonzero(~certain).tolist():
+        a, b, c = table.triangles[t]
+        result[t] = 3 * t + edge_order(points[a], points[b], points[c], a, b, c)[0]
+    return result
+
+
+@np.errstate(over="ignore", invalid="ignore")
+def _label(table: HalfEdgeTable, mesh: Mesh2) -> list[int]:
+    """Set ``table.frontier``; return the seed half-edges (a terminal edge with its
+    region on the left), one per terminal-edge region, in half-edge order."""
+    size = len(table)
+    if not size:
+        return []
+    points = table.points
+    fx = np.fromiter((p.fx for p in points), dtype=np.float64, count=len(points))
+    fy = np.fromiter((p.fy for p in points), dtype=np.float64, count=len(points))
+    origin, target, twin = table.origin_array, table.target_array, table.twin_array
+    ex = fx[target] - fx[origin]
+    ey = fy[target] - fy[origin]
+    squares = ex * ex + ey * ey
+    widths = np.abs(ex) + np.abs(ey)
+    longest = _longest_edges(table, fx, fy, squares, widths)
+    halfedges = np.arange(size)
+    is_longest = longest[halfedges // 3] == halfedges
+    # constraint edges: boundary, constrained segment, different triangle attributes
+    boundary = twin < 0
+    partner = np.where(boundary, halfedges, twin)
+    constraint = boundary.copy()
+    if len(mesh.segments):
+        low, high = np.minimum(origin, target), np.maximum(origin, target)
+        packed = low * (len(points) + 1) + high
+        segment_keys = np.array([u * (len(points) + 1) + v for u, v in mesh.segments],
+                                dtype=np.int64)
+        constraint |= np.isin(packed, segment_keys)
+    if len(mesh.triangle_attributes):
+        get = mesh.triangle_attributes.get
+        ids: dict[object, int] = {}
+        material = np.array([ids.setdefault(get(t), len(ids)) for t in table.triangles],
+                            dtype=np.int64)
+        constraint |= material[halfedges // 3] != material[partner // 3]
+    on_partner = is_longest[partner] & ~boundary
+    # an interior edge the longest of exactly one side: the Lepp crosses it unless it is
+    # as long as the longest edge of the other side (then that Lepp ends here, one-sided)
+    one_sided = ~constraint & (is_longest != on_partner)
+    tied = np.zeros(size, dtype=bool)
+    candidates = np.flatnonzero(one_sided & is_longest)  # the side whose Lepp would cross
+    if len(candidates):
+        other = longest[partner[candidates] // 3]
+        difference = squares[candidates] - squares[other]
+        mo = np.abs(fx[origin]) + np.abs(fy[origin])
+        t = (widths[candidates] + widths[other]) + LENGTHS_K
+        bound = t * ((mo[candidates] + mo[other]) + (t + t)) * LENGTHS_C
+        unsure = ~(np.abs(difference) > bound)
+        for index in np.flatnonzero(unsure).tolist():
+            h, g = int(candidates[index]), int(other[index])
+            if compare_squared_lengths(points[table.origin[h]], points[table.target(h)],
+                                       points[table.origin[g]], points[table.target(g)]) == _EQUAL:
+                tied[h] = True
+    tied_edge = tied | tied[partner]
+    frontier = constraint | tied_edge | (~is_longest & ~on_partner)
+    table.frontier[:] = frontier.astype(np.uint8).tobytes()
+    # seeds: where a Lepp ends, with its region on the left; an interior terminal edge
+    # (longest on both sides, same region) once, as the half-edge (min, max)
+    ends = is_longest & (constraint | tied | on_partner)
+    ends &= ~(on_partner & ~constraint & ~tied_edge & (origin > target))
+    result: list[int] = np.flatnonzero(ends).tolist()
+    return result
+
+
+def label_edges(mesh: Mesh2) -> EdgeLabels:
+    """The Polylla edge labels of ``mesh`` (exact; see :class:`EdgeLabels`).  O(n)."""
+    table = HalfEdgeTable.from_mesh(mesh)
+    return _labels_of(table, _label(table, mesh))
+
+
+def _shorter(table: HalfEdgeTable, h: int, g: int) -> bool:
+    """True when edge h is shorter than edge g, or as long with the smaller vertex pair."""
+    points, origin = table.points, table.origin
+    order = compare_squared_lengths(points[origin[h]], points[table.target(h)],
+                                    points[origin[g]], points[table.target(g)])
+    if order != _EQUAL:
+        return order == Comparison.LESS
+    return _undirected(table, h) < _undirected(table, g)
+
+
+def _undirected(table: HalfEdgeTable, h: int) -> Edge:
+    u, v = table.edge(h)
+    return (u, v) if u < v else (v, u)
+
+
+# -----------------------------------------------------------------------------------------
+# traversal and repair phases
+# -----------------------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class PolyllaRun:
+    """A Polylla run: the polygon mesh and what each phase found.
+
+    ``mesh``: the polygons (``sources``: the triangles of each), sorted by vertex tuple;
+    ``terminal_edges``: the terminal edge of each terminal-edge region as a ``(u, v)``
+    pair with the region on its left, sorted (one per region: an edge that ends Lepps on
+    both sides and is frontier — boundary excepted — appears once per side);
+    ``frontier_edges``: the number of frontier edges found by the label phase;
+    ``barrier_tips``: the barrier-edge tips repaired, in repair order;
+    ``repair_edges``: the internal edges made frontier edges by the repair (at barrier-edge
+    tips and where a region touches itself at a vertex), sorted ``(min, max)`` pairs."""
+
+    mesh: PolygonMesh
+    terminal_edges: tuple[Edge, ...]
+    frontier_edges: int
+    barrier_tips: tuple[int, ...]
+    repair_edges: tuple[Edge, ...]
+
+    @property
+    def regions(self) -> int:
+        """The number of terminal-edge regions (polygons before the repair)."""
+        return len(self.terminal_edges)
+
+
+def polylla_run(mesh: Mesh2, /, *, repair: bool = True) -> PolyllaRun:
+    """Polylla on the triangle mesh ``mesh`` (any valid :class:`Mesh2`: holes, several
+    components and constrained segments are fine; isolated vertices are kept as unused
+    vertices).  With ``repair=False`` the raw terminal-edge regions are returned, some of
+    them possibly not simple (a cycle going along barrier edges and back, or touching
+    itself at a vertex).
+
+    Deterministic: results depend only on the mesh's content.  O(n) plus sorting.
+    """
+    with collector_paused():
+        table = HalfEdgeTable.from_mesh(mesh)
+        seeds = _label(table, mesh)
+        frontier_count = _frontier_count(table)
+        regions = _regions(table, seeds)
+        groups: list[list[int]] = []
+        cycles: list[list[int]] = []
+        tips: list[int] = []
+        added: list[Edge] = []
+        for region in regions:
+            for group, cycle in _repaired(table, region, repair, tips, added):
+                groups.append(group)
+                cycles.append(cycle)
+        result = table.sealed(groups, cycles)
+    terminal = tuple(sorted(table.edge(h) for h in seeds))
+    return PolyllaRun(result, terminal, frontier_count, tuple(tips), tuple(sorted(added)))
+
+
+def _frontier_count(table: HalfEdgeTable) -> int:
+    twin, frontier = table.twin, table.frontier
+    return sum(1 for h in range(len(twin)) if frontier[h] and (twin[h] < 0 or h < twin[h]))
+
+
+def polylla(mesh: Mesh2, /) -> PolygonMesh:
+    """The Polylla polygon mesh of ``mesh``: simple counter-clockwise polygons, each the
+    union of the triangles listed in its ``sources`` (see :func:`polylla_run`)."""
+    return polylla_run(mesh).mesh
+
+
+def _labels_of(table: HalfEdgeTable, seeds: list[int]) -> EdgeLabels:
+    internal: list[Edge] = []
+    frontier: list[Edge] = []
+    twin, flags = table.twin, table.frontier
+    for h in range(len(table)):
+        g = twin[h]
+        if g < 0 or h < g:
+            (frontier if flags[h] else internal).append(_undirected(table, h))
+    terminal = sorted({_undirected(table, h) for h in seeds})
+    return EdgeLabels(tuple(sorted(internal)), tuple(sorted(frontier)), tuple(terminal))
+
+
+def _regions(table: HalfEdgeTable, seeds: list[int]) -> list[list[int]]:
+    """The terminal-edge region of each seed: its triangles, collected across internal
+    edges (each triangle exactly once)."""
+    region_of = [-1] * len(table.triangles)
+    frontier, twin = table.frontier, table.twin
+    regions = []
+    for number, seed in enumerate(seeds):
+        start = seed // 3
+        if region_of[start] >= 0:
+            raise PolyllaError(f"triangle {table.triangles[start]} is reached from two "
+                               "terminal edges")
+        region_of[start] = number
+        group = [start]
+        stack = [start]
+        while stack:
+            t = stack.pop()
+            for h in (3 * t, 3 * t + 1, 3 * t + 2):
+                if not frontier[h]:
+                    u = twin[h] // 3
+                    if region_of[u] < 0:
+                        region_of[u] = number
+                        group.append(u)
+                        stack.append(u)
+                    elif region_of[u] != number:
+                        raise PolyllaError(f"triangle {table.triangles[u]} is reached from "
+                                           "two terminal edges")
+        group.sort()
+        regions.append(group)
+    if -1 in region_of:
+        t = region_of.index(-1)
+        raise PolyllaError(f"triangle {table.triangles[t]} belongs to no terminal-edge region")
+    return regions
+
+
+def _repaired(
+    table: HalfEdgeTable, region: list[int], repair: bool, tips: list[int], added: list[Edge]
+) -> Iterator[tuple[list[int], list[int]]]:
+    """(triangles, boundary cycle) of each simple polygon the region splits into (the
+    region itself, unrepaired, when ``repair`` is false)."""
+    pending = [region]
+    while pending:
+        group = pending.pop()
+        cycle = table.boundary_cycle(group)
+        if not repair:
+            yield group, cycle
+            continue
+        split = _split_barrier_tips(table, cycle, tips, added)
+        if not split:
+            split = _split_pinch(table, group, cycle, added)
+        if split:
+            pending.extend(reversed(table.components(group)))
+        else:
+            yield group, cycle
+
+
+def _split_barrier_tips(
+    table: HalfEdgeTable, cycle: list[int], tips: list[int], added: list[Edge]
+) -> bool:
+    """Repair every barrier-edge tip of the cycle at once: the cycle arrives at a tip along
+    h and leaves along twin(h); the k internal edges around the tip are numbered 1..k
+    clockwise from h, and edge ⌈k/2⌉ (for even k the first of the two middle ones, as in
+    the reference implementation) becomes a frontier edge.  All tips and their middle
+    edges are found before any edge is changed.  Returns whether there was a tip."""
+    twin, frontier = table.twin, table.frontier
+    middles = []
+    for h in cycle:
+        if table.next_frontier(h) != twin[h]:
+            continue
+        fan = table.fan(h)
+        if not fan:  # pragma: no cover - a full turn around a vertex has >= 2 triangles
+            raise PolyllaError(f"barrier-edge tip {table.target(h)} has no internal edge")
+        tips.append(table.target(h))
+        middles.append(fan[(len(fan) + 1) // 2 - 1])
+    for middle in middles:
+        if not frontier[middle]:
+            frontier[middle] = frontier[twin[middle]] = 1
+            added.append(_undirected(table, middle))
+    return bool(middles)
+
+
+def _split_pinch(
+    table: HalfEdgeTable, group: list[int], cycle: list[int], added: list[Edge]
+) -> bool:
+    """If the cycle visits a vertex twice without a barrier edge (the polygon touches
+    itself at a vertex), cut the polygon between the two visits: the triangles around the
+    vertex at its first two visits are joined through a unique path of internal edges (the
+    region's triangles form a tree); the shortest edge of that path (exact; equal lengths:
+    the smaller ``(min id, max id)`` pair) becomes a frontier edge.  The smallest such
+    vertex is cut first.  Returns whether it cut."""
+    twin, frontier = table.twin, table.frontier
+    seen: dict[int, int] = {}
+    repeated = None
+    for position, h in enumerate(cycle):
+        vertex = table.target(h)
+        if vertex in seen:
+            if repeated is None or vertex < repeated[0]:
+                repeated = (vertex, seen[vertex], position)
+        else:
+            seen[vertex] = position
+    if repeated is None:
+        return False
+    _, first, second = repeated
+
+    def fan_triangles(h: int) -> set[int]:
+        return {h // 3} | {twin[g] // 3 for g in table.fan(h)}
+
+    start, goal = fan_triangles(cycle[first]), fan_triangles(cycle[second])
+    inside = set(group)
+    parent: dict[int, int] = {t: -1 for t in start}
+    queue = sorted(start)
+    reached = -1
+    for t in queue:  # breadth first; the list grows while it is read
+        if t in goal:
+            reached = t
+            break
+        for h in (3 * t, 3 * t + 1, 3 * t + 2):
+            if not frontier[h]:
+                u = twin[h] // 3
+                if u in inside and u not in parent:
+                    parent[u] = h
+                    queue.append(u)
+    if reached < 0:  # pragma: no cover - the region is connected
+        raise PolyllaError(f"cannot separate the visits of vertex {repeated[0]}")
+    path = []
+    t = reached
+    while parent[t] >= 0:
+        h = parent[t]
+        path.append(h)
+        t = h // 3
+    if not path:  # pragma: no cover - the two visits have disjoint fans
+        raise PolyllaError(f"the visits of vertex {repeated[0]} share a triangle")
+    cut = path[0]
+    for h in path[1:]:
+        if _shorter(table, h, cut):
+            cut = h
+    frontier[cut] = frontier[twin[cut]] = 1
+    added.append(_undirected(table, cut))
+    return True

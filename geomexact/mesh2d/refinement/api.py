@@ -1,0 +1,304 @@
+"""Lepp refinement of 2D meshes: Lepp-bisection, Lepp-centroid Delaunay, Lepp quasi-Delaunay.
+
+``refine(mesh, criterion, ...)`` refines the triangles of ``region`` that ``criterion``
+rates bad, worst first, each by repeating Lepp steps (``geomexact.mesh2d.longest_edge``) until it is
+destroyed.  Every change is a step of :mod:`geomexact.mesh2d.ops` (``bisect``, ``flip``,
+``insert_centroid``, ``insert_vertex_centroid``) or of :mod:`geomexact.mesh2d.refinement.centroids`
+(``insert_in_quadrilateral``) recorded in the returned trace, which replays the input to
+the result digest by digest; the input snapshot never changes.
+
+Methods (``specs/refine.md``), for the terminal edge e = {u, v} of the triangles t1 (the
+last of the path) and t2 (across e):
+
+* ``"bisection"`` (Rivara): bisect e (one triangle when e is a boundary edge); with
+  ``delaunay=True`` followed by Lawson legalization around the midpoint.
+* ``"centroid"`` (Rivara & Rodríguez, terminal-triangles centroid): e a constraint edge ->
+  bisect e; else when the second-longest edge of t1 (then t2) is a constraint edge ->
+  bisect that edge; else insert the centroid of the quadrilateral t1 ∪ t2.  Each insertion
+  is followed by legalization when ``delaunay=True``.
+* ``"quasi"`` (Mellado, quasi-Delaunay): no legalization; at an unconstrained terminal
+  pair that is not locally Delaunay, flip e (when ``delaunay=True``) and search again;
+  otherwise insert as the centroid method does.
+
+Three engines run the same algorithm and record identical traces
+(``tests/test_refine_engines.py``, ``tests/test_refine_compiled.py``):
+
+* ``"transient"``: the ops on a :class:`~geomexact.mesh2d.transient.Transient2`, the readable
+  reference (:mod:`geomexact.mesh2d.refinement.engines.reference`);
+* ``"python"``: a batch kernel on plain tables with the digest kept incrementally
+  (:mod:`geomexact.mesh2d.refinement.engines.batch`);
+* ``"fast"`` (the default): the compiled kernel
+(:mod:`geomexact.mesh2d.refinement.engines.compiled`,
+  a C extension built at install when a compiler is present) for the runs it implements —
+  every method with a size criterion (no minimum angle), centroid kind ``"area"`` and no
+  triangle attributes — and the
+  ``"python"`` engine otherwise.
+
+>>> from geomexact.mesh2d.refinement.criteria import MaxArea
+>>> from geomexact.mesh2d.transient import mesh_from_triangles
+>>> square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
+>>> result = refine(square, MaxArea("1/8"))
+>>> result.status, result.mesh.triangle_count, len(result.trace)
+('complete', 8, 5)
+"""
+
+from __future__ import annotations
+
+import time
+from collections import Counter
+from collections.abc import Callable
+from typing import Any, Literal
+
+import attrs
+
+from geomexact.errors import PreconditionError
+from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.points import Point2
+from geomexact.mesh2d.refinement.criteria import Criterion, as_criterion
+from geomexact.mesh2d.refinement.driver import (
+    Method,
+    Progress,
+    Refinement,
+    Status,
+)
+from geomexact.mesh2d.refinement.engines.batch import FastRefinement
+from geomexact.mesh2d.refinement.engines.compiled import run_compiled
+from geomexact.mesh2d.refinement.engines.reference import TransientRefinement
+from geomexact.mesh2d.refinement.regions import Region, as_region
+from geomexact.mesh2d.snapshot import Mesh2, Triangle
+from geomexact.trace.record import Trace
+
+__all__ = [
+    "CENTROIDS",
+    "ENGINES",
+    "METHODS",
+    "Progress",
+    "RefineStats",
+    "Result",
+    "refine",
+]
+
+METHODS: tuple[str, ...] = ("bisection", "centroid", "quasi")
+CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices")
+ENGINES: tuple[str, ...] = ("fast", "python", "transient")
+
+
+@attrs.frozen(slots=True)
+class RefineStats:
+    """Counts of a run.
+
+    ``status``: ``"complete"`` (every triangle of the region meets the criterion or is
+    listed in ``left``; for an average-area criterion, the mean is reached) or
+    ``"step-limit"`` (stopped by ``max_steps``); ``steps``: trace length; ``bisections``:
+    edge midpoints inserted; ``centroids``: quadrilateral centroids inserted; ``flips``:
+    legalization and quasi-Delaunay flips; ``targets``: bad triangles taken from the
+    queue; ``lepp_searches`` / ``lepp_triangles``: Lepp paths computed and their total
+    length in triangles; ``left``: bad triangles of the final mesh left alone at input
+    angles below the minimum angle — those with an angle below it inside such an input
+    angle, and those whose Lepp step would split a constraint edge of such an input angle
+    shorter than 2^-TIP_DEPTH of its input length (sorted, canonical); ``seconds``: wall
+    time."""
+
+    status: Status
+    steps: int
+    bisections: int
+    centroids: int
+    flips: int
+    targets: int
+    lepp_searches: int
+    lepp_triangles: int
+    left: tuple[Triangle, ...]
+    seconds: float
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready counts (``left`` as a count)."""
+        return {
+            "status": self.status,
+            "steps": self.steps,
+            "bisections": self.bisections,
+            "centroids": self.centroids,
+            "flips": self.flips,
+            "targets": self.targets,
+            "lepp_searches": self.lepp_searches,
+            "lepp_triangles": self.lepp_triangles,
+            "left": len(self.left),
+            "seconds": self.seconds,
+        }
+
+
+@attrs.frozen(slots=True)
+class Result:
+    """A refinement run: the input (``start``), the result (``mesh``), the trace replaying
+    ``start`` to ``mesh``, and the run's :class:`RefineStats`."""
+
+    start: Mesh2
+    mesh: Mesh2
+    trace: Trace
+    stats: RefineStats
+
+    @property
+    def status(self) -> Status:
+        """``"complete"`` or ``"step-limit"``."""
+        return self.stats.status
+
+
+def refine(
+    mesh: Mesh2,
+    criterion: Criterion | Callable[[Point2, Point2, Point2], object],
+    *,
+    region: Region | Callable[[Point2], object] | None = None,
+    method: Method = "bisection",
+    delaunay: bool = True,
+    centroid: Literal["area", "area-exact", "vertices"] = "area",
+    constraint_midpoints: bool = True,
+    max_steps: int | None = None,
+    on_step: Callable[[Progress], None] | None = None,
+    engine: Literal["fast", "python", "transient"] = "fast",
+) -> Result:
+    """Refine the triangles of ``region`` that ``criterion`` rates bad, by Lepp steps.
+
+    Parameters
+    ----------
+    mesh:
+        The input snapshot (never changed).  For a Delaunay method it should be (constrained)
+        Delaunay; then the result is too.
+    criterion:
+        A :class:`~geomexact.mesh2d.refinement.criteria.Criterion` (``MaxArea``,
+        ``AverageAreaFactor``,
+        ``MinAngle``, ``MaxEdgeLength``, ``CallableCriterion``) or a callable
+        ``test(a, b, c) -> bool``.
+    region:
+        A :class:`~geomexact.mesh2d.refinement.regions.Region` or a callable ``contains(point) ->
+        bool``
+        (default: the whole mesh).  A triangle is in the region when one of its vertices is.
+    method:
+        ``"bisection"``, ``"centroid"`` or ``"quasi"`` (module docstring).
+    delaunay:
+        Legalize after each insertion (bisection, centroid) or flip non-Delaunay terminal
+        pairs (quasi).  ``False`` never flips.
+    centroid:
+        The point inserted into a terminal quadrilateral: ``"area"`` (its area centroid
+        rounded to 24 bits below its shortest side, step ``insert_in_quadrilateral``; see
+        :mod:`geomexact.mesh2d.refinement.centroids`), ``"area-exact"`` (the exact area centroid,
+        step
+        ``insert_centroid``: coordinate sizes grow geometrically, for small runs only) or
+        ``"vertices"`` (the mean of its four vertices, exact, step
+        ``insert_vertex_centroid``).
+    constraint_midpoints:
+        Centroid and quasi methods: when a terminal triangle's second-longest edge is a
+        constraint edge, insert that edge's midpoint instead of the centroid (Rivara &
+        Rodríguez's rule for convergence near constraints).  ``False`` always inserts the
+        centroid into an unconstrained terminal pair (as QLepp2D does).
+    max_steps:
+        Stop before the step that would exceed it, with status ``"step-limit"`` (a run may
+        stop inside a legalization: the mesh is valid but need not be Delaunay).  Required
+        with a minimum-angle criterion for Lepp-bisection and for ``delaunay=False``, which
+        cannot meet it in general.
+    on_step:
+        Called with a :class:`Progress` after every step.
+    engine:
+        ``"fast"`` (the compiled kernel where it applies, else ``"python"``), ``"python"``
+        (the batch kernel in Python) or ``"transient"`` (the ops on a transient; slower,
+        the reference).  All record the same trace.
+
+    Raises :class:`~geomexact.errors.PreconditionError` for an unknown method, centroid or
+    engine, a negative ``max_steps``, or a minimum angle with bisection or without
+    Delaunay flips and no step limit.
+
+    Every decision is exact and every tie is broken by vertex ids (``specs/refine.md``),
+    so the trace is the same on every machine.  Cost: O(steps × Lepp length) exact
+    predicates.  The cyclic garbage collector is paused during the run
+    (:func:`geomexact.kernel.collector.collector_paused`: afterwards every tracked object is in
+    the oldest generation, so the new mesh is not scanned by young collections).
+    """
+    rule = as_criterion(criterion)
+    area = as_region(region)
+    if method not in METHODS:
+        raise PreconditionError("refine", f"unknown method {method!r}; choose from {METHODS}")
+    if centroid not in CENTROIDS:
+        raise PreconditionError(
+            "refine", f"unknown centroid {centroid!r}; choose from {CENTROIDS}"
+        )
+    if engine not in ENGINES:
+        raise PreconditionError("refine", f"unknown engine {engine!r}; choose from {ENGINES}")
+    if max_steps is not None and (
+        isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 0
+    ):
+        raise PreconditionError("refine", f"max_steps must be an integer >= 0, not {max_steps!r}")
+    if rule.angle_threshold is not None and max_steps is None:
+        if method == "bisection":
+            raise PreconditionError(
+                "refine",
+                "Lepp-bisection does not raise angles (each bisection keeps or halves the "
+                "angles at the split), so a minimum-angle criterion may never be met; use "
+                "method 'centroid' or 'quasi', or give a step limit (max_steps, --max-steps) "
+                "to bisect anyway",
+            )
+        if not delaunay:
+            raise PreconditionError(
+                "refine",
+                "without Delaunay flips no angle at an existing vertex ever grows (insertions "
+                "only split angles), so a minimum-angle criterion may never be met; allow "
+                "flips (delaunay=True, no --no-delaunay) or give a step limit (max_steps, "
+                "--max-steps)",
+            )
+    began = time.perf_counter()
+    options: dict[str, Any] = {
+        "criterion": rule,
+        "region": area,
+        "method": method,
+        "delaunay": delaunay,
+        "centroid": centroid,
+        "constraint_midpoints": constraint_midpoints,
+        "on_step": on_step,
+    }
+    with collector_paused():  # a large run makes millions of small tuples
+        compiled = run_compiled(mesh, max_steps, **options) if engine == "fast" else None
+        if compiled is not None:
+            status, result, steps, digests = (
+                compiled.status, compiled.mesh, compiled.steps, compiled.digests
+            )
+            left, targets, searches, hops = (
+                compiled.left, compiled.targets, compiled.searches, compiled.hops
+            )
+        else:
+            run: Refinement
+            if engine == "transient":
+                run = TransientRefinement(mesh, max_steps, **options)
+            else:
+                run = FastRefinement(mesh, max_steps, **options)
+            run.start_queue(sorted(mesh.iter_triangles()))
+            status = run.run()
+            result, steps, digests = run.finish(mesh)
+            left = run.left_triangles()
+            targets, searches, hops = run.targets, run.searches, run.hops
+            del run  # its work tables go now, before the collector would scan them
+    from geomexact import __version__
+
+    parameters = {
+        "algorithm": "lepp",
+        "method": method,
+        "delaunay": delaunay,
+        "centroid": centroid,
+        "constraint_midpoints": constraint_midpoints,
+        "criterion": rule.parameters(),
+        "region": area.parameters(),
+        "max_steps": max_steps,
+    }
+    trace = Trace(mesh.digest, steps, digests, parameters, __version__)
+    ops = Counter(step.op for step in steps)
+    stats = RefineStats(
+        status=status,
+        steps=len(steps),
+        bisections=ops["bisect"],
+        centroids=ops["insert_in_quadrilateral"] + ops["insert_centroid"]
+        + ops["insert_vertex_centroid"],
+        flips=ops["flip"],
+        targets=targets,
+        lepp_searches=searches,
+        lepp_triangles=hops,
+        left=left,
+        seconds=time.perf_counter() - began,
+    )
+    return Result(mesh, result, trace, stats)
+

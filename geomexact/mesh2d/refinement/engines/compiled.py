@@ -1,0 +1,122 @@
+"""The compiled Lepp-bisection engine: glue between :func:`geomexact.mesh2d.refinement.api.refine`
+and the
+typed kernel :mod:`geomexact.mesh2d.refinement.engines.lepp_kernel` (a Cython extension, optional).
+
+``run_compiled(mesh, max_steps, **options)`` takes the arguments of
+``geomexact.mesh2d.refinement.engines.batch.FastRefinement`` and returns a :class:`CompiledRun` —
+the same steps, digests, final mesh, status and counters as the fast engine — or None when
+the kernel is not built or the run is outside its subset (then the caller runs the Python
+engine):
+
+* method ``"bisection"``, with or without Delaunay legalization; methods ``"centroid"``
+  and ``"quasi"`` with ``centroid="area"`` (the rounded area centroid, computed by
+  :func:`geomexact.mesh2d.refinement.centroids.rounded_area_centroid` and recorded as
+  ``insert_in_quadrilateral``), with or without ``delaunay`` and ``constraint_midpoints``;
+* a criterion on single triangles with no ``angle_threshold`` (minimum angle), or
+  ``AverageAreaFactor`` (the exact type; no other region-wide target): ``MaxArea`` and
+  ``AverageAreaFactor`` are rated in C on dyadic triangles, any other criterion through
+  its ``rate``; the region's mean area is tracked exactly as ``Refinement.account``;
+* any region; no triangle attributes; any ``max_steps`` and ``on_step``.
+
+``refine(..., engine="fast")`` (the default) uses it whenever it applies;
+``engine="python"`` always runs the Python engine (tests compare the two).
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from typing import Any, Literal
+
+import attrs
+
+from geomexact.kernel.numbers import mpq
+from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
+from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, MaxArea
+from geomexact.mesh2d.refinement.driver import Progress
+from geomexact.mesh2d.refinement.regions import Whole
+from geomexact.mesh2d.snapshot import Mesh2, Triangle
+from geomexact.trace.step import Step
+
+
+def _load_kernel() -> Any:
+    try:
+        return importlib.import_module("geomexact.mesh2d.refinement.engines.lepp_kernel")
+    except ImportError:  # not built: the pure-Python engine runs instead
+        return None
+
+
+_lepp_kernel: Any = _load_kernel()
+
+__all__ = ["AVAILABLE", "CompiledRun", "run_compiled", "supports"]
+
+AVAILABLE: bool = _lepp_kernel is not None
+"""True when the extension is built and importable."""
+
+
+@attrs.frozen(slots=True)
+class CompiledRun:
+    """What ``refine()`` needs from a run: the final snapshot, the trace (steps and the
+    digest after each), the status and the counters of
+    :class:`~geomexact.mesh2d.refinement.api.RefineStats`
+    (``left`` is always empty: the subset has no minimum-angle criterion)."""
+
+    mesh: Mesh2
+    steps: list[Step]
+    digests: list[int]
+    status: Literal["complete", "step-limit"]
+    left: tuple[Triangle, ...]
+    targets: int
+    searches: int
+    hops: int
+
+
+def supports(mesh: Mesh2, **options: Any) -> bool:
+    """True when the kernel is available and implements this run exactly."""
+    criterion = options["criterion"]
+    return (
+        AVAILABLE
+        and (
+            options["method"] == "bisection"
+            or (options["method"] in ("centroid", "quasi") and options["centroid"] == "area")
+        )
+        and criterion.angle_threshold is None
+        and (
+            type(criterion) is AverageAreaFactor
+            or criterion.target_mean_area(mpq(1), 1) is None
+        )
+        and not len(mesh.triangle_attributes)
+    )
+
+
+def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> CompiledRun | None:
+    """Run Lepp refinement in the kernel, or return None (not built, or outside the
+    subset).  ``options`` are those ``refine()`` gives ``FastRefinement``: ``criterion``,
+    ``region``, ``method``, ``delaunay``, ``centroid``, ``constraint_midpoints``,
+    ``on_step``."""
+    if not supports(mesh, **options):
+        return None
+    criterion, region = options["criterion"], options["region"]
+    on_step: Callable[[Any], None] | None = options["on_step"]
+    doubled = 2 * criterion.area if type(criterion) is MaxArea else None
+    # the kernel counts steps in int64: a larger limit is never reached anyway
+    limit = None if max_steps is None or max_steps >= 1 << 62 else max_steps
+    assert _lepp_kernel is not None
+    kernel = _lepp_kernel.Kernel(
+        mesh, criterion, region, isinstance(region, Whole), bool(options["delaunay"]),
+        limit, on_step, Progress, doubled, type(criterion) is AverageAreaFactor,
+        method=options["method"], constraint_midpoints=bool(options["constraint_midpoints"]),
+        centroid=rounded_area_centroid,
+    )
+    status = kernel.run()
+    result, steps, digests = kernel.finish(mesh)
+    return CompiledRun(
+        mesh=result,
+        steps=steps,
+        digests=digests,
+        status=status,
+        left=(),
+        targets=kernel.targets,
+        searches=kernel.searches,
+        hops=kernel.hops,
+    )

@@ -1,0 +1,1199 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
+# cython: initializedcheck=False, infer_types=False
+"""Typed Lepp refinement kernel: ``refine(..., engine="fast")`` on C data structures.
+
+Contract: :class:`Kernel` runs exactly the loop of
+``geomexact.mesh2d.refinement.engines.batch.FastRefinement`` for the methods ``"bisection"``,
+``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; centroid kind ``"area"``,
+with or without constraint midpoints), a criterion rating single triangles (no angle
+threshold) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
+triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the
+same digest after every step, the same counters, and seals the same ``Mesh2``
+(``geomexact.mesh2d.refinement.engines.compiled`` checks the subset and is the only caller).
+
+Where the C data live:
+
+* half-edges ``(u, v) -> apex`` and constrained segments in open-addressing hash tables
+  keyed by ``u << 32 | v`` (ids are below ``MAX_VERTICES = 2**32``);
+* per vertex: the doubles of the ``Point2`` (for the float filters), the coordinates times
+  ``2**F`` as int64 when the exact rational lies on that grid (the *grid* vertices), the
+  64-bit digest key, the ``outgoing`` hint and the cached region membership;
+* the work queue as a binary heap of (key, triangle), keys exact: an ``__int128`` doubled
+  area in units of ``2**-2F`` (``MaxArea`` on grid triangles) or a Python key;
+* the digest as an ``unsigned __int128`` (the sum mod 2**128 of ``geomexact.kernel.digest``);
+* for ``AverageAreaFactor``, the region's doubled area as an exact ``__int128`` sum in grid
+  units over its grid triangles plus an exact rational sum over the others (empty on
+  dyadic inputs), and its triangle count.  The mean test ``area2 <= target2 * count`` is
+  decided by a float filter with a wide margin, else exactly in Python.
+
+Every geometric decision is exact: on grid vertices by integer arithmetic in ``__int128``;
+otherwise by the certified float filters of ``geomexact.kernel.predicates`` (same formulas and
+constants), falling back to the exact Python predicate on the ``Point2`` objects.
+"""
+
+from libc.stdint cimport int64_t, uint64_t, int8_t
+from libc.stdlib cimport malloc, realloc, free
+from cpython.exc cimport PyErr_CheckSignals
+
+import hashlib
+import math
+import struct
+
+import gmpy2
+import immutables
+
+from geomexact.kernel import digest as _digest
+from geomexact.kernel import predicates as _predicates
+from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
+from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
+from geomexact.errors import PreconditionError
+from geomexact.mesh2d.refinement.queue import rank as _rank
+from geomexact.mesh2d.snapshot import MAX_VERTICES, Mesh2
+from geomexact.kernel.numbers import mpq
+from geomexact.kernel.points import Point2, point2
+from geomexact.trace.step import Step
+
+from geomexact.kernel.ckernel cimport (
+    GridPoint,
+    filtered_incircle,
+    filtered_orient,
+    GX_EMPTY,
+    _from_i128,
+    _from_u128,
+    _init_constants,
+    _to_i128,
+    _to_u128,
+    gx_cell_hash,
+    gx_float_dot,
+    gx_float_incircle,
+    gx_float_lengths,
+    gx_float_orient,
+    gx_grid_area2,
+    gx_grid_dot,
+    gx_grid_incircle,
+    gx_grid_lengths,
+    gx_grid_orient,
+    gx_i128,
+    gx_map,
+    gx_map_alloc,
+    gx_map_del,
+    gx_map_free,
+    gx_map_get,
+    gx_map_set,
+    gx_u128,
+)
+
+# the C pieces (hash tables, 128-bit digest, grid predicates, float filters) live in
+# geomexact/kernel/ckernel.h, shared with geomexact/mesh2d/delaunay/delaunay_kernel.pyx
+_init_constants()
+
+
+def cell_hash(int64_t a, int64_t b, int64_t c):
+    """``geomexact.kernel.digest.cell_hash((a, b, c))`` computed by the kernel (for tests)."""
+    return _from_u128(gx_cell_hash(_digest.vertex_key(a), _digest.vertex_key(b),
+                                   _digest.vertex_key(c)))
+
+
+# ---------------------------------------------------------------------------------------
+cdef struct Vertex:
+    GridPoint at       # the doubles; gx, gy: the exact coordinates times 2**F, when grid
+    uint64_t key       # geomexact.kernel.digest.vertex_key
+    int64_t hint       # the outgoing hint, -1 for none
+    int8_t inside      # region membership: -1 not known yet
+
+cdef struct Entry:
+    gx_i128 ikey       # the exact key when py < 0
+    double rank        # geomexact.mesh2d.refinement.queue.rank(key) when py >= 0
+    int64_t py         # index of the Python key in Kernel.pykeys, or -1
+    int64_t a
+    int64_t b
+    int64_t c
+
+cdef struct Record:
+    int64_t u
+    int64_t v
+    gx_u128 digest
+    int64_t extra      # insert_in_quadrilateral: index of (x, y) in Kernel.inserted
+    int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral
+
+cdef struct Pair:
+    int64_t a
+    int64_t b
+
+cdef object GRID_LIMIT = 1 << 60
+
+
+cdef inline uint64_t _edge(int64_t u, int64_t v) nogil:
+    return (<uint64_t>u << 32) | <uint64_t>v
+
+
+cdef inline bint _pair_less(int64_t a, int64_t b, int64_t c, int64_t d) nogil:
+    """(min(a, b), max(a, b)) < (min(c, d), max(c, d))."""
+    cdef int64_t p0 = a if a < b else b
+    cdef int64_t p1 = b if a < b else a
+    cdef int64_t q0 = c if c < d else d
+    cdef int64_t q1 = d if c < d else c
+    return p0 < q0 or (p0 == q0 and p1 < q1)
+
+
+cdef inline bint _before(int order, int64_t a, int64_t b, int64_t c, int64_t d) nogil:
+    """The edge order of ``specs/lepp.md``: {a, b} before {c, d}, given the comparison
+    of their squared lengths."""
+    return order > 0 or (order == 0 and _pair_less(a, b, c, d))
+
+
+cdef object _pack_id = struct.Struct("<Q").pack
+cdef object _to_binary = gmpy2.to_binary
+cdef object _vertex_hasher = hashlib.blake2b(digest_size=16, person=b"vertex")
+
+
+cdef object _vertex_hash(int64_t vertex, x, y):
+    """geomexact.kernel.digest.vertex_hash(vertex, (x, y)), inlined (checked by the tests)."""
+    hasher = _vertex_hasher.copy()
+    hasher.update(_pack_id(vertex) + _to_binary(x) + _to_binary(y))
+    return int.from_bytes(hasher.digest(), "little")
+
+
+def vertex_hash(int64_t vertex, x, y):
+    """The kernel's vertex hash (for tests)."""
+    return _vertex_hash(vertex, x, y)
+
+
+cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
+    if x.a != y.a:
+        return x.a < y.a
+    if x.b != y.b:
+        return x.b < y.b
+    return x.c < y.c
+
+
+cdef class Kernel:
+    """One Lepp-bisection run (see the module docstring).  ``run()`` then ``finish()``."""
+
+    cdef Vertex *vs
+    cdef Py_ssize_t nv, cap_v, n0
+    cdef gx_map apex
+    cdef gx_map segs
+    cdef Entry *heap
+    cdef Py_ssize_t nheap, cap_heap
+    cdef Record *records
+    cdef Py_ssize_t nrec, cap_rec
+    cdef int64_t *created
+    cdef Py_ssize_t ncreated, cap_created
+    cdef Pair *pending
+    cdef Py_ssize_t npending, cap_pending
+    cdef gx_u128 digest
+    cdef int64_t limit
+    cdef int64_t triangles
+    cdef int F
+    cdef bint whole, delaunay, max_area
+    # the method: 0 bisection, 1 centroid, 2 quasi; legalize: Delaunay legalization after
+    # insertions (delaunay and not quasi); quasi_flips: quasi with delaunay
+    cdef int method
+    cdef bint legalize, quasi_flips, constraint_midpoints, grid_centroids
+    cdef object unit  # 2**F
+    cdef gx_i128 area_limit
+    # AverageAreaFactor: the region's doubled area (grid part in grid units, the rest as
+    # a rational), its triangle count, and the target mean doubled area
+    cdef bint tracking, filtered
+    cdef gx_i128 gsum
+    cdef int64_t count, pycount
+    cdef double target_grid
+    cdef object pysum, target2, target_scaled
+    cdef public int64_t targets, searches, hops
+    cdef list points, pykeys, step_objects, inserted
+    cdef dict segments, new_markers
+    cdef object rate, contains, on_step, progress, scale, centroid
+
+    def __cinit__(self):
+        self.vs = NULL
+        self.heap = NULL
+        self.records = NULL
+        self.created = NULL
+        self.pending = NULL
+        self.apex.keys = NULL
+        self.apex.values = NULL
+        self.segs.keys = NULL
+        self.segs.values = NULL
+
+    def __dealloc__(self):
+        free(self.vs)
+        free(self.heap)
+        free(self.records)
+        free(self.created)
+        free(self.pending)
+        gx_map_free(&self.apex)
+        gx_map_free(&self.segs)
+
+    def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
+                 on_step, progress, max_area_doubled, bint average=False,
+                 method="bisection", bint constraint_midpoints=True, centroid=None):
+        """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
+        grid triangles), else None (``criterion.rate`` rates every triangle).
+        ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
+        region is bad, key −(doubled area), rated in C on grid triangles; the run stops
+        when the region's mean area reaches ``criterion.target_mean_area``).
+        ``method``: ``"bisection"``, ``"centroid"`` or ``"quasi"``;
+        ``constraint_midpoints`` as ``refine()``; ``centroid``: the function giving the
+        point inserted into a terminal quadrilateral (``rounded_area_centroid``), recorded
+        as ``insert_in_quadrilateral`` (required for the methods other than bisection)."""
+        cdef Py_ssize_t i, count = start.vertex_count
+        cdef Vertex *vertex
+        cdef int64_t g
+        self.points = [start.vertices[i] for i in range(count)]
+        self.n0 = self.nv = count
+        self.cap_v = max(16, 2 * count)
+        self.vs = <Vertex *>malloc(self.cap_v * sizeof(Vertex))
+        self.cap_heap = self.cap_rec = self.cap_created = self.cap_pending = 64
+        self.heap = <Entry *>malloc(self.cap_heap * sizeof(Entry))
+        self.records = <Record *>malloc(self.cap_rec * sizeof(Record))
+        self.created = <int64_t *>malloc(3 * self.cap_created * sizeof(int64_t))
+        self.pending = <Pair *>malloc(self.cap_pending * sizeof(Pair))
+        if (not self.vs or not self.heap or not self.records or not self.created
+                or not self.pending):
+            raise MemoryError
+        if gx_map_alloc(&self.apex, 64) < 0 or gx_map_alloc(&self.segs, 64) < 0:
+            raise MemoryError
+        # the grid: 2**-F with every input coordinate (hence every midpoint) below 2**60
+        bound = 0
+        for point in self.points:
+            for value in (point[0], point[1]):
+                bound = max(bound, int(abs(value)) + 1)
+        self.F = max(0, 60 - int(bound).bit_length())
+        self.scale = mpq(2) ** (2 * self.F)
+        self.unit = 2 ** int(self.F)
+        outgoing = start.outgoing
+        for i in range(count):
+            point = self.points[i]
+            vertex = &self.vs[i]
+            vertex.at.fx = point[2]
+            vertex.at.fy = point[3]
+            vertex.at.grid = self._on_grid(point[0], &vertex.at.gx) and self._on_grid(
+                point[1], &vertex.at.gy)
+            vertex.key = _digest.vertex_key(i)
+            hint = outgoing.get(i)
+            vertex.hint = -1 if hint is None else hint
+            vertex.inside = -1
+        for key, w in start.halfedges.items():
+            if gx_map_set(&self.apex, _edge(key[0], key[1]), w) < 0:
+                raise MemoryError
+        self.triangles = start.triangle_count
+        self.segments = dict(start.segments.items())
+        for key in self.segments:
+            if gx_map_set(&self.segs, _edge(key[0], key[1]), 0) < 0:
+                raise MemoryError
+        self.new_markers = {}
+        self.digest = _to_u128(start.digest)
+        self.limit = -1 if max_steps is None else max_steps
+        self.whole = whole
+        self.delaunay = delaunay
+        if method == "bisection":
+            self.method = 0
+        elif method == "centroid":
+            self.method = 1
+        elif method == "quasi":
+            self.method = 2
+        else:
+            raise ValueError(f"unknown method {method!r}")
+        if self.method and centroid is None:
+            raise ValueError("the centroid and quasi methods need a centroid function")
+        self.legalize = delaunay and self.method != 2
+        self.quasi_flips = delaunay and self.method == 2
+        self.constraint_midpoints = constraint_midpoints
+        self.centroid = centroid
+        # rounded_area_centroid computed on grid quadrilaterals in integers
+        self.grid_centroids = centroid is rounded_area_centroid
+        self.inserted = []
+        self.contains = region.contains
+        self.rate = criterion.rate
+        self.on_step = on_step
+        self.progress = progress
+        self.step_objects = [] if on_step is not None else None
+        self.pykeys = []
+        self.max_area = max_area_doubled is not None
+        self.area_limit = 0
+        if self.max_area:
+            # area2 (grid units, an integer) > doubled * 2**2F  <=>  area2 > floor(...)
+            limit = int(math.floor(max_area_doubled * self.scale))
+            self.area_limit = _to_i128(min(limit, 1 << 124))
+        self.targets = self.searches = self.hops = 0
+        self.tracking = False
+        self.filtered = False
+        self.gsum = 0
+        self.count = self.pycount = 0
+        self.target_grid = 0.0
+        self.pysum = mpq(0)
+        self.target2 = self.target_scaled = None
+        triangles = sorted(start.iter_triangles())
+        if average:
+            # Refinement.start_queue: the region's initial doubled area and count
+            self.max_area = True
+            self.area_limit = -(<gx_i128>1 << 126)  # every grid triangle is bad
+            for a, b, c in triangles:
+                self._account(a, b, c, 1)
+            total = _from_i128(self.gsum) / self.scale + self.pysum
+            target = criterion.target_mean_area(total / 2, self.count)
+            self.target2 = 2 * target
+            self.target_scaled = self.target2 * self.scale
+            try:
+                self.target_grid = float(self.target_scaled)
+            except OverflowError:
+                self.target_grid = math.inf
+            # the filter needs a normal, moderate double (relative error below 2**-50)
+            self.filtered = 2.0 ** -500 < self.target_grid < 2.0 ** 500
+            self.tracking = True
+        for a, b, c in triangles:
+            self._consider(a, b, c)
+
+    # -- vertices -----------------------------------------------------------------------
+    cdef bint _on_grid(self, value, int64_t *out) except -1:
+        """True (and ``out`` set) when the rational ``value`` is k / 2**F, |k| <= 2**60."""
+        denominator = value.denominator
+        if denominator & (denominator - 1):
+            return False
+        exponent = int(denominator).bit_length() - 1
+        if exponent > self.F:
+            return False
+        scaled = int(value.numerator) << (self.F - exponent)
+        if abs(scaled) > GRID_LIMIT:
+            return False
+        out[0] = scaled
+        return True
+
+    cdef int64_t _add_midpoint(self, int64_t u, int64_t v) except -1:
+        """The vertex at the exact midpoint of u and v (as ``FastRefinement.bisect``)."""
+        cdef int64_t n = self.nv
+        cdef Vertex *vertex
+        cdef Vertex *vu
+        cdef Vertex *vv
+        cdef int64_t sx, sy
+        if n >= MAX_VERTICES:
+            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+        if n == self.cap_v:
+            self._grow(<void **>&self.vs, &self.cap_v, sizeof(Vertex), 1)
+        pu = <tuple>self.points[u]
+        pv = <tuple>self.points[v]
+        mx = (pu[0] + pv[0]) / 2
+        my = (pu[1] + pv[1]) / 2
+        try:
+            # Point2(mx, my, fx, fy) without the Python-level __new__ of the NamedTuple
+            point = tuple.__new__(Point2, (mx, my, float(mx), float(my)))
+        except OverflowError:
+            point = point2(mx, my)
+        self.points.append(point)
+        vertex = &self.vs[n]
+        vu = &self.vs[u]
+        vv = &self.vs[v]
+        vertex.at.fx = point[2]
+        vertex.at.fy = point[3]
+        vertex.at.grid = False
+        if vu.at.grid and vv.at.grid:
+            sx = vu.at.gx + vv.at.gx
+            sy = vu.at.gy + vv.at.gy
+            if not (sx & 1) and not (sy & 1):
+                vertex.at.grid = True
+                vertex.at.gx = sx >> 1
+                vertex.at.gy = sy >> 1
+        else:
+            vertex.at.grid = self._on_grid(mx, &vertex.at.gx) and self._on_grid(my, &vertex.at.gy)
+        keys = _digest._VERTEX_KEYS
+        if n >= len(keys):
+            _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
+        vertex.key = keys[n]
+        vertex.hint = -1
+        vertex.inside = -1
+        self.nv = n + 1
+        self.digest += _to_u128(_vertex_hash(n, mx, my))
+        return n
+
+    cdef int64_t _add_point(self, point, bint known=False, int64_t gx=0,
+                            int64_t gy=0) except -1:
+        """A new vertex at the ``Point2`` ``point`` (as ``FastRefinement._add_vertex``,
+        no marker); ``known``: it is the grid point (gx, gy)."""
+        cdef int64_t n = self.nv
+        cdef Vertex *vertex
+        if n >= MAX_VERTICES:
+            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+        if n == self.cap_v:
+            self._grow(<void **>&self.vs, &self.cap_v, sizeof(Vertex), 1)
+        self.points.append(point)
+        vertex = &self.vs[n]
+        vertex.at.fx = point[2]
+        vertex.at.fy = point[3]
+        if known:
+            vertex.at.grid = True
+            vertex.at.gx = gx
+            vertex.at.gy = gy
+        else:
+            vertex.at.grid = self._on_grid(point[0], &vertex.at.gx) and self._on_grid(
+                point[1], &vertex.at.gy)
+        keys = _digest._VERTEX_KEYS
+        if n >= len(keys):
+            _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
+        vertex.key = keys[n]
+        vertex.hint = -1
+        vertex.inside = -1
+        self.nv = n + 1
+        self.digest += _to_u128(_vertex_hash(n, point[0], point[1]))
+        return n
+
+    cdef bint _grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
+                             int64_t *out) except -1:
+        """``rounded_area_centroid(u, v, w, x)`` in grid integers when the four corners
+        and the first candidate are grid points and that candidate is strictly inside
+        (``out``: its grid coordinates); False otherwise (the caller asks Python).
+
+        With s the shortest squared side in grid units, the rounding exponent is
+        e = floor(log2(s × 2^-2F)) // 2 − CENTROID_BITS, i.e. 2^(e + F) grid units; the
+        exact centroid is u + n / D (D = 3 (A1 + A2), Ai the doubled areas), rounded
+        half up to a multiple of 2^(e + F)."""
+        cdef Vertex *pu = &self.vs[u]
+        cdef Vertex *pv = &self.vs[v]
+        cdef Vertex *pw = &self.vs[w]
+        cdef Vertex *px = &self.vs[x]
+        cdef gx_i128 shortest, length, dx, dy
+        cdef int64_t exponent, cx, cy
+        cdef int k
+        cdef Vertex *ends[5]
+        if not (pu.at.grid and pv.at.grid and pw.at.grid and px.at.grid):
+            return False
+        ends[0], ends[1], ends[2], ends[3], ends[4] = pu, px, pv, pw, pu
+        shortest = -1
+        for k in range(4):
+            dx = <gx_i128>ends[k + 1].at.gx - ends[k].at.gx
+            dy = <gx_i128>ends[k + 1].at.gy - ends[k].at.gy
+            length = dx * dx + dy * dy
+            if shortest < 0 or length < shortest:
+                shortest = length
+        exponent = ((_from_i128(shortest).bit_length() - 1 - 2 * self.F) // 2
+                    - CENTROID_BITS + self.F)
+        if exponent < 0 or exponent > 62:
+            return False
+        a1 = _from_i128(gx_grid_area2(pu.at.gx, pu.at.gy, pv.at.gx, pv.at.gy,
+                                      pw.at.gx, pw.at.gy))
+        a2 = _from_i128(gx_grid_area2(pv.at.gx, pv.at.gy, pu.at.gx, pu.at.gy,
+                                      px.at.gx, px.at.gy))
+        denominator = 3 * (a1 + a2)
+        if denominator <= 0:
+            return False
+        half = denominator << exponent
+        whole = half << 1
+        for k in range(2):
+            if k == 0:
+                base = pu.at.gx
+                offset = (a1 * ((pv.at.gx - pu.at.gx) + (pw.at.gx - pu.at.gx))
+                          + a2 * ((pv.at.gx - pu.at.gx) + (px.at.gx - pu.at.gx)))
+            else:
+                base = pu.at.gy
+                offset = (a1 * ((pv.at.gy - pu.at.gy) + (pw.at.gy - pu.at.gy))
+                          + a2 * ((pv.at.gy - pu.at.gy) + (px.at.gy - pu.at.gy)))
+            # floor((base + offset / D) / 2^e + 1/2), base = q 2^e + r
+            q = base >> exponent
+            r = base - (q << exponent)
+            rounded = (q + (2 * (r * denominator + offset) + half) // whole) << exponent
+            if abs(rounded) > GRID_LIMIT:
+                return False
+            out[k] = rounded
+        cx, cy = out[0], out[1]
+        return (
+            gx_grid_orient(pu.at.gx, pu.at.gy, px.at.gx, px.at.gy, cx, cy) == 1
+            and gx_grid_orient(px.at.gx, px.at.gy, pv.at.gx, pv.at.gy, cx, cy) == 1
+            and gx_grid_orient(pv.at.gx, pv.at.gy, pw.at.gx, pw.at.gy, cx, cy) == 1
+            and gx_grid_orient(pw.at.gx, pw.at.gy, pu.at.gx, pu.at.gy, cx, cy) == 1
+        )
+
+    cdef int _grow(self, void **array, Py_ssize_t *capacity, size_t item,
+                   size_t width) except -1:
+        cdef Py_ssize_t wanted = 2 * capacity[0]
+        cdef void *grown = realloc(array[0], wanted * item * width)
+        if grown == NULL:
+            raise MemoryError
+        array[0] = grown
+        capacity[0] = wanted
+        return 0
+
+    # -- predicates (exact) -------------------------------------------------------------
+    cdef int _lengths(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
+        """The sign of |ab|² - |cd|² (compare_squared_lengths)."""
+        cdef Vertex *va = &self.vs[a]
+        cdef Vertex *vb = &self.vs[b]
+        cdef Vertex *vc = &self.vs[c]
+        cdef Vertex *vd = &self.vs[d]
+        cdef int result
+        if va.at.grid and vb.at.grid and vc.at.grid and vd.at.grid:
+            return gx_grid_lengths(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy, vd.at.gx, vd.at.gy)
+        result = gx_float_lengths(va.at.fx, va.at.fy, vb.at.fx, vb.at.fy, vc.at.fx, vc.at.fy, vd.at.fx, vd.at.fy)
+        if result != 2:
+            return result
+        points = self.points
+        return int(_predicates.compare_squared_lengths(points[a], points[b], points[c],
+                                                       points[d]))
+
+    cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
+        """The sign of orient2d(points[a], points[b], points[c])."""
+        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at)
+        if result != 2:
+            return result
+        points = self.points
+        return int(_predicates.orient2d_exact(points[a], points[b], points[c]))
+
+    cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
+        """The sign of incircle(points[a], points[b], points[c], points[d])."""
+        cdef int result = filtered_incircle(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at,
+                                            &self.vs[d].at)
+        if result != 2:
+            return result
+        points = self.points
+        return int(_predicates.incircle_exact(points[a], points[b], points[c], points[d]))
+
+    cdef int _dot_sign(self, int64_t p, int64_t a, int64_t b) nogil:
+        """The sign of (a - p).(b - p), or 2 when the float filter cannot tell."""
+        cdef Vertex *vp = &self.vs[p]
+        cdef Vertex *va = &self.vs[a]
+        cdef Vertex *vb = &self.vs[b]
+        if vp.at.grid and va.at.grid and vb.at.grid:
+            return gx_grid_dot(vp.at.gx, vp.at.gy, va.at.gx, va.at.gy, vb.at.gx, vb.at.gy)
+        return gx_float_dot(vp.at.fx, vp.at.fy, va.at.fx, va.at.fy, vb.at.fx, vb.at.fy)
+
+    # -- region, rating, queue ----------------------------------------------------------
+    cdef bint _in_region(self, int64_t a, int64_t b, int64_t c) except -1:
+        """True when a vertex of the triangle is in the region (cached per vertex)."""
+        if self.whole:
+            return True
+        return self._inside(a) or self._inside(b) or self._inside(c)
+
+    cdef bint _inside(self, int64_t vertex) except -1:
+        cdef Vertex *record = &self.vs[vertex]
+        if record.inside < 0:
+            record.inside = 1 if self.contains(self.points[vertex]) else 0
+        return record.inside
+
+    cdef int _account(self, int64_t a, int64_t b, int64_t c, int sign) except -1:
+        """``Refinement.account`` for one triangle (any rotation) added (sign 1) or
+        removed (sign -1): its doubled area and itself counted when it is in the region."""
+        cdef Vertex *va
+        cdef Vertex *vb
+        cdef Vertex *vc
+        if not self.whole and not self._in_region(a, b, c):
+            return 0
+        va = &self.vs[a]
+        vb = &self.vs[b]
+        vc = &self.vs[c]
+        self.count += sign
+        if va.at.grid and vb.at.grid and vc.at.grid:
+            if sign > 0:
+                self.gsum += gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy,
+                                           vc.at.gx, vc.at.gy)
+            else:
+                self.gsum -= gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy,
+                                           vc.at.gx, vc.at.gy)
+            return 0
+        points = self.points
+        area2 = _doubled_area(points[a], points[b], points[c])
+        self.pycount += sign
+        if sign > 0:
+            self.pysum += area2
+        else:
+            self.pysum -= area2
+        return 0
+
+    cdef bint _mean_reached(self) except -1:
+        """``Refinement.mean_reached``: no triangle in the region, or its doubled area
+        at most ``target2 * count``, exact."""
+        cdef double s, t
+        if self.count == 0:
+            return True
+        if self.pycount == 0:
+            # all on the grid: gsum <= target2 * 2**2F * count; the float filter's error
+            # is below 2**-50 (relative), its margin 2**-40
+            if self.filtered:
+                s = <double>self.gsum
+                t = self.target_grid * <double>self.count
+                if s < t * (1.0 - 2.0 ** -40):
+                    return True
+                if s > t * (1.0 + 2.0 ** -40):
+                    return False
+            return bool(_from_i128(self.gsum) <= self.target_scaled * self.count)
+        total = _from_i128(self.gsum) / self.scale + self.pysum
+        return bool(total <= self.target2 * self.count)
+
+    def mean_state(self):
+        """(region doubled area, count, target doubled mean area), exact (for tests)."""
+        if not self.tracking:
+            return None
+        return (_from_i128(self.gsum) / self.scale + self.pysum, self.count, self.target2)
+
+    cdef int _consider(self, int64_t a, int64_t b, int64_t c) except -1:
+        """Queue the canonical triangle (a, b, c) when it is bad (the caller checked the
+        region, except at the start)."""
+        cdef Vertex *va
+        cdef Vertex *vb
+        cdef Vertex *vc
+        cdef gx_i128 area2
+        cdef Entry entry
+        if not self.whole and not self._in_region(a, b, c):
+            return 0
+        entry.a = a
+        entry.b = b
+        entry.c = c
+        if self.max_area:
+            va = &self.vs[a]
+            vb = &self.vs[b]
+            vc = &self.vs[c]
+            if va.at.grid and vb.at.grid and vc.at.grid:
+                area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
+                if area2 <= self.area_limit:
+                    return 0
+                entry.ikey = -area2
+                entry.rank = 0.0
+                entry.py = -1
+                return self._push(&entry)
+        points = self.points
+        key = self.rate(points[a], points[b], points[c])
+        if key is None:
+            return 0
+        entry.ikey = 0
+        entry.rank = _rank(key)
+        entry.py = len(self.pykeys)
+        self.pykeys.append(key)
+        return self._push(&entry)
+
+    cdef inline int _less(self, Entry *x, Entry *y) except -1:
+        """(key, triangle) of x < that of y, keys compared exactly."""
+        if x.py < 0 and y.py < 0:
+            if x.ikey != y.ikey:
+                return x.ikey < y.ikey
+            return _triangle_less(x, y)
+        return self._less_python(x, y)
+
+    cdef int _less_python(self, Entry *x, Entry *y) except -1:
+        """_less when a key is a Python object."""
+        if x.py >= 0 and y.py >= 0:
+            if x.rank != y.rank:
+                return x.rank < y.rank
+            kx = self.pykeys[x.py]
+            ky = self.pykeys[y.py]
+            if not (kx == ky):
+                return bool(kx < ky)
+        else:
+            kx = self.pykeys[x.py] if x.py >= 0 else _from_i128(x.ikey) / self.scale
+            ky = self.pykeys[y.py] if y.py >= 0 else _from_i128(y.ikey) / self.scale
+            if not (kx == ky):
+                return bool(kx < ky)
+        return _triangle_less(x, y)
+
+    cdef int _push(self, Entry *entry) except -1:
+        cdef Py_ssize_t i, parent
+        if self.nheap == self.cap_heap:
+            self._grow(<void **>&self.heap, &self.cap_heap, sizeof(Entry), 1)
+        i = self.nheap
+        self.nheap += 1
+        while i > 0:
+            parent = (i - 1) >> 1
+            if not self._less(entry, &self.heap[parent]):
+                break
+            self.heap[i] = self.heap[parent]
+            i = parent
+        self.heap[i] = entry[0]
+        return 0
+
+    cdef bint _pop(self, Entry *out) except -1:
+        cdef Py_ssize_t i = 0, child, n
+        cdef Entry last
+        if self.nheap == 0:
+            return False
+        out[0] = self.heap[0]
+        self.nheap -= 1
+        n = self.nheap
+        if n == 0:
+            return True
+        last = self.heap[n]
+        while True:
+            child = 2 * i + 1
+            if child >= n:
+                break
+            if child + 1 < n and self._less(&self.heap[child + 1], &self.heap[child]):
+                child += 1
+            if not self._less(&self.heap[child], &last):
+                break
+            self.heap[i] = self.heap[child]
+            i = child
+        self.heap[i] = last
+        return True
+
+    cdef int _drain(self) except -1:
+        """Queue the triangles the last action created that are alive and bad."""
+        cdef Py_ssize_t i
+        cdef int64_t a, b, c
+        for i in range(self.ncreated):
+            a = self.created[3 * i]
+            b = self.created[3 * i + 1]
+            c = self.created[3 * i + 2]
+            if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                continue
+            self._consider(a, b, c)
+        self.ncreated = 0
+        return 0
+
+    # -- mesh edits ---------------------------------------------------------------------
+    cdef inline int _set(self, int64_t u, int64_t v, int64_t w) except -1:
+        if gx_map_set(&self.apex, _edge(u, v), w) < 0:
+            raise MemoryError
+        return 0
+
+    cdef int _created(self, int64_t a, int64_t b, int64_t c) except -1:
+        """Note the canonical triangle (a, b, c) as created, and add its cell hash."""
+        if self.ncreated == self.cap_created:
+            self._grow(<void **>&self.created, &self.cap_created, sizeof(int64_t), 3)
+        self.created[3 * self.ncreated] = a
+        self.created[3 * self.ncreated + 1] = b
+        self.created[3 * self.ncreated + 2] = c
+        self.ncreated += 1
+        self.digest += gx_cell_hash(self.vs[a].key, self.vs[b].key, self.vs[c].key)
+        if self.tracking:
+            self._account(a, b, c, 1)
+        return 0
+
+    cdef inline int _removed(self, int64_t a, int64_t b, int64_t c) except -1:
+        """Subtract the cell hash of the triangle (a, b, c), any rotation (and account
+        for it)."""
+        cdef int64_t p = a, q = b, r = c
+        if b < a and b < c:
+            p, q, r = b, c, a
+        elif c < a and c < b:
+            p, q, r = c, a, b
+        self.digest -= gx_cell_hash(self.vs[p].key, self.vs[q].key, self.vs[r].key)
+        if self.tracking:
+            self._account(a, b, c, -1)
+        return 0
+
+    cdef object _step(self, Record *record):
+        """The Step of a record."""
+        if record.op == 2:
+            x, y = self.inserted[record.extra]
+            return Step("insert_in_quadrilateral", (record.u, record.v, x, y))
+        return Step("flip" if record.op else "bisect", (record.u, record.v))
+
+    cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
+        cdef Record *record
+        if self.nrec == self.cap_rec:
+            self._grow(<void **>&self.records, &self.cap_rec, sizeof(Record), 1)
+        record = &self.records[self.nrec]
+        record.op = op
+        record.u = u
+        record.v = v
+        record.extra = extra
+        record.digest = self.digest
+        self.nrec += 1
+        if not self.nrec & 4095:
+            PyErr_CheckSignals()  # Ctrl-C stops a long run (C loops never check it)
+        if self.on_step is not None:
+            step = self._step(record)
+            self.step_objects.append(step)
+            self.on_step(self.progress(self.nrec, step, self.triangles, self.nv, self.nheap))
+        return 0
+
+    cdef int64_t _bisect(self, int64_t u, int64_t v) except -2:
+        """``FastRefinement.bisect`` (no attributes): the new vertex, or -1 at the step
+        limit (no change then)."""
+        cdef int64_t w, x, n, p, q, r, side
+        cdef uint64_t key
+        if self.limit >= 0 and self.nrec >= self.limit:
+            return -1
+        w = gx_map_get(&self.apex, _edge(u, v), -1)
+        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        key = _edge(u, v) if u < v else _edge(v, u)
+        marker = None
+        if gx_map_get(&self.segs, key, -1) >= 0:
+            marker = self.segments[(u, v) if u < v else (v, u)]
+        n = self._add_midpoint(u, v)
+        if marker:
+            self.new_markers[n] = marker
+            self.digest += _to_u128(_digest.attribute_hash("vm", (n,), (marker,)))
+        for side in range(2):
+            if side == 0:
+                p, q, r = u, v, w
+            else:
+                p, q, r = v, u, x
+            if r < 0:
+                continue
+            # (p, q, r) -> (p, n, r), (n, q, r); n is the largest id.  The half-edges
+            # (q, r) and (r, p) stay, with new apexes.
+            gx_map_del(&self.apex, _edge(p, q))
+            self._removed(p, q, r)
+            self._set(p, n, r)
+            self._set(n, r, p)
+            self._set(r, p, n)
+            self._set(n, q, r)
+            self._set(q, r, n)
+            self._set(r, n, q)
+            self.vs[p].hint = n
+            self.vs[n].hint = q
+            self.vs[q].hint = r
+            self.vs[r].hint = n
+            if p < r:
+                self._created(p, n, r)
+            else:
+                self._created(r, p, n)
+            if q < r:
+                self._created(q, r, n)
+            else:
+                self._created(r, n, q)
+            self.triangles += 1
+        if marker is not None:
+            segments = self.segments
+            del segments[(u, v) if u < v else (v, u)]
+            segments[(u, n) if u < n else (n, u)] = marker
+            segments[(n, v) if n < v else (v, n)] = marker
+            gx_map_del(&self.segs, key)
+            if (gx_map_set(&self.segs, _edge(u, n) if u < n else _edge(n, u), 0) < 0
+                    or gx_map_set(&self.segs, _edge(n, v) if n < v else _edge(v, n), 0) < 0):
+                raise MemoryError
+            self.digest += (
+                _to_u128(_digest.segment_hash(min(u, n), max(u, n), marker))
+                + _to_u128(_digest.segment_hash(min(n, v), max(n, v), marker))
+                - _to_u128(_digest.segment_hash(min(u, v), max(u, v), marker))
+            )
+        self._record(0, u, v)
+        return n
+
+    cdef int _flip(self, int64_t u, int64_t v) except -2:
+        """``FastRefinement.flip``: 0, or -1 at the step limit (no change then)."""
+        cdef int64_t w, x
+        if self.limit >= 0 and self.nrec >= self.limit:
+            return -1
+        w = gx_map_get(&self.apex, _edge(u, v), -1)
+        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        # (u, v, w), (v, u, x) -> (x, w, u), (w, x, v)
+        self._removed(u, v, w)
+        self._removed(v, u, x)
+        gx_map_del(&self.apex, _edge(u, v))
+        gx_map_del(&self.apex, _edge(v, u))
+        self._triangle(x, w, u)
+        self._triangle(w, x, v)
+        self._record(1, u, v)
+        return 0
+
+    cdef int64_t _centroid(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
+        """``FastRefinement.centroid`` with ``centroid="area"`` on the interior edge
+        (u, v) with apexes w, x: the new vertex, or -1 at the step limit (no change)."""
+        cdef int64_t n
+        cdef int64_t at[2]
+        if self.limit >= 0 and self.nrec >= self.limit:
+            return -1
+        if self.grid_centroids and self._grid_centroid(u, v, w, x, at):
+            qx = mpq(at[0], self.unit)
+            qy = mpq(at[1], self.unit)
+            point = tuple.__new__(Point2, (qx, qy, float(qx), float(qy)))
+            n = self._add_point(point, True, at[0], at[1])
+        else:
+            points = self.points
+            point = self.centroid(points[u], points[v], points[w], points[x])
+            n = self._add_point(point)
+        # (u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n)
+        self._removed(u, v, w)
+        self._removed(v, u, x)
+        gx_map_del(&self.apex, _edge(u, v))
+        gx_map_del(&self.apex, _edge(v, u))
+        self._triangle(u, x, n)
+        self._triangle(x, v, n)
+        self._triangle(v, w, n)
+        self._triangle(w, u, n)
+        self.triangles += 2
+        self.inserted.append((point[0], point[1]))
+        self._record(2, u, v, len(self.inserted) - 1)
+        return n
+
+    cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
+        """``FastRefinement._add`` (no attributes): the triangle (a, b, c), its hints,
+        noted as created."""
+        self._set(a, b, c)
+        self._set(b, c, a)
+        self._set(c, a, b)
+        self.vs[a].hint = b
+        self.vs[b].hint = c
+        self.vs[c].hint = a
+        if a < b and a < c:
+            self._created(a, b, c)
+        elif b < c:
+            self._created(b, c, a)
+        else:
+            self._created(c, a, b)
+        return 0
+
+    cdef bint _constraint(self, int64_t u, int64_t v) except -1:
+        """``Refinement.constraint`` (no attributes): a boundary or segment edge."""
+        if gx_map_get(&self.apex, _edge(u, v), -1) < 0:
+            return True
+        if gx_map_get(&self.apex, _edge(v, u), -1) < 0:
+            return True
+        return gx_map_get(&self.segs, _edge(u, v) if u < v else _edge(v, u), -1) >= 0
+
+    cdef int _insert_midpoint(self, int64_t u, int64_t v) except -2:
+        """``Refinement.insert_midpoint``: bisect (u, v), then legalize the midpoint's
+        star (as ``FastRefinement._star`` lists it); 0, or -1 at the step limit."""
+        cdef int64_t w, x, n
+        cdef Pair star[4]
+        w = gx_map_get(&self.apex, _edge(u, v), -1)
+        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        n = self._bisect(u, v)
+        if n < 0:
+            return -1
+        if not self.legalize:
+            return 0
+        # the star of the midpoint, counter-clockwise, after the boundary gap
+        if x < 0:
+            star[0].a, star[0].b = v, w
+            star[1].a, star[1].b = w, u
+            return self._legalize(n, star, 2)
+        if w < 0:
+            star[0].a, star[0].b = u, x
+            star[1].a, star[1].b = x, v
+            return self._legalize(n, star, 2)
+        star[0].a, star[0].b = u, x
+        star[1].a, star[1].b = x, v
+        star[2].a, star[2].b = v, w
+        star[3].a, star[3].b = w, u
+        return self._legalize(n, star, 4)
+
+    cdef int _split_pair(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
+        """``Refinement.split_pair`` (no angle threshold, so never refused): the midpoint
+        of a constraint second-longest edge of (u, v, w), then of (v, u, x), else the
+        centroid of the quadrilateral; legalized when Delaunay.  0, or -1 at the step
+        limit."""
+        cdef int64_t p, q, r, n, side
+        cdef Pair star[4]
+        if self.constraint_midpoints:
+            for side in range(2):
+                if side == 0:
+                    p, q, r = u, v, w
+                else:
+                    p, q, r = v, u, x
+                # Refinement.second_edge(p, q, r): the longer of (q, r), (r, p)
+                if _before(self._lengths(q, r, r, p), q, r, r, p):
+                    p, q = q, r
+                else:
+                    p, q = r, p
+                if self._constraint(p, q):
+                    return self._insert_midpoint(p, q)
+        n = self._centroid(u, v, w, x)
+        if n < 0:
+            return -1
+        if self.legalize:
+            star[0].a, star[0].b = u, x
+            star[1].a, star[1].b = x, v
+            star[2].a, star[2].b = v, w
+            star[3].a, star[3].b = w, u
+            return self._legalize(n, star, 4)
+        return 0
+
+    cdef int _push_pending(self, int64_t a, int64_t b) except -1:
+        if self.npending == self.cap_pending:
+            self._grow(<void **>&self.pending, &self.cap_pending, sizeof(Pair), 1)
+        self.pending[self.npending].a = a
+        self.pending[self.npending].b = b
+        self.npending += 1
+        return 0
+
+    cdef int _legalize(self, int64_t vertex, Pair *star, int size) except -2:
+        """``FastRefinement.legalize`` with its known star: 0, or -1 at the step limit.
+
+        The dot-product shortcut only skips pairs that incircle would not flip (two
+        angles <= 90° facing {a, b} sum to <= 180°), so an undecided dot goes to incircle.
+        """
+        cdef int start = 0, index, first
+        cdef int64_t a, b, q
+        for index in range(1, size):
+            if star[index].a < star[start].a:
+                start = index
+        self.npending = 0
+        for index in range(size - 1, -1, -1):  # popped in star order from ``start``
+            self._push_pending(star[(start + index) % size].a, star[(start + index) % size].b)
+        while self.npending:
+            self.npending -= 1
+            a = self.pending[self.npending].a
+            b = self.pending[self.npending].b
+            if gx_map_get(&self.apex, _edge(vertex, a), -1) != b:
+                continue
+            q = gx_map_get(&self.apex, _edge(b, a), -1)
+            if q < 0 or gx_map_get(&self.segs, _edge(a, b) if a < b else _edge(b, a), -1) >= 0:
+                continue
+            first = self._dot_sign(vertex, a, b)
+            if (first == 0 or first == 1) and 0 <= self._dot_sign(q, a, b) <= 1:
+                continue
+            if self._incircle(vertex, a, b, q) != 1:
+                continue
+            if self._orient(q, vertex, a) != 1 or self._orient(vertex, q, b) != 1:
+                continue
+            if self._flip(a, b) < 0:
+                return -1
+            self._push_pending(q, b)
+            self._push_pending(a, q)
+        return 0
+
+    # -- the loop -----------------------------------------------------------------------
+    def run(self):
+        """``FastRefinement.run`` for Lepp-bisection: ``"complete"`` or
+        ``"step-limit"``."""
+        cdef Entry target
+        cdef int64_t a, b, c, u, v, w, x, n, hops
+        cdef int order
+        cdef bint constrained
+        cdef Pair star[4]
+        if self.tracking and self._mean_reached():
+            return "complete"
+        while self._pop(&target):
+            a, b, c = target.a, target.b, target.c
+            if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                continue
+            self.targets += 1
+            while True:
+                # -- Lepp: the longest edge (u, v) of (a, b, c), apex w ------------------
+                order = self._lengths(a, b, b, c)
+                if _before(order, a, b, b, c):
+                    order = self._lengths(a, b, c, a)
+                    if _before(order, a, b, c, a):
+                        u, v, w = a, b, c
+                    else:
+                        u, v, w = c, a, b
+                else:
+                    order = self._lengths(b, c, c, a)
+                    if _before(order, b, c, c, a):
+                        u, v, w = b, c, a
+                    else:
+                        u, v, w = c, a, b
+                self.searches += 1
+                hops = 1
+                while True:
+                    x = gx_map_get(&self.apex, _edge(v, u), -1)
+                    if x < 0 or gx_map_get(
+                        &self.segs, _edge(u, v) if u < v else _edge(v, u), -1
+                    ) >= 0:
+                        constrained = True
+                        break
+                    if self._lengths(u, v, v, x) != -1 and self._lengths(u, v, x, u) != -1:
+                        constrained = False
+                        break
+                    hops += 1
+                    order = self._lengths(u, x, x, v)
+                    if _before(order, u, x, x, v):
+                        w, v = v, x
+                    else:
+                        w, u = u, x
+                self.hops += hops
+                # -- act ---------------------------------------------------------------
+                if self.method != 0 and not constrained:
+                    if self.quasi_flips and self._incircle(u, v, w, x) == 1:
+                        if self._flip(u, v) < 0:
+                            return "step-limit"
+                    elif self._split_pair(u, v, w, x) < 0:
+                        return "step-limit"
+                    self._drain()
+                    if self.tracking and self._mean_reached():
+                        return "complete"
+                    if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                        break
+                    continue
+                # bisect, then legalize around the midpoint
+                n = self._bisect(u, v)
+                if n < 0:
+                    return "step-limit"
+                if self.legalize:
+                    # the star of the midpoint, counter-clockwise, after the boundary gap
+                    if x < 0:
+                        star[0].a, star[0].b = v, w
+                        star[1].a, star[1].b = w, u
+                        if self._legalize(n, star, 2) < 0:
+                            return "step-limit"
+                    else:
+                        star[0].a, star[0].b = u, x
+                        star[1].a, star[1].b = x, v
+                        star[2].a, star[2].b = v, w
+                        star[3].a, star[3].b = w, u
+                        if self._legalize(n, star, 4) < 0:
+                            return "step-limit"
+                self._drain()
+                if self.tracking and self._mean_reached():
+                    return "complete"  # the region-wide target is met (CriterionMet)
+                if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                    break
+        return "complete"
+
+    def finish(self, start):
+        """(mesh, steps, digests) as ``FastRefinement.finish``."""
+        cdef Py_ssize_t i
+        cdef uint64_t slot, edge
+        cdef int64_t u, v, n0 = self.n0
+        cdef Record *record
+        vertices = start.vertices.mutate()
+        points = self.points
+        for i in range(n0, self.nv):
+            vertices[i] = points[i]
+        halfedges = start.halfedges.mutate()
+        old = start.halfedges
+        for key, w in old.items():
+            if gx_map_get(&self.apex, _edge(key[0], key[1]), -1) != w:
+                if gx_map_get(&self.apex, _edge(key[0], key[1]), -1) < 0:
+                    del halfedges[key]
+        for slot in range(self.apex.mask + 1):
+            edge = self.apex.keys[slot]
+            if edge == GX_EMPTY:
+                continue
+            u = <int64_t>(edge >> 32)
+            v = <int64_t>(edge & 0xFFFFFFFF)
+            key = (u, v)
+            if u < n0 and v < n0 and old.get(key) == self.apex.values[slot]:
+                continue
+            halfedges[key] = self.apex.values[slot]
+        markers = start.vertex_markers.mutate()
+        for vertex, marker in self.new_markers.items():
+            markers[vertex] = marker
+        outgoing = immutables.Map([
+            (i, self.vs[i].hint) for i in range(self.nv) if self.vs[i].hint >= 0
+        ])
+        digest = _from_u128(self.digest)
+        mesh = Mesh2(
+            vertices=vertices.finish(),
+            halfedges=halfedges.finish(),
+            outgoing=outgoing,
+            segments=immutables.Map(self.segments),
+            vertex_markers=markers.finish(),
+            vertex_attributes=start.vertex_attributes,
+            triangle_attributes=start.triangle_attributes,
+            triangle_count=self.triangles,
+            digest=digest,
+        )
+        steps = self.step_objects
+        if steps is None:
+            steps = []
+            for i in range(self.nrec):
+                steps.append(self._step(&self.records[i]))
+        digests = [_from_u128(self.records[i].digest) for i in range(self.nrec)]
+        return mesh, steps, digests
+
+    @property
+    def pending(self):
+        """Entries in the work queue."""
+        return self.nheap
+
+    def vertex_state(self, Py_ssize_t i):
+        """(on grid, grid x, grid y, F) of vertex ``i`` (for tests)."""
+        if not 0 <= i < self.nv:
+            raise IndexError(i)
+        return bool(self.vs[i].at.grid), self.vs[i].at.gx, self.vs[i].at.gy, self.F
+
+    def grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x):
+        """The grid path of ``rounded_area_centroid`` for the quadrilateral of triangles
+        (u, v, w), (v, u, x): the Point2, or None where the kernel asks Python (for
+        tests)."""
+        cdef int64_t at[2]
+        for vertex in (u, v, w, x):
+            if not 0 <= vertex < self.nv:
+                raise IndexError(vertex)
+        if not self._grid_centroid(u, v, w, x, at):
+            return None
+        return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
+
+    def grid_area_limit(self):
+        """The MaxArea bound in grid units (for tests)."""
+        return _from_i128(self.area_limit)

@@ -1,0 +1,55 @@
+"""Statistics of a mesh, as reported by ``geomexact info``: counts, angles, areas,
+Delaunay-ness and digest."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from geomexact.kernel.numbers import ZERO, format_rational, to_float
+from geomexact.mesh2d.delaunay.triangulation import is_delaunay
+from geomexact.mesh2d.measures import signed_area, triangle_angles_degrees
+from geomexact.mesh2d.snapshot import Mesh2
+
+
+def mesh_summary(mesh: Mesh2) -> dict[str, Any]:
+    """A JSON-ready dict: ``vertices``, ``triangles``, ``edges``, ``boundary_edges``,
+    ``constrained_edges``, ``min_angle_deg``, ``max_angle_deg`` (floats, for reading),
+    ``min_area``, ``max_area``, ``mean_area`` (nearest doubles of the exact values),
+    ``total_area`` (exact, ``"p/q"`` or decimal text), ``is_delaunay`` (exact) and
+    ``digest``.  Angle and area entries are None for a mesh without triangles.  O(n)."""
+    vertices = mesh.vertices
+    min_angle = max_angle = None
+    min_area = max_area = None
+    total = ZERO
+    for a, b, c in mesh.iter_triangles():
+        pa, pb, pc = vertices[a], vertices[b], vertices[c]
+        area = signed_area(pa, pb, pc)
+        total += area
+        if min_area is None or area < min_area:
+            min_area = area
+        if max_area is None or area > max_area:
+            max_area = area
+        angles = triangle_angles_degrees(pa, pb, pc)
+        low, high = min(angles), max(angles)
+        if min_angle is None or low < min_angle:
+            min_angle = low
+        if max_angle is None or high > max_angle:
+            max_angle = high
+    count = mesh.triangle_count
+    edges = len(mesh.halfedges)
+    boundary = len(mesh.boundary_edges())
+    return {
+        "vertices": mesh.vertex_count,
+        "triangles": count,
+        "edges": (edges + boundary) // 2,
+        "boundary_edges": boundary,
+        "constrained_edges": len(mesh.segments),
+        "min_angle_deg": min_angle,
+        "max_angle_deg": max_angle,
+        "min_area": None if min_area is None else to_float(min_area),
+        "max_area": None if max_area is None else to_float(max_area),
+        "mean_area": to_float(total / count) if count else None,
+        "total_area": format_rational(total),
+        "is_delaunay": is_delaunay(mesh),
+        "digest": mesh.digest_text,
+    }

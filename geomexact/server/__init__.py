@@ -1,0 +1,59 @@
+"""``geomexact serve``: a small local HTTP server for looking at meshes.
+
+It lists the mesh files of a directory and opens each in the viewer (with a trace, the
+step slider), and it refines uploaded meshes: the upload form sends a mesh file, the server
+runs the library on it (never a shell) and answers with the viewer of the result and its
+trace.  It is meant for one person on their own machine:
+
+- it listens on the loopback interface unless ``host`` names another; on loopback it
+  answers only requests whose ``Host`` is a loopback name (no DNS rebinding), and it
+  refuses uploads posted from other sites (``Origin``);
+- a request body is at most ``max_upload_bytes``; every piece of library work (reading a
+  file, triangulating, refining, building a page) runs in a separate process that is
+  killed after ``time_limit`` seconds; at most ``jobs`` such processes run at once (more
+  requests get "busy");
+- a bad file gets a page naming the file, the line and the problem.
+
+Actions offered for uploads are in :data:`ACTIONS`: ``triangulate`` always, ``refine``
+when :mod:`geomexact.mesh2d.refinement.api` is installed.  Specification: ``specs/viewer.md``.
+
+Modules: :mod:`~geomexact.server.options` (:class:`ServeOptions`),
+:mod:`~geomexact.server.actions` (what an upload can be run through),
+:mod:`~geomexact.server.jobs` (the work behind each page),
+:mod:`~geomexact.server.bounded` (running a job in a child process with a time limit),
+:mod:`~geomexact.server.listing` (the served directory's files),
+:mod:`~geomexact.server.pages` (the server's own HTML pages) and
+:mod:`~geomexact.server.http_server` (HTTP).
+"""
+
+from __future__ import annotations
+
+from geomexact.server.actions import ACTIONS, Action, Outcome, available_actions
+from geomexact.server.bounded import JobFailed, run_bounded
+from geomexact.server.http_server import (
+    MeshServer,
+    is_loopback,
+    make_server,
+    parse_multipart,
+    serve,
+)
+from geomexact.server.jobs import safe_name, upload_job, view_job
+from geomexact.server.options import ServeOptions
+
+__all__ = [
+    "ACTIONS",
+    "Action",
+    "JobFailed",
+    "MeshServer",
+    "Outcome",
+    "ServeOptions",
+    "available_actions",
+    "is_loopback",
+    "make_server",
+    "parse_multipart",
+    "run_bounded",
+    "safe_name",
+    "serve",
+    "upload_job",
+    "view_job",
+]
