@@ -265,7 +265,7 @@ def main() -> int:
                 print(format_run(run), flush=True)
     for run in runs:
         run.pop("printed", None)
-    from geomexact import __version__
+    from geomexact._version import __version__
 
     report = {"geomexact": __version__, "python": platform.python_version(),
               "machine": platform.machine(), "runs": runs, "verdicts": verdicts(runs)}

@@ -1,97 +1,193 @@
-"""geomexact: exact, reproducible, replayable mesh refinement.
+"""geomexact: exact, reproducible, replayable mesh generation and refinement.
 
 Coordinates are exact rationals (gmpy2 ``mpq``); predicates are adaptive and exact; a mesh
 is an immutable snapshot; every algorithm is a sequence of pure steps recorded in a trace
-that replays bit for bit.  The documented API is re-exported here (see ``__all__``).
+that replays bit for bit.  The documented API is re-exported here (see ``__all__``); each
+name lives in the module named beside it below (``docs/design.md``).  The names are loaded
+on first use, so ``import geomexact`` costs almost nothing.
+
+>>> import geomexact
+>>> geomexact.mpq("0.1") + geomexact.mpq("0.2") == geomexact.mpq(3, 10)
+True
 """
 
 from __future__ import annotations
 
-__version__ = "0.1.0"
+import importlib
+from typing import TYPE_CHECKING, Any
 
-from geomexact.errors import (
-    FormatError,
-    GeomexactError,
-    InvalidMeshError,
-    OverwriteError,
-    PreconditionError,
-    RationalParseError,
-    TraceError,
-    TransientSealedError,
-)
-from geomexact.kernel.numbers import (
-    format_rational,
-    mpq,
-    parse_rational,
-    to_rational,
-)
-from geomexact.kernel.points import Point2, Point3, point2, point3
-from geomexact.kernel.predicates import (
-    CircleLocation,
-    Comparison,
-    Orientation,
-    SphereLocation,
-    incircle,
-    insphere,
-    orient2d,
-    orient3d,
-)
-from geomexact.mesh2d.delaunay.triangulation import (
-    Construction,
-    SegmentError,
-    is_delaunay,
-    make_delaunay,
-    non_delaunay_edges,
-    triangulate,
-    triangulate_points,
-    vertices_mesh,
-)
-from geomexact.mesh2d.measures import signed_area, total_area, triangle_area
-from geomexact.mesh2d.ops import (
-    apply,
-    bisect,
-    flip,
-    insert_centroid,
-    insert_in_edge,
-    insert_in_triangle,
-    legalize,
-)
-from geomexact.mesh2d.polygonal.convex import (
-    ConvexDecomposition,
-    ConvexDecompositionError,
-    convex_decomposition,
-)
-from geomexact.mesh2d.polygonal.polygon_mesh import (
-    PolygonMesh,
-    check_polygon_mesh,
-    mesh_stats,
-    validate_polygon_mesh,
-)
-from geomexact.mesh2d.polygonal.polylla_meshing import (
-    EdgeLabels,
-    PolyllaError,
-    PolyllaRun,
-    label_edges,
-    polylla,
-    polylla_run,
-)
-from geomexact.mesh2d.pslg import PSLG
-from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle, empty_mesh
-from geomexact.mesh2d.summary import mesh_summary
-from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
-from geomexact.mesh2d.validation import Violation, check, validate
-from geomexact.trace.record import (
-    Trace,
-    first_divergence,
-    read_trace,
-    replay,
-    trace_of,
-    write_trace,
-)
-from geomexact.trace.step import Step
+from geomexact._version import __version__
+
+if TYPE_CHECKING:
+    from geomexact.errors import (
+        ConvexDecompositionError,
+        FormatError,
+        GeomexactError,
+        InvalidMeshError,
+        OverwriteError,
+        PolyllaError,
+        PreconditionError,
+        RationalParseError,
+        SegmentError,
+        TraceError,
+        TransientSealedError,
+    )
+    from geomexact.io.trace_file import read_trace, write_trace
+    from geomexact.kernel.numbers import format_rational, mpq, parse_rational, to_rational
+    from geomexact.kernel.points import Point2, Point3, point2, point3
+    from geomexact.kernel.predicates import (
+        CircleLocation,
+        Comparison,
+        Orientation,
+        SphereLocation,
+        incircle,
+        insphere,
+        orient2d,
+        orient3d,
+    )
+    from geomexact.mesh2d.delaunay.triangulation import (
+        Construction,
+        is_delaunay,
+        make_delaunay,
+        non_delaunay_edges,
+        triangulate,
+        triangulate_points,
+        vertices_mesh,
+    )
+    from geomexact.mesh2d.longest_edge import Lepp, lepp
+    from geomexact.mesh2d.measures import signed_area, total_area, triangle_area
+    from geomexact.mesh2d.ops import (
+        apply,
+        bisect,
+        flip,
+        insert_centroid,
+        insert_in_edge,
+        insert_in_triangle,
+        legalize,
+    )
+    from geomexact.mesh2d.polygonal.convex import ConvexDecomposition, convex_decomposition
+    from geomexact.mesh2d.polygonal.polygon_mesh import (
+        PolygonMesh,
+        check_polygon_mesh,
+        mesh_stats,
+        validate_polygon_mesh,
+    )
+    from geomexact.mesh2d.polygonal.polylla_meshing import (
+        EdgeLabels,
+        PolyllaRun,
+        label_edges,
+        polylla,
+        polylla_run,
+    )
+    from geomexact.mesh2d.pslg import PSLG
+    from geomexact.mesh2d.refinement.api import RefineStats, Result, refine
+    from geomexact.mesh2d.refinement.criteria import (
+        AverageAreaFactor,
+        MaxArea,
+        MaxEdgeLength,
+        MinAngle,
+    )
+    from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle
+    from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle, empty_mesh
+    from geomexact.mesh2d.summary import mesh_summary
+    from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
+    from geomexact.mesh2d.validation import Violation, check, validate
+    from geomexact.trace.playback import first_divergence, replay
+    from geomexact.trace.record import Trace, trace_of
+    from geomexact.trace.step import Step
+
+_HOMES: dict[str, str] = {
+    "ConvexDecompositionError": "geomexact.errors",
+    "FormatError": "geomexact.errors",
+    "GeomexactError": "geomexact.errors",
+    "InvalidMeshError": "geomexact.errors",
+    "OverwriteError": "geomexact.errors",
+    "PolyllaError": "geomexact.errors",
+    "PreconditionError": "geomexact.errors",
+    "RationalParseError": "geomexact.errors",
+    "SegmentError": "geomexact.errors",
+    "TraceError": "geomexact.errors",
+    "TransientSealedError": "geomexact.errors",
+    "format_rational": "geomexact.kernel.numbers",
+    "mpq": "geomexact.kernel.numbers",
+    "parse_rational": "geomexact.kernel.numbers",
+    "to_rational": "geomexact.kernel.numbers",
+    "Point2": "geomexact.kernel.points",
+    "Point3": "geomexact.kernel.points",
+    "point2": "geomexact.kernel.points",
+    "point3": "geomexact.kernel.points",
+    "CircleLocation": "geomexact.kernel.predicates",
+    "Comparison": "geomexact.kernel.predicates",
+    "Orientation": "geomexact.kernel.predicates",
+    "SphereLocation": "geomexact.kernel.predicates",
+    "incircle": "geomexact.kernel.predicates",
+    "insphere": "geomexact.kernel.predicates",
+    "orient2d": "geomexact.kernel.predicates",
+    "orient3d": "geomexact.kernel.predicates",
+    "Step": "geomexact.trace.step",
+    "Trace": "geomexact.trace.record",
+    "trace_of": "geomexact.trace.record",
+    "first_divergence": "geomexact.trace.playback",
+    "replay": "geomexact.trace.playback",
+    "Mesh2": "geomexact.mesh2d.snapshot",
+    "canonical_triangle": "geomexact.mesh2d.snapshot",
+    "empty_mesh": "geomexact.mesh2d.snapshot",
+    "Transient2": "geomexact.mesh2d.transient",
+    "mesh_from_triangles": "geomexact.mesh2d.transient",
+    "apply": "geomexact.mesh2d.ops",
+    "bisect": "geomexact.mesh2d.ops",
+    "flip": "geomexact.mesh2d.ops",
+    "insert_centroid": "geomexact.mesh2d.ops",
+    "insert_in_edge": "geomexact.mesh2d.ops",
+    "insert_in_triangle": "geomexact.mesh2d.ops",
+    "legalize": "geomexact.mesh2d.ops",
+    "Violation": "geomexact.mesh2d.validation",
+    "check": "geomexact.mesh2d.validation",
+    "validate": "geomexact.mesh2d.validation",
+    "signed_area": "geomexact.mesh2d.measures",
+    "total_area": "geomexact.mesh2d.measures",
+    "triangle_area": "geomexact.mesh2d.measures",
+    "mesh_summary": "geomexact.mesh2d.summary",
+    "PSLG": "geomexact.mesh2d.pslg",
+    "Lepp": "geomexact.mesh2d.longest_edge",
+    "lepp": "geomexact.mesh2d.longest_edge",
+    "Construction": "geomexact.mesh2d.delaunay.triangulation",
+    "is_delaunay": "geomexact.mesh2d.delaunay.triangulation",
+    "make_delaunay": "geomexact.mesh2d.delaunay.triangulation",
+    "non_delaunay_edges": "geomexact.mesh2d.delaunay.triangulation",
+    "triangulate": "geomexact.mesh2d.delaunay.triangulation",
+    "triangulate_points": "geomexact.mesh2d.delaunay.triangulation",
+    "vertices_mesh": "geomexact.mesh2d.delaunay.triangulation",
+    "RefineStats": "geomexact.mesh2d.refinement.api",
+    "Result": "geomexact.mesh2d.refinement.api",
+    "refine": "geomexact.mesh2d.refinement.api",
+    "AverageAreaFactor": "geomexact.mesh2d.refinement.criteria",
+    "MaxArea": "geomexact.mesh2d.refinement.criteria",
+    "MaxEdgeLength": "geomexact.mesh2d.refinement.criteria",
+    "MinAngle": "geomexact.mesh2d.refinement.criteria",
+    "Circle": "geomexact.mesh2d.refinement.regions",
+    "Polygon": "geomexact.mesh2d.refinement.regions",
+    "Rectangle": "geomexact.mesh2d.refinement.regions",
+    "PolygonMesh": "geomexact.mesh2d.polygonal.polygon_mesh",
+    "check_polygon_mesh": "geomexact.mesh2d.polygonal.polygon_mesh",
+    "mesh_stats": "geomexact.mesh2d.polygonal.polygon_mesh",
+    "validate_polygon_mesh": "geomexact.mesh2d.polygonal.polygon_mesh",
+    "EdgeLabels": "geomexact.mesh2d.polygonal.polylla_meshing",
+    "PolyllaRun": "geomexact.mesh2d.polygonal.polylla_meshing",
+    "label_edges": "geomexact.mesh2d.polygonal.polylla_meshing",
+    "polylla": "geomexact.mesh2d.polygonal.polylla_meshing",
+    "polylla_run": "geomexact.mesh2d.polygonal.polylla_meshing",
+    "ConvexDecomposition": "geomexact.mesh2d.polygonal.convex",
+    "convex_decomposition": "geomexact.mesh2d.polygonal.convex",
+    "read_trace": "geomexact.io.trace_file",
+    "write_trace": "geomexact.io.trace_file",
+}
+"""Public name -> the module that defines it."""
 
 __all__ = [
     "PSLG",
+    "AverageAreaFactor",
+    "Circle",
     "CircleLocation",
     "Comparison",
     "Construction",
@@ -101,16 +197,24 @@ __all__ = [
     "FormatError",
     "GeomexactError",
     "InvalidMeshError",
+    "Lepp",
+    "MaxArea",
+    "MaxEdgeLength",
     "Mesh2",
+    "MinAngle",
     "Orientation",
     "OverwriteError",
     "Point2",
     "Point3",
+    "Polygon",
     "PolygonMesh",
     "PolyllaError",
     "PolyllaRun",
     "PreconditionError",
     "RationalParseError",
+    "Rectangle",
+    "RefineStats",
+    "Result",
     "SegmentError",
     "SphereLocation",
     "Step",
@@ -138,6 +242,7 @@ __all__ = [
     "is_delaunay",
     "label_edges",
     "legalize",
+    "lepp",
     "make_delaunay",
     "mesh_from_triangles",
     "mesh_stats",
@@ -152,6 +257,7 @@ __all__ = [
     "polylla",
     "polylla_run",
     "read_trace",
+    "refine",
     "replay",
     "signed_area",
     "to_rational",
@@ -166,33 +272,15 @@ __all__ = [
     "write_trace",
 ]
 
-# -- Lepp refinement (geomexact.mesh2d.refinement.api; issue 4)
-# ---------------------------------------------
-# Kept as one block: importing geomexact.mesh2d.refinement.api also registers the step
-# ``insert_in_quadrilateral`` (geomexact.mesh2d.refinement.centroids), so that refinement traces
-# replay after
-# a plain ``import geomexact``.
-from geomexact.mesh2d.longest_edge import Lepp, lepp
-from geomexact.mesh2d.refinement.api import RefineStats, Result, refine
-from geomexact.mesh2d.refinement.criteria import (
-    AverageAreaFactor,
-    MaxArea,
-    MaxEdgeLength,
-    MinAngle,
-)
-from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle
 
-__all__ += [
-    "AverageAreaFactor",
-    "Circle",
-    "Lepp",
-    "MaxArea",
-    "MaxEdgeLength",
-    "MinAngle",
-    "Polygon",
-    "Rectangle",
-    "RefineStats",
-    "Result",
-    "lepp",
-    "refine",
-]
+def __getattr__(name: str) -> Any:
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module 'geomexact' has no attribute {name!r}")
+    value = getattr(importlib.import_module(home), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

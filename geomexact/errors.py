@@ -78,3 +78,40 @@ class TraceError(GeomexactError, ValueError):
 
 class TransientSealedError(GeomexactError, RuntimeError):
     """A write to a transient builder after it was sealed into a snapshot."""
+
+
+class SegmentError(PreconditionError):
+    """Input segments that cross each other or pass through a vertex, when splitting them
+    is not allowed.  ``pairs`` lists the offending pairs: ((u, v), (a, b)) for two
+    segments that meet, ((u, v), w) for a segment through vertex w."""
+
+    def __init__(self, pairs: list[tuple[tuple[int, int], object]]) -> None:
+        shown = "; ".join(
+            f"segments {first} and {second} meet" if isinstance(second, tuple)
+            else f"segment {first} passes through vertex {second}"
+            for first, second in pairs[:20]
+        )
+        more = f" (and {len(pairs) - 20} more)" if len(pairs) > 20 else ""
+        super().__init__(
+            "triangulate",
+            "segments cross or pass through vertices (pass split_segments=True / "
+            f"--split-segments to split them there): {shown or 'segments meet'}{more}",
+            pairs=tuple(pairs),
+        )
+        self.pairs = tuple(pairs)
+
+
+class PolyllaError(GeomexactError, RuntimeError):
+    """An invariant of the Polylla construction failed (e.g. on a triangulation that is
+    not a valid mesh): raised instead of returning a wrong polygon mesh."""
+
+
+class ConvexDecompositionError(GeomexactError, RuntimeError):
+    """The decomposition produced a polygon that is not convex (``polygons``: their
+    vertex tuples).  Raised instead of returning such a mesh."""
+
+    def __init__(self, polygons: Sequence[tuple[int, ...]]) -> None:
+        shown = ", ".join(str(polygon) for polygon in polygons[:3])
+        super().__init__(f"{len(polygons)} polygon(s) are not convex after the "
+                         f"decomposition: {shown}")
+        self.polygons = tuple(polygons)

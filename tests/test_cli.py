@@ -17,7 +17,8 @@ from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.ops import bisect, bisect_in, flip, flip_in, insert_centroid_in
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
-from geomexact.trace.record import trace_of, write_trace
+from geomexact.trace.record import trace_of
+from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.transient import Transient2
 
 SUMMARY_KEYS = {

@@ -32,7 +32,7 @@ from geomexact.kernel.points import Point2, point2
 from geomexact.kernel.predicates import Orientation, orient2d
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.strategies import coordinates, dyadic_rationals, points2
-from geomexact.trace.record import replay
+from geomexact.trace.playback import replay
 
 pytestmark = pytest.mark.skipif(not AVAILABLE, reason="the compiled Delaunay kernel is not built")
 

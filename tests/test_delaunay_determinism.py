@@ -23,7 +23,7 @@ SCRIPT = r"""
 import hashlib, importlib.resources, json, random, sys
 from geomexact import PSLG, io, mpq, point2
 from geomexact.mesh2d.delaunay.triangulation import triangulate
-from geomexact.trace.record import trace_text
+from geomexact.io.trace_file import trace_text
 
 def cases():
     path = importlib.resources.files("geomexact") / "data" / "superior.poly"

@@ -42,7 +42,8 @@ from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.refinement.api import Progress, Result, refine
 from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, Whole
 from geomexact.strategies import meshes_with_traces, pslgs
-from geomexact.trace.record import read_trace, replay_iter, write_trace
+from geomexact.io.trace_file import read_trace, write_trace
+from geomexact.trace.playback import replay_iter
 
 
 def unit_square(constrained: bool = True) -> Mesh2:
@@ -547,7 +548,7 @@ from geomexact.mesh2d.refinement.criteria import MinAngle, MaxArea
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.refinement.api import refine
 from geomexact.mesh2d.refinement.regions import Circle
-from geomexact.trace.record import trace_text
+from geomexact.io.trace_file import trace_text
 source = resources.files("geomexact") / "data" / "superior.poly"
 with resources.as_file(source) as path:
     mesh = triangulate(io.read(path, format="poly")).mesh

@@ -12,7 +12,7 @@ import pytest
 
 from geomexact import Mesh2, io, mpq, total_area
 from geomexact.cli import main
-from geomexact.trace.record import read_trace
+from geomexact.io.trace_file import read_trace
 
 SQUARE_OFF = """OFF
 4 2 0

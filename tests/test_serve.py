@@ -18,7 +18,7 @@ import pytest
 from geomexact import io
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.pslg import PSLG
-from geomexact.trace.record import write_trace
+from geomexact.io.trace_file import write_trace
 from geomexact import server as serve
 from geomexact.server import MeshServer, ServeOptions, make_server
 

@@ -29,7 +29,8 @@ from geomexact import (
 from geomexact.mesh2d.ops import bisect_in, insert_in_edge_in, legalize_in
 from geomexact.kernel.points import point2
 from geomexact.strategies import meshes_with_traces
-from geomexact.trace.record import parse_trace, replay_iter, trace_text
+from geomexact.io.trace_file import parse_trace, trace_text
+from geomexact.trace.playback import replay_iter
 from geomexact.mesh2d.transient import Transient2
 
 
@@ -157,7 +158,7 @@ import random, sys
 from geomexact import mesh_from_triangles, trace_of
 from geomexact.mesh2d.ops import bisect_in, insert_centroid_in, legalize_in, flip_in
 from geomexact.errors import PreconditionError
-from geomexact.trace.record import trace_text
+from geomexact.io.trace_file import trace_text
 from geomexact.mesh2d.transient import Transient2
 n = 6
 points = [(x, y) for y in range(n) for x in range(n)]

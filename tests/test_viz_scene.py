@@ -17,7 +17,8 @@ from geomexact.kernel.points import point2
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG, RegionSeed
 from geomexact.strategies import meshes_with_traces
-from geomexact.trace.record import Trace, replay
+from geomexact.trace.record import Trace
+from geomexact.trace.playback import replay
 from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
 from geomexact.viz.scene import (
     History,

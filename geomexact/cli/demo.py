@@ -21,11 +21,12 @@ from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.summaries import pslg_summary
 from geomexact.cli.writing import write
 from geomexact.errors import OverwriteError
+from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
-from geomexact.trace.record import Trace, write_trace
+from geomexact.trace.record import Trace
 
 DEMO_INPUT = "superior.poly"
 DEMO_SOURCE = "Unity-Technologies/triangle.net @ 730f6c4, Data/superior.poly"

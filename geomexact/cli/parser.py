@@ -7,7 +7,7 @@ import sys
 from collections.abc import Callable
 from typing import NoReturn, cast
 
-from geomexact import __version__
+from geomexact._version import __version__
 from geomexact.cli import (
     check,
     convert,

@@ -27,13 +27,14 @@ from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import write
 from geomexact.errors import OverwriteError
+from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
 from geomexact.mesh2d.validation import validate
-from geomexact.trace.record import Trace, write_trace
+from geomexact.trace.record import Trace
 
 
 class _RefineProgress:
@@ -189,7 +190,7 @@ def command_refine(args: argparse.Namespace) -> int:
         written += write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
                           exact=args.exact)
     if args.print_iter:
-        from geomexact.trace.record import replay_iter
+        from geomexact.trace.playback import replay_iter
 
         directory = Path(args.print_iter)
         directory.mkdir(parents=True, exist_ok=True)

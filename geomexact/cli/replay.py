@@ -21,10 +21,11 @@ from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
 from geomexact.cli.writing import write
 from geomexact.errors import TraceError
+from geomexact.io.trace_file import read_trace
 from geomexact.mesh2d.delaunay.triangulation import vertices_mesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
-from geomexact.trace.record import read_trace, replay
+from geomexact.trace.playback import replay
 
 
 def command_replay(args: argparse.Namespace) -> int:

@@ -22,12 +22,12 @@ from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.writing import write
+from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import is_delaunay, make_delaunay, triangulate
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
 from geomexact.mesh2d.validation import validate
-from geomexact.trace.record import write_trace
 
 
 def command_triangulate(args: argparse.Namespace) -> int:

@@ -20,7 +20,7 @@ from geomexact.cli.exit_codes import EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
 from geomexact.errors import GeomexactError
-from geomexact.trace.record import read_trace
+from geomexact.io.trace_file import read_trace
 
 VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
 

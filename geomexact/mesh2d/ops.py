@@ -11,7 +11,8 @@ and seal it: the input snapshot never changes.  Pre/postconditions: ``specs/ops.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from types import MappingProxyType
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point2, point2
@@ -272,19 +273,23 @@ def attach_outside_in(t: Transient2, vertex: int, u: int, v: int) -> list[Edge]:
     return visible
 
 
-def _insert_quadrilateral_point(
-    t: Transient2, op: str, u: int, v: int, centre: Callable[..., Point2]
+def _insert_in_quadrilateral(
+    t: Transient2, op: str, u: int, v: int, place: Callable[..., Point2], what: str
 ) -> int:
+    """Replace the two triangles (u, v, w), (v, u, x) of the unconstrained interior edge
+    {u, v} by (u, x, n), (x, v, n), (v, w, n), (w, u, n), with n a new vertex at
+    ``place(pu, pv, pw, px)``, which must be strictly inside each of them; returns n (the
+    caller records the step)."""
     w, x = _interior_edge(t, op, u, v)
     pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
-    point = centre(pu, pv, pw, px)
+    point = place(pu, pv, pw, px)
     corners = ((u, x, pu, px), (x, v, px, pv), (v, w, pv, pw), (w, u, pw, pu))
     for _, _, p, q in corners:
         if orient2d(p, q, point) != CCW:
             raise PreconditionError(
                 op,
-                f"the centroid ({point.x}, {point.y}) of the quadrilateral of edge "
-                f"({u}, {v}) is not strictly inside it (non-convex quadrilateral)",
+                f"{what} ({point.x}, {point.y}) is not strictly inside the four triangles "
+                f"of the quadrilateral of edge ({u}, {v})",
                 edge=(u, v),
             )
     n = t.add_vertex(point)
@@ -292,7 +297,30 @@ def _insert_quadrilateral_point(
     t.remove_triangle(v, u, x)
     for i, j, _, _ in corners:
         t.add_triangle(i, j, n, attributes)
+    return n
+
+
+def _insert_centroid_step(
+    t: Transient2, op: str, u: int, v: int, centre: Callable[..., Point2]
+) -> int:
+    n = _insert_in_quadrilateral(t, op, u, v, centre, "the centroid")
     t.record(Step(op, (u, v)))
+    return n
+
+
+def insert_in_quadrilateral_in(t: Transient2, u: int, v: int, point: Point2) -> int:
+    """Replace the two triangles (u, v, w), (v, u, x) of the unconstrained interior edge
+    {u, v} by (u, x, n), (x, v, n), (v, w, n), (w, u, n) with n a new vertex at ``point``,
+    which must be strictly inside each of them.  Records
+    ``insert_in_quadrilateral(u, v, x, y)``; returns n.  Lepp-centroid refinement inserts
+    its rounded centroids with this step (``geomexact.mesh2d.refinement.centroids``).
+
+    Preconditions as ``insert_centroid`` (``specs/ops.md``): both triangles exist, the edge
+    is not constrained, the triangles carry equal attributes.
+    """
+    op = "insert_in_quadrilateral"
+    n = _insert_in_quadrilateral(t, op, u, v, lambda *_: point, "point")
+    t.record(Step(op, (u, v, point.x, point.y)))
     return n
 
 
@@ -303,11 +331,9 @@ def insert_centroid_in(t: Transient2, u: int, v: int, *, kind: str = "area") -> 
     ``insert_vertex_centroid``).  The centroid must be strictly inside each of the four new
     triangles (true for a strictly convex quadrilateral).  Returns the new vertex id."""
     if kind == "area":
-        return _insert_quadrilateral_point(
-            t, "insert_centroid", u, v, quadrilateral_area_centroid
-        )
+        return _insert_centroid_step(t, "insert_centroid", u, v, quadrilateral_area_centroid)
     if kind == "vertices":
-        return _insert_quadrilateral_point(
+        return _insert_centroid_step(
             t, "insert_vertex_centroid", u, v, quadrilateral_vertex_centroid
         )
     raise PreconditionError("insert_centroid", f"unknown centroid kind {kind!r}")
@@ -495,6 +521,15 @@ def _apply_insert_vertex_centroid(t: Transient2, step: Step) -> None:
     insert_centroid_in(t, u, v, kind="vertices")
 
 
+def _apply_insert_in_quadrilateral(t: Transient2, step: Step) -> None:
+    if len(step.args) != 4 or not all(isinstance(a, int) for a in step.args[:2]):
+        raise PreconditionError(
+            "insert_in_quadrilateral", f"expects u, v, x, y (u, v vertex ids): {step}"
+        )
+    u, v = int(step.args[0]), int(step.args[1])
+    insert_in_quadrilateral_in(t, u, v, point2(step.args[2], step.args[3]))
+
+
 def _apply_make_triangle(t: Transient2, step: Step) -> None:
     make_triangle_in(t, *_ints(step, 3, 3))
 
@@ -534,7 +569,7 @@ def _apply_set_region(t: Transient2, step: Step) -> None:
     set_region_in(t, step.args[0], step.args[1], tuple(step.args[2:]))
 
 
-OPERATIONS: dict[str, Callable[[Transient2, Step], None]] = {
+OPERATIONS: Mapping[str, Callable[[Transient2, Step], None]] = MappingProxyType({
     "constrain": _apply_constrain,
     "carve": _apply_carve,
     "carve_exterior": _apply_carve_exterior,
@@ -549,16 +584,10 @@ OPERATIONS: dict[str, Callable[[Transient2, Step], None]] = {
     "insert_in_triangle": _apply_insert_in_triangle,
     "insert_centroid": _apply_insert_centroid,
     "insert_vertex_centroid": _apply_insert_vertex_centroid,
-}
-"""Step name -> how to apply it to a transient.  Later modules register their steps here
-with :func:`register_operation`."""
-
-
-def register_operation(name: str, run: Callable[[Transient2, Step], None]) -> None:
-    """Make steps named ``name`` applicable; refuses to replace an existing name."""
-    if name in OPERATIONS and OPERATIONS[name] is not run:
-        raise ValueError(f"step {name!r} is already registered")
-    OPERATIONS[name] = run
+    "insert_in_quadrilateral": _apply_insert_in_quadrilateral,
+})
+"""Step name -> how to apply it to a 2D transient: every 2D step there is, complete at
+import (the :data:`geomexact.trace.protocols.OperationTable` of ``mesh2d``)."""
 
 
 def apply_in(t: Transient2, step: Step) -> None:

@@ -12,7 +12,7 @@ Model, digest and invariants: ``specs/snapshot.md``.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
-from typing import TypeAlias
+from typing import TYPE_CHECKING, TypeAlias
 
 import attrs
 import immutables
@@ -20,6 +20,9 @@ import immutables
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
+
+if TYPE_CHECKING:
+    from geomexact.mesh2d.transient import Transient2
 
 Triangle: TypeAlias = tuple[int, int, int]
 Edge: TypeAlias = tuple[int, int]
@@ -81,6 +84,14 @@ class Mesh2:
     def digest_text(self) -> str:
         """The digest as 32 hexadecimal digits."""
         return _digest.digest_text(self.digest)
+
+    def transient(self) -> Transient2:
+        """A batch editor opened on this snapshot (:class:`~geomexact.mesh2d.transient.
+        Transient2`); the snapshot itself never changes."""
+        # imported here: the transient is built on top of this module
+        from geomexact.mesh2d.transient import Transient2
+
+        return Transient2(self)
 
     # -- elements -----------------------------------------------------------------------
     def point(self, vertex: int) -> Point2:

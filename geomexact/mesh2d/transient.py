@@ -281,6 +281,14 @@ class Transient2:
             outgoing[vertex] = w
         self.stale_outgoing.clear()
 
+    def apply(self, step: Step, /) -> None:
+        """Apply ``step`` through the 2D step table (:data:`geomexact.mesh2d.ops.
+        OPERATIONS`) and record it; raises :class:`PreconditionError` when it cannot."""
+        # imported here: the ops are written against this class
+        from geomexact.mesh2d.ops import apply_in
+
+        apply_in(self, step)
+
     def seal(self) -> Mesh2:
         """Finish the edits and return the new snapshot; the transient is then unusable."""
         self._check_open()

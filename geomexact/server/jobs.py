@@ -128,7 +128,7 @@ def view_job(directory: Path, file: str | None, trace: str | None) -> str:
     """The viewer page of a served file, or of a trace (its start found beside it by
     digest when ``file`` is None)."""
     from geomexact.errors import GeomexactError
-    from geomexact.trace.record import read_trace
+    from geomexact.io.trace_file import read_trace
     from geomexact.viz.scene import trace_start
     from geomexact.viz.viewer import viewer_html
 

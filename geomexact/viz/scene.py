@@ -29,7 +29,8 @@ from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.mesh2d.summary import mesh_summary
 from geomexact.mesh2d.transient import Transient2
-from geomexact.trace.record import Trace, apply_checked, check_start
+from geomexact.trace.playback import apply_checked, check_start
+from geomexact.trace.record import Trace
 from geomexact.trace.step import Step
 
 Viewable: TypeAlias = Mesh2 | PSLG | PolygonMesh

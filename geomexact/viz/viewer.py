@@ -122,7 +122,7 @@ def payload(
 ) -> dict[str, Any]:
     """The whole JSON payload of a page; ``fill`` and ``step`` are the page's initial fill
     mode and step."""
-    from geomexact import __version__
+    from geomexact._version import __version__
 
     return {
         "format": PAYLOAD_FORMAT,
@@ -166,7 +166,7 @@ _PLACEHOLDER = re.compile(r"\{\{(\w+)\}\}")
 def render_page(data: dict[str, Any] | None, *, title: str,
                 links: Sequence[tuple[str, str]] = ()) -> str:
     """The HTML page for a payload (None: an empty viewer that opens files)."""
-    from geomexact import __version__
+    from geomexact._version import __version__
 
     text = ""
     if data is not None:

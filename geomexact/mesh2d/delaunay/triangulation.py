@@ -17,7 +17,7 @@ from typing import Literal, TypeAlias
 import attrs
 import immutables
 
-from geomexact.errors import PreconditionError
+from geomexact.errors import PreconditionError, SegmentError
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.digest import MODULUS, cell_hash
 from geomexact.kernel.points import Point2
@@ -437,7 +437,7 @@ def triangulate_points(
         raise PreconditionError("triangulate", "all points are collinear: no triangle exists")
     start = vertices_mesh(pslg)
     c = order.pop(third)
-    from geomexact import __version__
+    from geomexact._version import __version__
 
     with collector_paused():
         compiled = (
@@ -496,27 +496,6 @@ def make_delaunay(mesh: Mesh2) -> tuple[Mesh2, Trace]:
     make_delaunay_in(transient)
     result = transient.seal()
     return result, trace_of(mesh, transient, {"algorithm": "lawson"})
-
-
-class SegmentError(PreconditionError):
-    """Input segments that cross each other or pass through a vertex, when splitting them
-    is not allowed.  ``pairs`` lists the offending pairs: ((u, v), (a, b)) for two
-    segments that meet, ((u, v), w) for a segment through vertex w."""
-
-    def __init__(self, pairs: list[tuple[tuple[int, int], object]]) -> None:
-        shown = "; ".join(
-            f"segments {first} and {second} meet" if isinstance(second, tuple)
-            else f"segment {first} passes through vertex {second}"
-            for first, second in pairs[:20]
-        )
-        more = f" (and {len(pairs) - 20} more)" if len(pairs) > 20 else ""
-        super().__init__(
-            "triangulate",
-            "segments cross or pass through vertices (pass split_segments=True / "
-            f"--split-segments to split them there): {shown or 'segments meet'}{more}",
-            pairs=tuple(pairs),
-        )
-        self.pairs = tuple(pairs)
 
 
 def _offending_pairs(pslg: PSLG) -> list[tuple[tuple[int, int], object]]:

@@ -38,7 +38,7 @@ from collections.abc import Sequence
 import attrs
 import numpy as np
 
-from geomexact.errors import GeomexactError, PreconditionError
+from geomexact.errors import ConvexDecompositionError, PolyllaError, PreconditionError
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
@@ -48,27 +48,15 @@ from geomexact.mesh2d.polygonal.polygon_mesh import (
     nonconvex_polygons,
     orientation_signs,
 )
-from geomexact.mesh2d.polygonal.polylla_meshing import HalfEdgeTable, PolyllaError
+from geomexact.mesh2d.polygonal.polylla_meshing import HalfEdgeTable
 from geomexact.mesh2d.snapshot import Edge
 
 __all__ = [
     "ConvexDecomposition",
-    "ConvexDecompositionError",
     "convex_decomposition",
 ]
 
 _CW = Orientation.CLOCKWISE
-
-
-class ConvexDecompositionError(GeomexactError, RuntimeError):
-    """The decomposition produced a polygon that is not convex (``polygons``: their
-    vertex tuples).  Raised instead of returning such a mesh."""
-
-    def __init__(self, polygons: Sequence[tuple[int, ...]]) -> None:
-        shown = ", ".join(str(polygon) for polygon in polygons[:3])
-        super().__init__(f"{len(polygons)} polygon(s) are not convex after the "
-                         f"decomposition: {shown}")
-        self.polygons = tuple(polygons)
 
 
 @attrs.frozen(slots=True)

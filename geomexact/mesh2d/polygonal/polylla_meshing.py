@@ -40,7 +40,7 @@ from typing import Any
 import attrs
 import numpy as np
 
-from geomexact.errors import GeomexactError
+from geomexact.errors import PolyllaError
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicates import LENGTHS_C, LENGTHS_K, Comparison, compare_squared_lengths
@@ -51,7 +51,6 @@ from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle
 __all__ = [
     "EdgeLabels",
     "HalfEdgeTable",
-    "PolyllaError",
     "PolyllaRun",
     "label_edges",
     "polylla",
@@ -59,11 +58,6 @@ __all__ = [
 ]
 
 _EQUAL = Comparison.EQUAL
-
-
-class PolyllaError(GeomexactError, RuntimeError):
-    """An invariant of the Polylla construction failed (e.g. on a triangulation that is
-    not a valid mesh): raised instead of returning a wrong polygon mesh."""
 
 
 # -----------------------------------------------------------------------------------------

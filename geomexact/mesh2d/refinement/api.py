@@ -273,7 +273,7 @@ def refine(
             left = run.left_triangles()
             targets, searches, hops = run.targets, run.searches, run.hops
             del run  # its work tables go now, before the collector would scan them
-    from geomexact import __version__
+    from geomexact._version import __version__
 
     parameters = {
         "algorithm": "lepp",

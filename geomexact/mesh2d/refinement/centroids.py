@@ -17,19 +17,12 @@ from __future__ import annotations
 
 import gmpy2
 
-from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import Point2, point2
 from geomexact.kernel.predicates import Orientation, orient2d
-from geomexact.mesh2d.ops import quadrilateral_area_centroid, register_operation
-from geomexact.mesh2d.transient import Transient2
-from geomexact.trace.step import Step
+from geomexact.mesh2d.ops import quadrilateral_area_centroid
 
-__all__ = [
-    "CENTROID_BITS",
-    "insert_in_quadrilateral_in",
-    "rounded_area_centroid",
-]
+__all__ = ["CENTROID_BITS", "rounded_area_centroid"]
 
 CENTROID_BITS = 24
 """Default precision of :func:`rounded_area_centroid`, in bits below the quadrilateral's
@@ -92,56 +85,3 @@ def rounded_area_centroid(
             return candidate
         exponent -= bits
     return exact
-
-
-def insert_in_quadrilateral_in(t: Transient2, u: int, v: int, point: Point2) -> int:
-    """Replace the two triangles (u, v, w), (v, u, x) of the unconstrained interior edge
-    {u, v} by (u, x, n), (x, v, n), (v, w, n), (w, u, n) with n a new vertex at ``point``,
-    which must be strictly inside each of them.  Records
-    ``insert_in_quadrilateral(u, v, x, y)``; returns n.
-
-    Preconditions as ``insert_centroid`` (``specs/ops.md``): both triangles exist, the edge
-    is not constrained, the triangles carry equal attributes.
-    """
-    op = "insert_in_quadrilateral"
-    w, x = t.apex(u, v), t.apex(v, u)
-    if w is None and x is None:
-        raise PreconditionError(op, f"({u}, {v}) is not an edge of the mesh", edge=(u, v))
-    if w is None or x is None:
-        raise PreconditionError(
-            op, f"edge ({u}, {v}) is on the boundary (it has one triangle)", edge=(u, v)
-        )
-    if t.segment_marker(u, v) is not None:
-        raise PreconditionError(op, f"edge ({u}, {v}) is a constrained segment", edge=(u, v))
-    attributes = t.triangle_attributes((u, v, w))
-    if attributes != t.triangle_attributes((v, u, x)):
-        raise PreconditionError(
-            op, f"the triangles of edge ({u}, {v}) carry different attributes", edge=(u, v)
-        )
-    corners = (t.point(u), t.point(x), t.point(v), t.point(w))
-    if not _strictly_inside(corners, point):
-        raise PreconditionError(
-            op,
-            f"point ({point.x}, {point.y}) is not strictly inside the four triangles of the "
-            f"quadrilateral of edge ({u}, {v})",
-            edge=(u, v),
-        )
-    n = t.add_vertex(point)
-    t.remove_triangle(u, v, w)
-    t.remove_triangle(v, u, x)
-    for i, j in ((u, x), (x, v), (v, w), (w, u)):
-        t.add_triangle(i, j, n, attributes)
-    t.record(Step(op, (u, v, point.x, point.y)))
-    return n
-
-
-def _apply_insert_in_quadrilateral(t: Transient2, step: Step) -> None:
-    if len(step.args) != 4 or not all(isinstance(a, int) for a in step.args[:2]):
-        raise PreconditionError(
-            "insert_in_quadrilateral", f"expects u, v, x, y (u, v vertex ids): {step}"
-        )
-    u, v = int(step.args[0]), int(step.args[1])
-    insert_in_quadrilateral_in(t, u, v, point2(step.args[2], step.args[3]))
-
-
-register_operation("insert_in_quadrilateral", _apply_insert_in_quadrilateral)

@@ -12,9 +12,10 @@ from geomexact.mesh2d.ops import (
     bisect_in,
     flip_in,
     insert_centroid_in,
+    insert_in_quadrilateral_in,
     legalize_in,
 )
-from geomexact.mesh2d.refinement.centroids import insert_in_quadrilateral_in, rounded_area_centroid
+from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
 from geomexact.mesh2d.refinement.driver import (
     Progress,
     Refinement,

@@ -1,0 +1,46 @@
+"""What the trace layer needs of a mesh type: a snapshot with a content digest that opens a
+transient, and a transient that applies a :class:`~geomexact.trace.step.Step`, keeps the
+digest current and seals into a snapshot.  ``geomexact.mesh2d`` (``Mesh2``/``Transient2``)
+is one such pair; ``geomexact.mesh3d`` will be another.  Nothing here names either."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from typing import Protocol, TypeAlias, TypeVar
+
+from geomexact.trace.step import Step
+
+T = TypeVar("T", contravariant=True)
+
+
+class Transient(Protocol):
+    """A batch builder: applies steps (recording each with the digest after it)."""
+
+    @property
+    def digest(self) -> int: ...
+
+    @property
+    def steps(self) -> list[Step]: ...
+
+    @property
+    def step_digests(self) -> list[int]: ...
+
+    def apply(self, step: Step, /) -> None:
+        """Apply ``step`` (raise ``ValueError`` when it cannot be applied)."""
+        ...
+
+    def seal(self) -> Snapshot: ...
+
+
+class Snapshot(Protocol):
+    """An immutable mesh value with a content digest, from which a transient opens."""
+
+    @property
+    def digest(self) -> int: ...
+
+    def transient(self) -> Transient: ...
+
+
+OperationTable: TypeAlias = Mapping[str, Callable[[T, Step], None]]
+"""Step name -> how to apply it to a transient of one mesh type.  Each mesh package defines
+its table once, complete at import (``geomexact.mesh2d.ops.OPERATIONS``)."""
