@@ -13,10 +13,11 @@ True
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from geomexact._lazy_exports import lazy_exports
 from geomexact._version import __version__
+from geomexact.mesh2d import _HOMES as _MESH2D_HOMES
 
 if TYPE_CHECKING:
     from geomexact.errors import (
@@ -96,6 +97,10 @@ if TYPE_CHECKING:
     from geomexact.trace.record import Trace, trace_of
     from geomexact.trace.step import Step
 
+_FACADE_2D = frozenset(
+    name for name in _MESH2D_HOMES if name not in ("Edge", "Triangle")
+)
+
 _HOMES: dict[str, str] = {
     "ConvexDecompositionError": "geomexact.errors",
     "FormatError": "geomexact.errors",
@@ -129,60 +134,11 @@ _HOMES: dict[str, str] = {
     "trace_of": "geomexact.trace.record",
     "first_divergence": "geomexact.trace.playback",
     "replay": "geomexact.trace.playback",
-    "Mesh2": "geomexact.mesh2d.snapshot",
-    "canonical_triangle": "geomexact.mesh2d.snapshot",
-    "empty_mesh": "geomexact.mesh2d.snapshot",
-    "Transient2": "geomexact.mesh2d.transient",
-    "mesh_from_triangles": "geomexact.mesh2d.transient",
-    "apply": "geomexact.mesh2d.ops",
-    "bisect": "geomexact.mesh2d.ops",
-    "flip": "geomexact.mesh2d.ops",
-    "insert_centroid": "geomexact.mesh2d.ops",
-    "insert_in_edge": "geomexact.mesh2d.ops",
-    "insert_in_triangle": "geomexact.mesh2d.ops",
-    "legalize": "geomexact.mesh2d.ops",
-    "Violation": "geomexact.mesh2d.validation",
-    "check": "geomexact.mesh2d.validation",
-    "validate": "geomexact.mesh2d.validation",
-    "signed_area": "geomexact.mesh2d.measures",
-    "total_area": "geomexact.mesh2d.measures",
-    "triangle_area": "geomexact.mesh2d.measures",
-    "mesh_summary": "geomexact.mesh2d.summary",
-    "PSLG": "geomexact.mesh2d.pslg",
-    "Lepp": "geomexact.mesh2d.longest_edge",
-    "lepp": "geomexact.mesh2d.longest_edge",
-    "Construction": "geomexact.mesh2d.delaunay.triangulation",
-    "is_delaunay": "geomexact.mesh2d.delaunay.triangulation",
-    "make_delaunay": "geomexact.mesh2d.delaunay.triangulation",
-    "non_delaunay_edges": "geomexact.mesh2d.delaunay.triangulation",
-    "triangulate": "geomexact.mesh2d.delaunay.triangulation",
-    "triangulate_points": "geomexact.mesh2d.delaunay.triangulation",
-    "vertices_mesh": "geomexact.mesh2d.delaunay.triangulation",
-    "RefineStats": "geomexact.mesh2d.refinement.api",
-    "Result": "geomexact.mesh2d.refinement.api",
-    "refine": "geomexact.mesh2d.refinement.api",
-    "AverageAreaFactor": "geomexact.mesh2d.refinement.criteria",
-    "MaxArea": "geomexact.mesh2d.refinement.criteria",
-    "MaxEdgeLength": "geomexact.mesh2d.refinement.criteria",
-    "MinAngle": "geomexact.mesh2d.refinement.criteria",
-    "Circle": "geomexact.mesh2d.refinement.regions",
-    "Polygon": "geomexact.mesh2d.refinement.regions",
-    "Rectangle": "geomexact.mesh2d.refinement.regions",
-    "PolygonMesh": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "check_polygon_mesh": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "mesh_stats": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "validate_polygon_mesh": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "EdgeLabels": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "PolyllaRun": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "label_edges": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "polylla": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "polylla_run": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "ConvexDecomposition": "geomexact.mesh2d.polygonal.convex",
-    "convex_decomposition": "geomexact.mesh2d.polygonal.convex",
     "read_trace": "geomexact.io.trace_file",
     "write_trace": "geomexact.io.trace_file",
+    **{name: home for name, home in _MESH2D_HOMES.items() if name in _FACADE_2D},
 }
-"""Public name -> the module that defines it."""
+"""Public name -> the module that defines it (the 2D ones as in :mod:`geomexact.mesh2d`)."""
 
 __all__ = [
     "PSLG",
@@ -273,14 +229,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module 'geomexact' has no attribute {name!r}")
-    value = getattr(importlib.import_module(home), name)
-    globals()[name] = value  # later look-ups skip this function
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, globals(), _HOMES)
