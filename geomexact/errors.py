@@ -115,3 +115,16 @@ class ConvexDecompositionError(GeomexactError, RuntimeError):
         super().__init__(f"{len(polygons)} polygon(s) are not convex after the "
                          f"decomposition: {shown}")
         self.polygons = tuple(polygons)
+
+
+class MissingDependencyError(GeomexactError, ImportError):
+    """An optional package that a feature needs is not installed; names the package and
+    the extra that installs it (``pip install 'geomexact[extra]'``)."""
+
+    def __init__(self, package: str, feature: str, extra: str) -> None:
+        super().__init__(
+            f"{feature} need(s) the {package} package, which is not installed: "
+            f"pip install 'geomexact[{extra}]'"
+        )
+        self.package = package
+        self.extra = extra

@@ -16,8 +16,13 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any, Literal, TypeAlias
 
-from hypothesis import strategies as st
-from hypothesis.errors import InvalidArgument
+from geomexact.errors import MissingDependencyError
+
+try:
+    from hypothesis import strategies as st
+    from hypothesis.errors import InvalidArgument
+except ImportError as error:  # the "strategies" extra
+    raise MissingDependencyError("hypothesis", "geomexact.strategies", "strategies") from error
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, mpq

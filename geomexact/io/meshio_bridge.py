@@ -17,7 +17,13 @@ from io import StringIO
 from pathlib import Path
 from typing import Any
 
-from geomexact.errors import FormatError, OverwriteError, RationalParseError, UnsupportedValueError
+from geomexact.errors import (
+    FormatError,
+    MissingDependencyError,
+    OverwriteError,
+    RationalParseError,
+    UnsupportedValueError,
+)
 from geomexact.io.files import write_bytes_atomic
 from geomexact.io.registry import TriangleTable, Value, build_mesh
 from geomexact.kernel.numbers import to_float, to_rational
@@ -47,6 +53,16 @@ _WRITE_OPTIONS: dict[str, dict[str, Any]] = {
 }
 
 
+def _meshio() -> Any:
+    """The meshio module (heavy: imported only when the bridge is used; the "meshio"
+    extra installs it)."""
+    try:
+        import meshio
+    except ImportError as error:
+        raise MissingDependencyError("meshio", "VTK, XDMF, Gmsh … files", "meshio") from error
+    return meshio
+
+
 def _missing(error: ImportError) -> str:
     return f"meshio needs the {error.name or 'missing'} package for this format ({error})"
 
@@ -55,7 +71,7 @@ def _meshio_read(path: Path) -> Any:
     """meshio's reader of ``path``'s format.  ``meshio.read`` itself prints and calls
     ``sys.exit`` when a file does not parse, so the format's own reader is called; only an
     extension outside :data:`EXTENSIONS` goes through ``meshio.read``, silenced."""
-    import meshio  # heavy: imported only when the bridge is used
+    meshio = _meshio()
 
     name = str(path)
     modules = _MESHIO_FORMATS.get(path.suffix.lower())
@@ -136,7 +152,7 @@ def write_meshio(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -
         raise UnsupportedValueError(
             f"the meshio format writes a Mesh2, not a {type(value).__name__}"
         )
-    import meshio
+    meshio = _meshio()
     import numpy
 
     if path.exists() and not overwrite:

@@ -1,21 +1,41 @@
 """Pictures and the offline HTML viewer.
 
-- :func:`plot` / :func:`plot_step`: PNG, SVG or PDF pictures with matplotlib (a mesh, a
-  PSLG, a polygon mesh; the mesh after one step of a trace with that step highlighted);
+- :func:`plot` / :func:`plot_step`: PNG, SVG or PDF pictures with matplotlib (the
+  ``pictures`` extra) of a mesh, a PSLG, a polygon mesh; the mesh after one step of a
+  trace with that step highlighted;
 - :func:`viewer_html` / :func:`write_viewer`: one self-contained HTML file (JavaScript and
   CSS inline, no network request at any time) with pan and zoom, statistics, hover
-  details, a file-open control and, for a trace, a step slider;
-- :mod:`geomexact.server`: ``geomexact serve``, a local HTTP server that lists mesh
-  files, opens them in the viewer and refines uploaded ones.
+  details, a file-open control and, for a trace, a step slider.
 
-Guide: ``docs/viewer.md``; payload format: ``specs/viewer.md``.
+The local server that shows a directory in the viewer is :mod:`geomexact.server`.  Names
+load on first use (matplotlib only with the pictures).  Guide: ``docs/viewer.md``; payload
+format: ``specs/viewer.md``.
 """
 
 from __future__ import annotations
 
-from geomexact.viz.pictures import figure, plot, plot_step
-from geomexact.viz.scene import History, Scene, history_of, scene_of
-from geomexact.viz.viewer import Download, empty_viewer_html, viewer_html, write_viewer
+from typing import TYPE_CHECKING
+
+from geomexact._lazy_exports import lazy_exports
+
+if TYPE_CHECKING:
+    from geomexact.viz.pictures import figure, plot, plot_step
+    from geomexact.viz.scene import History, Scene, history_of, scene_of
+    from geomexact.viz.viewer import Download, empty_viewer_html, viewer_html, write_viewer
+
+_HOMES: dict[str, str] = {
+    "figure": "geomexact.viz.pictures",
+    "plot": "geomexact.viz.pictures",
+    "plot_step": "geomexact.viz.pictures",
+    "History": "geomexact.viz.scene",
+    "Scene": "geomexact.viz.scene",
+    "history_of": "geomexact.viz.scene",
+    "scene_of": "geomexact.viz.scene",
+    "Download": "geomexact.viz.viewer",
+    "empty_viewer_html": "geomexact.viz.viewer",
+    "viewer_html": "geomexact.viz.viewer",
+    "write_viewer": "geomexact.viz.viewer",
+}
 
 __all__ = [
     "Download",
@@ -30,3 +50,5 @@ __all__ = [
     "viewer_html",
     "write_viewer",
 ]
+
+__getattr__, __dir__ = lazy_exports(__name__, globals(), _HOMES)

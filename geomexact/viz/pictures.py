@@ -17,11 +17,17 @@ from pathlib import Path
 from typing import Any, Literal, cast
 
 import numpy as np
-from matplotlib import rc_context
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import LineCollection, PolyCollection
-from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize
-from matplotlib.figure import Figure
+
+from geomexact.errors import MissingDependencyError
+
+try:
+    from matplotlib import rc_context
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.collections import LineCollection, PolyCollection
+    from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize
+    from matplotlib.figure import Figure
+except ImportError as error:  # the "pictures" extra
+    raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
 
 from geomexact.io.files import write_bytes_atomic
 from geomexact.mesh2d.snapshot import Edge, Triangle
