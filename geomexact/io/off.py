@@ -21,6 +21,7 @@ from geomexact.io.registry import (
     all_clockwise_note,
     build_mesh,
     counted,
+    expect_field_range,
     expect_fields,
     note_duplicate_points,
     number_formatter,
@@ -194,12 +195,7 @@ def read_off(path: Path) -> tuple[Value, list[str]]:
             raise FormatError(name, number, "binary OFF is not supported")
         if not tokens:
             number, tokens = lines.next("the counts 'vertices faces edges'")
-    if not 2 <= len(tokens) <= 3:
-        raise FormatError(
-            name,
-            number,
-            f"expected the counts 'vertices faces edges', found {' '.join(tokens)!r}",
-        )
+    expect_field_range(name, number, tokens, 2, 3, "the counts 'vertices faces edges'")
     vertex_count = parse_count(name, number, tokens[0], "vertex count")
     face_count = parse_count(name, number, tokens[1], "face count")
     if len(tokens) == 3:

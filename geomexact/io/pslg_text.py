@@ -20,7 +20,7 @@ Records may come in any order; ids refer to vertices anywhere in the file.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import attrs
@@ -34,6 +34,7 @@ from geomexact.io.registry import (
     check_index,
     data_lines,
     expect_exact_fields,
+    expect_field_range,
     expect_fields,
     expected_neighbours,
     note_duplicate_points,
@@ -67,6 +68,13 @@ class _Records:
     neighbours: list[tuple[int, int, int, int]] = attrs.Factory(list)  # n0, n1, n2, line
 
 
+def _attributes(
+    name: str, number: int, tokens: Sequence[str], owner: str
+) -> tuple[Rational, ...]:
+    """The exact attribute values ``tokens`` of ``owner`` (a vertex or a triangle)."""
+    return tuple(parse_number(name, number, token, f"attribute of {owner}") for token in tokens)
+
+
 def _parse(name: str, text: str) -> _Records:
     records = _Records()
     for number, tokens in data_lines(text):
@@ -84,21 +92,10 @@ def _parse(name: str, text: str) -> _Records:
                 else None
             )
             records.vertex_attributes.append(
-                (
-                    number,
-                    tuple(
-                        parse_number(name, number, token, f"attribute of vertex {index}")
-                        for token in tokens[4:]
-                    ),
-                )
+                (number, _attributes(name, number, tokens[4:], f"vertex {index}"))
             )
         elif tag == "s":
-            if not 3 <= len(tokens) <= 4:
-                raise FormatError(
-                    name,
-                    number,
-                    f"a segment record is 's a b [marker]', found {' '.join(tokens)!r}",
-                )
+            expect_field_range(name, number, tokens, 3, 4, "a segment record 's a b [marker]'")
             a = parse_int(name, number, tokens[1], "segment endpoint")
             b = parse_int(name, number, tokens[2], "segment endpoint")
             marker = parse_int(name, number, tokens[3], "segment marker") if len(tokens) > 3 else 0
@@ -141,13 +138,7 @@ def _parse(name: str, text: str) -> _Records:
             )
             records.triangles.append((a, b, c, number))
             records.triangle_attributes.append(
-                (
-                    number,
-                    tuple(
-                        parse_number(name, number, token, f"attribute of triangle {index}")
-                        for token in tokens[4:]
-                    ),
-                )
+                (number, _attributes(name, number, tokens[4:], f"triangle {index}"))
             )
         elif tag == "n":
             expect_exact_fields(name, number, tokens, 4, "a neighbour record 'n n0 n1 n2'")

@@ -189,6 +189,32 @@ def expect_exact_fields(path: str, line: int, tokens: Tokens, count: int, what: 
         )
 
 
+def expect_field_range(
+    path: str, line: int, tokens: Tokens, low: int, high: int, what: str
+) -> None:
+    """FormatError naming ``what`` (the record's expected form) when ``tokens`` has fewer
+    than ``low`` or more than ``high`` fields."""
+    if not low <= len(tokens) <= high:
+        raise FormatError(path, line, f"expected {what}, found {' '.join(tokens)!r}")
+
+
+def check_numbering(path: str, line: int, label: int, index: int, base: int, noun: str) -> int:
+    """The numbering base of a file whose ``noun``s are numbered consecutively from 0 or
+    1: the first label sets it (``index == 0``), each later one must follow; returns the
+    base, or raises a FormatError naming the line."""
+    if index == 0:
+        if label not in (0, 1):
+            raise FormatError(
+                path, line, f"the first {noun} is numbered {label}; it must be 0 or 1"
+            )
+        return label
+    if label != index + base:
+        raise FormatError(
+            path, line, f"{noun} numbered {label}, expected {index + base} (consecutive)"
+        )
+    return base
+
+
 def check_index(path: str, line: int, index: int, count: int, base: int, what: str) -> int:
     """The 0-based id of a 0- or 1-based file index, or a FormatError when out of range."""
     value = index - base

@@ -28,6 +28,7 @@ from geomexact.io.registry import (
     Value,
     build_mesh,
     check_index,
+    check_numbering,
     counted,
     data_lines,
     expect_exact_fields,
@@ -110,16 +111,7 @@ def _read_vertices(
             + "'",
         )
         label = parse_int(path, number, tokens[0], "vertex number")
-        if index == 0:
-            if label not in (0, 1):
-                raise FormatError(
-                    path, number, f"the first vertex is numbered {label}; it must be 0 or 1"
-                )
-            base = label
-        elif label != index + base:
-            raise FormatError(
-                path, number, f"vertex numbered {label}, expected {index + base} (consecutive)"
-            )
+        base = check_numbering(path, number, label, index, base, "vertex")
         x = parse_number(path, number, tokens[1], f"x of vertex {label}")
         y = parse_number(path, number, tokens[2], f"y of vertex {label}")
         points.append(point2(x, y))
@@ -423,18 +415,7 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
             for token in tokens[1:4]:
                 parse_int(name, number, token, f"corner of triangle {label}")
             raise  # pragma: no cover - one of the calls above raised
-        if index == 0:
-            if label not in (0, 1):
-                raise FormatError(
-                    name, number, f"the first triangle is numbered {label}; it must be 0 or 1"
-                )
-            first = label
-        elif label != index + first:
-            raise FormatError(
-                name,
-                number,
-                f"triangle numbered {label}, expected {index + first} (consecutive)",
-            )
+        first = check_numbering(name, number, label, index, first, "triangle")
         if not (base <= a < limit and base <= b < limit and base <= c < limit):
             for vertex in (a, b, c):
                 check_index(
