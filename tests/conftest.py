@@ -27,7 +27,9 @@ settings.load_profile(
 )
 
 PROJECT = Path(__file__).resolve().parent.parent
-SHARED_DATA = PROJECT.parent / "shared" / "data"
+SHARED_DATA = Path(os.environ.get("GEOMEXACT_SHARED_DATA") or PROJECT.parent / "shared" / "data")
+"""Third-party data: ``../shared/data``, or ``$GEOMEXACT_SHARED_DATA`` (set it to a missing
+folder to run the suite as a clone without ``../shared`` does)."""
 
 
 @pytest.fixture(scope="session")

@@ -31,7 +31,7 @@ pytestmark = pytest.mark.browser
 PROJECT = Path(__file__).resolve().parent.parent
 SUPERIOR = PROJECT / "geomexact" / "data" / "superior.poly"
 ARTIFACTS = PROJECT / "artifacts" / "browser"
-SHARED_DATA = PROJECT.parent / "shared" / "data"
+SHARED_DATA = Path(os.environ.get("GEOMEXACT_SHARED_DATA") or PROJECT.parent / "shared" / "data")
 CHROMIUM_FLAGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
