@@ -26,10 +26,7 @@ settings.load_profile(
     or ("ci" if os.environ.get("CI", "").lower() == "true" else "dev")
 )
 
-PROJECT = Path(__file__).resolve().parent.parent
-SHARED_DATA = Path(os.environ.get("GEOMEXACT_SHARED_DATA") or PROJECT.parent / "shared" / "data")
-"""Third-party data: ``../shared/data``, or ``$GEOMEXACT_SHARED_DATA`` (set it to a missing
-folder to run the suite as a clone without ``../shared`` does)."""
+from helpers.paths import SHARED_DATA
 
 
 @pytest.fixture(scope="session")

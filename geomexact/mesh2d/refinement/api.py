@@ -21,7 +21,7 @@ last of the path) and t2 (across e):
   otherwise insert as the centroid method does.
 
 Three engines run the same algorithm and record identical traces
-(``tests/test_refine_engines.py``, ``tests/test_refine_compiled.py``):
+(``tests/engines/test_refine_engines.py``, ``tests/mesh2d/refinement/test_refine_compiled.py``):
 
 * ``"transient"``: the ops on a :class:`~geomexact.mesh2d.transient.Transient2`, the readable
   reference (:mod:`geomexact.mesh2d.refinement.engines.reference`);

@@ -1,0 +1,128 @@
+"""The meshio bridge: 2D triangle meshes through VTK, VTU, Gmsh, Medit, OBJ, PLY; floats
+in (their exact binary value), doubles out."""
+
+from __future__ import annotations
+
+import importlib.util
+import tempfile
+from pathlib import Path
+
+import meshio
+import numpy
+import pytest
+from helpers.io_cases import grid_meshes, plain, same_doubles
+from hypothesis import given
+
+from geomexact import Mesh2, io, mesh_from_triangles, mpq
+from geomexact.errors import FormatError, OverwriteError
+from geomexact.mesh2d.pslg import PSLG
+
+ROUND_TRIP = [".vtk", ".vtu", ".msh", ".mesh", ".obj", ".ply"]
+XDMF = [
+    pytest.param(
+        extension,
+        marks=pytest.mark.skipif(
+            importlib.util.find_spec("h5py") is None, reason="meshio's XDMF needs h5py"
+        ),
+    )
+    for extension in (".xdmf", ".xmf")
+]
+
+
+@pytest.mark.parametrize("extension", ROUND_TRIP + XDMF)
+def test_round_trip_keeps_the_doubles(tmp_path: Path, extension: str) -> None:
+    """Written as doubles and read back: same triangles, same doubles."""
+    mesh = mesh_from_triangles(
+        [(0, 0), (1, 0), (1, 1), (0, 1), (mpq(1, 3), mpq(1, 7))],
+        [(0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+    )
+    assert io.detect_format(f"m{extension}") == "meshio"
+    written = io.write(tmp_path / f"m{extension}", mesh)
+    assert written == [tmp_path / f"m{extension}"]
+    assert sorted(path.name for path in tmp_path.iterdir()) == [f"m{extension}"]
+    again = io.read(tmp_path / f"m{extension}")
+    assert isinstance(again, Mesh2) and same_doubles(mesh, again)
+
+
+@given(grid_meshes(dyadic=True))
+def test_meshes_of_doubles_round_trip_exactly(mesh: Mesh2) -> None:
+    """Coordinates that are doubles come back exactly (markers etc. are not written)."""
+    with tempfile.TemporaryDirectory() as directory:
+        target = Path(directory) / "m.vtu"
+        io.write(target, mesh)
+        assert io.read(target) == plain(mesh)
+
+
+def _save(path: Path, points: list[list[float]], cells: list[tuple[str, list[list[int]]]]) -> None:
+    meshio.write(
+        path,
+        meshio.Mesh(
+            numpy.array(points, dtype=float),
+            [(kind, numpy.array(data, dtype=numpy.int32)) for kind, data in cells],
+        ),
+    )
+
+
+def test_floats_read_as_their_exact_binary_value(tmp_path: Path) -> None:
+    """0.1 in a binary file is the double nearest 0.1, exactly, not 1/10; line cells are
+    ignored with a note; clockwise triangles are oriented."""
+    _save(
+        tmp_path / "f.vtu",
+        [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0]],
+        [("triangle", [[0, 2, 1]]), ("line", [[0, 1]])],
+    )
+    mesh, notes = io.read_with_notes(tmp_path / "f.vtu")
+    assert isinstance(mesh, Mesh2)
+    assert mesh.point(1).x == mpq(0.1) != mpq(1, 10)
+    assert mesh.triangles() == [(0, 1, 2)]
+    assert notes == ["ignored 1 line cells", "the only triangle was clockwise; reversed it"]
+
+
+@pytest.mark.parametrize(
+    ("points", "cells", "fragment"),
+    [
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 1]], [("triangle", [[0, 1, 2]])],
+         "point 2 has z = 1.0"),
+        ([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [("quad", [[0, 1, 2, 3]])],
+         "has quad cells; only triangle meshes are supported"),
+        ([[0, 0, 0], [1, 0, 0], [2, 0, 0]], [("triangle", [[0, 1, 2]])],
+         "triangle 0 (0, 1, 2) is degenerate"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
+         [("triangle", [[0, 1, 2], [1, 2, 3]])], "mixed orientations"),
+        ([[0, 0, 0], [float("nan"), 0, 0], [0, 1, 0]], [("triangle", [[0, 1, 2]])],
+         "point 1"),
+    ],
+)
+def test_bad_meshes(
+    tmp_path: Path,
+    points: list[list[float]],
+    cells: list[tuple[str, list[list[int]]]],
+    fragment: str,
+) -> None:
+    """What geomexact cannot use is a FormatError (no line numbers in binary files)."""
+    _save(tmp_path / "b.vtu", points, cells)
+    with pytest.raises(FormatError) as caught:
+        io.read(tmp_path / "b.vtu")
+    assert fragment in caught.value.problem
+    assert caught.value.line is None
+
+
+def test_unreadable_file(tmp_path: Path) -> None:
+    """A file meshio cannot parse is a FormatError."""
+    (tmp_path / "junk.vtu").write_text("not xml at all")
+    with pytest.raises(FormatError, match="meshio cannot read it"):
+        io.read(tmp_path / "junk.vtu")
+    with pytest.raises(FormatError, match="no such file"):
+        io.read(tmp_path / "absent.vtk")
+
+
+def test_overwrite_and_kinds(tmp_path: Path) -> None:
+    """Refuses to replace a file unless asked; writes only meshes."""
+    mesh = mesh_from_triangles([(0, 0), (1, 0), (0, 1)], [(0, 1, 2)])
+    io.write(tmp_path / "o.vtk", mesh)
+    with pytest.raises(OverwriteError):
+        io.write(tmp_path / "o.vtk", mesh)
+    io.write(tmp_path / "o.vtk", mesh, overwrite=True)
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["o.vtk"]
+    with pytest.raises(TypeError, match="writes a Mesh2, not a PSLG"):
+        io.write(tmp_path / "p.vtk", PSLG(vertices=[]))
