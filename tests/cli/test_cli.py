@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers.paths import SUPERIOR
 
 from geomexact import __version__, io
 from geomexact.cli import main
@@ -122,10 +123,10 @@ def test_info_table_names_every_statistic(
 
 
 def test_info_of_pslg_reports_counts_and_exact_bounding_box(
-    capsys: pytest.CaptureFixture[str], shared_data: Path
+    capsys: pytest.CaptureFixture[str]
 ) -> None:
     """superior.poly: 518 vertices and segments, 6 holes, exact decimal bounding box."""
-    code, report = run_json(capsys, "info", shared_data / "triangle-net" / "superior.poly")
+    code, report = run_json(capsys, "info", SUPERIOR)
     assert code == 0
     assert report["kind"] == "pslg"
     assert (report["vertices"], report["segments"], report["holes"]) == (518, 518, 6)
@@ -263,10 +264,10 @@ def test_check_unreadable_mesh_exits_2(
 
 
 def test_check_of_pslg_is_usage_error(
-    capsys: pytest.CaptureFixture[str], shared_data: Path
+    capsys: pytest.CaptureFixture[str]
 ) -> None:
     """check needs a triangle mesh; a PSLG is bad input."""
-    code, _, err = run(capsys, "check", shared_data / "triangle-net" / "superior.poly")
+    code, _, err = run(capsys, "check", SUPERIOR)
     assert code == 2
     assert_one_line_error(err, "pslg", "triangle mesh")
 
@@ -385,11 +386,11 @@ def test_convert_refuses_to_overwrite_without_force(
 
 
 def test_convert_to_a_format_that_cannot_hold_the_value_is_bad_input(
-    capsys: pytest.CaptureFixture[str], shared_data: Path, tmp_path: Path
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
     """A PSLG cannot be written as OFF: exit 2 with one line, nothing written."""
     target = tmp_path / "superior.off"
-    code, _, err = run(capsys, "convert", shared_data / "triangle-net" / "superior.poly", target)
+    code, _, err = run(capsys, "convert", SUPERIOR, target)
     assert code == 2
     assert_one_line_error(err, "off", "pslg")
     assert not target.exists()

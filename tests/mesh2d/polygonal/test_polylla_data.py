@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 import pytest
+from helpers.paths import SUPERIOR
 from helpers.polygon_checks import assert_partition, assert_sound_run, is_convex
 
 from geomexact import Mesh2, io
@@ -176,8 +177,8 @@ def test_shared_meshes(
         assert_partition(mesh, result.mesh)
 
 
-def test_superior_cdt_with_holes(shared_data: Path) -> None:
-    pslg = io.read(shared_data / "triangle-net" / "superior.poly")
+def test_superior_cdt_with_holes() -> None:
+    pslg = io.read(SUPERIOR)
     assert isinstance(pslg, PSLG)
     mesh = triangulate(pslg).mesh
     run = polylla_run(mesh)
