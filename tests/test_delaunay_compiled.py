@@ -29,7 +29,8 @@ from geomexact.mesh2d.delaunay.compiled import AVAILABLE, CompiledConstruction, 
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.strategies import coordinates, dyadic_rationals, points2
 from geomexact.trace.playback import replay

@@ -21,7 +21,8 @@ from geomexact.mesh2d.longest_edge import (
     second_longest_edge,
 )
 from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle
-from geomexact.kernel.predicates import Comparison, compare_squared_lengths
+from geomexact.kernel.comparisons import compare_squared_lengths
+from geomexact.kernel.predicate_results import Comparison
 from geomexact.strategies import meshes_with_traces
 from geomexact.mesh2d.transient import Transient2
 

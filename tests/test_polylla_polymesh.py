@@ -27,7 +27,7 @@ from geomexact.mesh2d.polygonal.polygon_mesh import (
     reflex_vertices,
     validate_polygon_mesh,
 )
-from geomexact.kernel.predicates import orient2d
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.strategies import near_degenerate_points2, points2
 
 SQUARE = [point2(0, 0), point2(2, 0), point2(2, 2), point2(0, 2), point2(1, 1)]

@@ -17,7 +17,8 @@ from geomexact.mesh2d.snapshot import Edge, Triangle, canonical_triangle
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.polygonal.polylla_meshing import PolyllaRun
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.strategies import coordinates, pslgs, triangulations
 
 

@@ -37,7 +37,8 @@ from geomexact.mesh2d.refinement.criteria import (
 )
 from geomexact.mesh2d.delaunay.triangulation import make_delaunay, triangulate
 from geomexact.mesh2d.snapshot import full_digest
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.refinement.api import Progress, Result, refine
 from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, Whole

@@ -25,7 +25,7 @@ from geomexact.mesh2d.refinement.criteria import (
     smallest_angle_cos2,
 )
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import angle_degrees
+from geomexact.kernel.angles import angle_degrees
 from geomexact.mesh2d.refinement.regions import (
     CallableRegion,
     Circle,

@@ -15,7 +15,7 @@ from geomexact import Mesh2, io, is_delaunay, replay, total_area, validate
 from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, Criterion, MaxArea, MinAngle
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
-from geomexact.kernel.predicates import angle_degrees
+from geomexact.kernel.angles import angle_degrees
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.refinement.api import Result, refine
 from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, Whole

@@ -18,9 +18,11 @@ import attrs
 import numpy as np
 
 from geomexact.errors import InvalidMeshError, PreconditionError
+from geomexact.kernel.filter_bounds import ORIENT2D_C, ORIENT2D_K
 from geomexact.kernel.numbers import ZERO, Rational, format_rational, to_float
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import ORIENT2D_C, ORIENT2D_K, Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.mesh2d.validation import Violation
@@ -172,7 +174,7 @@ def orientation_signs(
 ) -> list[int]:
     """``orient2d(points[a[i]], points[b[i]], points[c[i]])`` for every i, as -1, 0 or 1.
 
-    Exact: the float filter of :func:`~geomexact.kernel.predicates.orient2d` (the same
+    Exact: the float filter of :func:`~geomexact.kernel.predicates2d.orient2d` (the same
     operations in the same order, on numpy arrays of the points' doubles) decides most
     triples at once; ``orient2d`` itself decides the rest.  O(n)."""
     count = len(a)

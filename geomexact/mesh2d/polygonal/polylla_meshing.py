@@ -42,8 +42,10 @@ import numpy as np
 
 from geomexact.errors import PolyllaError
 from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.comparisons import compare_squared_lengths
+from geomexact.kernel.filter_bounds import LENGTHS_C, LENGTHS_K
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import LENGTHS_C, LENGTHS_K, Comparison, compare_squared_lengths
+from geomexact.kernel.predicate_results import Comparison
 from geomexact.mesh2d.longest_edge import edge_order
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle
