@@ -40,8 +40,10 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from geomexact.kernel import predicates
+from geomexact.kernel.filter_bounds import filter_counters, reset_filter_counters
 from geomexact.kernel.points import Point2, Point3, point2, point3
+from geomexact.kernel.predicates2d import incircle, orient2d
+from geomexact.kernel.predicates3d import insphere, orient3d
 
 TARGET_RATIO = 2.0
 
@@ -252,10 +254,10 @@ def run(n: int, repeat: int, seed: int) -> dict[str, Any]:
         "insphere": plain_insphere,
     }
     adaptive: dict[str, Callable[..., Any]] = {
-        "orient2d": predicates.orient2d,
-        "incircle": predicates.incircle,
-        "orient3d": predicates.orient3d,
-        "insphere": predicates.insphere,
+        "orient2d": orient2d,
+        "incircle": incircle,
+        "orient3d": orient3d,
+        "insphere": insphere,
     }
     report: dict[str, Any] = {
         "python": platform.python_version(),
@@ -275,16 +277,16 @@ def run(n: int, repeat: int, seed: int) -> dict[str, Any]:
             functions["plain_sign"] = plain_sign_orient2d
         if shew is not None and name in ("orient2d", "incircle"):
             functions["shewchuk"] = shew[0] if name == "orient2d" else shew[1]
-        predicates.reset_filter_counters()
+        reset_filter_counters()
         filtered = time_functions(functions, loads[name]["filtered"], repeat)
-        hits, misses = predicates.filter_counters()[name]
+        hits, misses = filter_counters()[name]
         degenerate = time_functions(
             {"adaptive": adaptive[name]}, loads[name]["degenerate"], max(1, repeat // 2)
         )
-        predicates.reset_filter_counters()
+        reset_filter_counters()
         for args in loads[name]["degenerate"]:
             adaptive[name](*args)
-        _, degenerate_misses = predicates.filter_counters()[name]
+        _, degenerate_misses = filter_counters()[name]
         entry: dict[str, Any] = {
             "filtered_ns": {key: round(value, 1) for key, value in filtered.items()},
             "filtered_calls_per_second": {

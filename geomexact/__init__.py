@@ -37,16 +37,14 @@ if TYPE_CHECKING:
     from geomexact.io.trace_file import read_trace, write_trace
     from geomexact.kernel.numbers import format_rational, mpq, parse_rational, to_rational
     from geomexact.kernel.points import Point2, Point3, point2, point3
-    from geomexact.kernel.predicates import (
+    from geomexact.kernel.predicate_results import (
         CircleLocation,
         Comparison,
         Orientation,
         SphereLocation,
-        incircle,
-        insphere,
-        orient2d,
-        orient3d,
     )
+    from geomexact.kernel.predicates2d import incircle, orient2d
+    from geomexact.kernel.predicates3d import insphere, orient3d
     from geomexact.mesh2d.delaunay.triangulation import (
         Construction,
         is_delaunay,
@@ -123,14 +121,14 @@ _HOMES: dict[str, str] = {
     "Point3": "geomexact.kernel.points",
     "point2": "geomexact.kernel.points",
     "point3": "geomexact.kernel.points",
-    "CircleLocation": "geomexact.kernel.predicates",
-    "Comparison": "geomexact.kernel.predicates",
-    "Orientation": "geomexact.kernel.predicates",
-    "SphereLocation": "geomexact.kernel.predicates",
-    "incircle": "geomexact.kernel.predicates",
-    "insphere": "geomexact.kernel.predicates",
-    "orient2d": "geomexact.kernel.predicates",
-    "orient3d": "geomexact.kernel.predicates",
+    "CircleLocation": "geomexact.kernel.predicate_results",
+    "Comparison": "geomexact.kernel.predicate_results",
+    "Orientation": "geomexact.kernel.predicate_results",
+    "SphereLocation": "geomexact.kernel.predicate_results",
+    "incircle": "geomexact.kernel.predicates2d",
+    "orient2d": "geomexact.kernel.predicates2d",
+    "insphere": "geomexact.kernel.predicates3d",
+    "orient3d": "geomexact.kernel.predicates3d",
     "Step": "geomexact.trace.step",
     "Trace": "geomexact.trace.record",
     "trace_of": "geomexact.trace.record",

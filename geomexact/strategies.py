@@ -27,7 +27,8 @@ except ImportError as error:  # the "strategies" extra
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import Point2, Point3, point2, point3
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d import ops
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2

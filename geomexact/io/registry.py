@@ -30,7 +30,8 @@ from geomexact.errors import FormatError, OverwriteError, PreconditionError, Rat
 from geomexact.io.files import write_text_atomic
 from geomexact.kernel.numbers import ZERO, Rational, format_float, format_rational, parse_rational
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Attributes, Mesh2, empty_mesh

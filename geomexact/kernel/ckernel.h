@@ -4,8 +4,10 @@
    - an open-addressing hash table uint64 -> int64 (keys u << 32 | v);
    - 128-bit helpers and the triangle cell hash of geomexact.kernel.digest;
    - exact predicates on dyadic-grid int64 coordinates (__int128 arithmetic);
-   - the certified float filters of geomexact.kernel.predicates (same formulas, same evaluation
-     order; the including module must be compiled with -ffp-contract=off).
+   - the certified float filters of geomexact.kernel.predicates2d and .comparisons (same
+     formulas, same evaluation order; the including module must be compiled with
+     -ffp-contract=off), tested against the exact predicates through
+     geomexact/kernel/cfilters.pyx.
 
    Every function is static: each extension module gets its own copy, and its own copy of
    the constants, which gx_set_constants fills from the Python modules at import. */
@@ -159,8 +161,8 @@ static inline int gx_grid_incircle(int64_t ax, int64_t ay, int64_t bx, int64_t b
     }
 }
 
-/* ---- float filters: the formulas of geomexact.kernel.predicates, evaluated in the same
-   order (compiled with -ffp-contract=off); 2 means undecided ---- */
+/* ---- float filters: the formulas of geomexact.kernel.predicates2d (orient2d, incircle),
+   .comparisons (squared lengths) and .angles (the dot product), evaluated in the same order (compiled with -ffp-contract=off); 2 means undecided ---- */
 static double gx_orient_c, gx_orient_k, gx_incircle_c, gx_incircle_k;
 static double gx_lengths_c, gx_lengths_k, gx_dot_c, gx_dot_k;
 static inline int gx_float_orient(double ax, double ay, double bx, double by,
@@ -214,7 +216,7 @@ static inline int gx_float_dot(double px, double py, double ax, double ay,
     return 2;
 }
 
-/* the constants above, from geomexact.kernel.digest and geomexact.kernel.predicates */
+/* the constants above, from geomexact.kernel.digest and geomexact.kernel.filter_bounds */
 GX_UNUSED static void gx_set_constants(gx_u128 m0, gx_u128 m1, gx_u128 m2, gx_u128 mf,
                                        double orient_c, double orient_k,
                                        double incircle_c, double incircle_k,

@@ -72,16 +72,16 @@ cdef inline gx_i128 _to_i128(object value) except *:
 
 cdef inline int _init_constants() except -1:
     """Fill the C constants (cell-hash multipliers, filter constants) of this module's
-    copy of ckernel.h from geomexact.kernel.digest and geomexact.kernel.predicates."""
+    copy of ckernel.h from geomexact.kernel.digest and geomexact.kernel.filter_bounds."""
     from geomexact.kernel import digest as _digest
-    from geomexact.kernel import predicates as _predicates
+    from geomexact.kernel import filter_bounds as _bounds
     m0, m1, m2, _ = _digest._POSITION_MULTIPLIERS
     gx_set_constants(
         _to_u128(m0), _to_u128(m1), _to_u128(m2), _to_u128(_digest._FINAL_MULTIPLIER),
-        _predicates.ORIENT2D_C, _predicates.ORIENT2D_K,
-        _predicates.INCIRCLE_C, _predicates.INCIRCLE_K,
-        _predicates.LENGTHS_C, _predicates.LENGTHS_K,
-        _predicates.DOT_C, _predicates.DOT_K,
+        _bounds.ORIENT2D_C, _bounds.ORIENT2D_K,
+        _bounds.INCIRCLE_C, _bounds.INCIRCLE_K,
+        _bounds.LENGTHS_C, _bounds.LENGTHS_K,
+        _bounds.DOT_C, _bounds.DOT_K,
     )
     return 0
 

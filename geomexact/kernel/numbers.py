@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import math
 import re
-from typing import TypeAlias
+from collections.abc import Sequence
+from typing import Any, TypeAlias
 
 import gmpy2
 
@@ -160,5 +161,19 @@ def to_float(value: Rational) -> float:
 
 
 def sign(value: Rational) -> int:
-    """-1, 0 or 1."""
-    return int(gmpy2.sign(value))
+    """-1, 0 or 1 (of a rational or an integer)."""
+    # two comparisons: about 4x faster than gmpy2.sign on an mpq (the predicates' exact path)
+    return (value > 0) - (value < 0)  # type: ignore[no-any-return]
+
+
+def scaled_to_integers(values: Sequence[Rational]) -> list[Any]:
+    """``values`` times the lcm of their denominators: integers in the same ratios, so a
+    homogeneous polynomial has the same sign on them.  Much faster to compute with than
+    mpq (no gcd per operation) when the denominators are unrelated (random or centroid
+    coordinates)."""
+    scale = 1
+    for value in values:
+        denominator = value.denominator
+        if denominator != 1:
+            scale = gmpy2.lcm(scale, denominator)
+    return [value.numerator * (scale // value.denominator) for value in values]

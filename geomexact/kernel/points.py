@@ -9,7 +9,7 @@ coordinates are equal.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import NamedTuple, TypeVar
 
 from geomexact.kernel.numbers import Rational, to_rational
 
@@ -68,6 +68,10 @@ class Point3(NamedTuple):
 
     def __repr__(self) -> str:
         return f"Point3({self.x}, {self.y}, {self.z})"
+
+
+PointT = TypeVar("PointT", Point2, Point3)
+"""A point of either dimension, the same for every argument (functions on both)."""
 
 
 def point2(x: object, y: object) -> Point2:

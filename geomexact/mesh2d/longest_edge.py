@@ -32,8 +32,9 @@ from typing import Literal, TypeAlias
 import attrs
 
 from geomexact.errors import PreconditionError
+from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import Comparison, compare_squared_lengths
+from geomexact.kernel.predicate_results import Comparison
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.mesh2d.transient import Transient2
 

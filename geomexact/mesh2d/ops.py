@@ -16,7 +16,8 @@ from types import MappingProxyType
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import CircleLocation, Orientation, incircle, orient2d
+from geomexact.kernel.predicate_results import CircleLocation, Orientation
+from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.snapshot import (
     Edge,
     Mesh2,

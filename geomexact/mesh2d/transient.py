@@ -16,7 +16,8 @@ import immutables
 from geomexact.errors import PreconditionError, TransientSealedError
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.snapshot import (
     MAX_VERTICES,
     Attributes,

@@ -11,7 +11,8 @@ from collections import Counter
 import attrs
 
 from geomexact.errors import InvalidMeshError
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle, full_digest
 

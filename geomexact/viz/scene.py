@@ -22,7 +22,8 @@ import attrs
 
 from geomexact.kernel.numbers import format_rational, to_float
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.delaunay.triangulation import vertices_mesh
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG

@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 from geomexact import Mesh2, mesh_from_triangles, mpq, point2, total_area
 from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.longest_edge import lepp, longest_edge
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh

@@ -9,9 +9,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from geomexact import mpq
+from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.dyadic_grid import GRID_BITS, grid_flags, grid_unit, midpoint_on_grid, on_grid
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import compare_squared_lengths
 from geomexact.mesh2d.refinement.api import refine
 from geomexact.mesh2d.refinement.criteria import MaxArea
 from geomexact.mesh2d.refinement.engines.batch import compare_squared_lengths_on_grid

@@ -15,28 +15,19 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from geomexact.errors import PreconditionError
-from geomexact.kernel import predicates as P
+from geomexact.kernel import filter_bounds as P
+from geomexact.kernel.angles import AngleThreshold, angle_degrees, compare_angle
+from geomexact.kernel.comparisons import compare_areas, compare_squared_lengths
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, Point3, point2, point3
-from geomexact.kernel.predicates import (
-    AngleThreshold,
+from geomexact.kernel.predicate_results import (
     CircleLocation,
     Comparison,
     Orientation,
     SphereLocation,
-    angle_degrees,
-    compare_angle,
-    compare_areas,
-    compare_squared_lengths,
-    incircle,
-    incircle_exact,
-    insphere,
-    insphere_exact,
-    orient2d,
-    orient2d_exact,
-    orient3d,
-    orient3d_exact,
 )
+from geomexact.kernel.predicates2d import incircle, incircle_exact, orient2d, orient2d_exact
+from geomexact.kernel.predicates3d import insphere, insphere_exact, orient3d, orient3d_exact
 from geomexact.strategies import (
     cocircular_quadruples,
     collinear_triples,

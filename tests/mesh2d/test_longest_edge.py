@@ -10,7 +10,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from geomexact import PreconditionError, mesh_from_triangles, mpq, point2
-from geomexact.kernel.predicates import Comparison, compare_squared_lengths
+from geomexact.kernel.comparisons import compare_squared_lengths
+from geomexact.kernel.predicate_results import Comparison
 from geomexact.mesh2d.longest_edge import (
     edge_order,
     edges_by_length,

@@ -18,8 +18,8 @@ def test_all_has_no_duplicates_and_is_sorted_like_ruff_wants() -> None:
 
 
 def test_submodules_named_in_docs_import() -> None:
-    for module in ("kernel.numbers", "kernel.predicates", "mesh2d.snapshot",
-                   "mesh2d.transient", "mesh2d.ops", "trace.record", "io",
+    for module in ("kernel.numbers", "kernel.predicates2d", "kernel.predicates3d",
+                   "mesh2d.snapshot", "mesh2d.transient", "mesh2d.ops", "trace.record", "io",
                    "mesh2d.delaunay.triangulation", "mesh2d.validation", "strategies",
                    "mesh2d.segments", "kernel.collector"):
         importlib.import_module(f"geomexact.{module}")

@@ -27,8 +27,8 @@ Every geometric decision is exact: orient2d on grid vertices by integer arithmet
 ``__int128`` (differences below 2**61, products below 2**122); incircle on grid vertices
 in ``__int128`` when the differences, divided by their common power of two, are below
 2**30 (lattices: the cocircular ties); otherwise by the certified float filters of
-``geomexact.kernel.predicates`` (same formulas and constants, compiled without FMA), falling back
-to the exact Python predicate on the ``Point2`` objects.  The shared C pieces are in
+``geomexact.kernel.predicates2d`` (same formulas and constants, compiled without FMA), falling
+back to the exact Python predicate on the ``Point2`` objects.  The shared C pieces are in
 ``geomexact/kernel/ckernel.h``.
 """
 
@@ -45,7 +45,7 @@ cdef extern from "Python.h":
 import immutables
 
 from geomexact.kernel import digest as _digest
-from geomexact.kernel import predicates as _predicates
+from geomexact.kernel import predicates2d as _predicates2d
 from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
@@ -231,7 +231,7 @@ cdef class Builder:
         if result != 2:
             return result
         points = self.points
-        return int(_predicates.orient2d_exact(points[a], points[b], points[c]))
+        return int(_predicates2d.orient2d_exact(points[a], points[b], points[c]))
 
     cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
         """The sign of incircle(points[a], points[b], points[c], points[d])."""
@@ -240,7 +240,7 @@ cdef class Builder:
         if result != 2:
             return result
         points = self.points
-        return int(_predicates.incircle_exact(points[a], points[b], points[c], points[d]))
+        return int(_predicates2d.incircle_exact(points[a], points[b], points[c], points[d]))
 
     # -- the half-edge table --------------------------------------------------------------
     cdef inline int64_t _get(self, int64_t u, int64_t v) noexcept nogil:

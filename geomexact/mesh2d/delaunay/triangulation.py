@@ -21,7 +21,8 @@ from geomexact.errors import PreconditionError, SegmentError
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.digest import MODULUS, cell_hash
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import CircleLocation, Orientation, incircle, orient2d
+from geomexact.kernel.predicate_results import CircleLocation, Orientation
+from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.delaunay.compiled import run_compiled
 from geomexact.mesh2d.ops import (
     carve_exterior_in,

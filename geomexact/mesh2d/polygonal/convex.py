@@ -42,7 +42,8 @@ from geomexact.errors import ConvexDecompositionError, PolyllaError, Preconditio
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.polygonal.polygon_mesh import (
     PolygonMesh,
     nonconvex_polygons,

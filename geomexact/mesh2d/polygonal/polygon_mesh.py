@@ -18,9 +18,11 @@ import attrs
 import numpy as np
 
 from geomexact.errors import InvalidMeshError, PreconditionError
+from geomexact.kernel.array_filters import orient2d_signs, point_doubles
 from geomexact.kernel.numbers import ZERO, Rational, format_rational, to_float
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import ORIENT2D_C, ORIENT2D_K, Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.mesh2d.validation import Violation
@@ -166,36 +168,20 @@ def polygon_twice_area(points: Sequence[Point2], polygon: Sequence[int]) -> Rati
     return twice
 
 
-@np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified: exact path
 def orientation_signs(
     points: Sequence[Point2], a: Sequence[int], b: Sequence[int], c: Sequence[int]
 ) -> list[int]:
     """``orient2d(points[a[i]], points[b[i]], points[c[i]])`` for every i, as -1, 0 or 1.
 
-    Exact: the float filter of :func:`~geomexact.kernel.predicates.orient2d` (the same
-    operations in the same order, on numpy arrays of the points' doubles) decides most
-    triples at once; ``orient2d`` itself decides the rest.  O(n)."""
-    count = len(a)
-    if count == 0:
+    Exact: the float filter of :func:`~geomexact.kernel.predicates2d.orient2d` on numpy
+    arrays (:func:`~geomexact.kernel.array_filters.orient2d_signs`) decides most triples
+    at once; ``orient2d`` itself decides the rest.  O(n)."""
+    if len(a) == 0:
         return []
-    fx = np.fromiter((p.fx for p in points), dtype=np.float64, count=len(points))
-    fy = np.fromiter((p.fy for p in points), dtype=np.float64, count=len(points))
-    ia = np.asarray(a, dtype=np.int64)
-    ib = np.asarray(b, dtype=np.int64)
-    ic = np.asarray(c, dtype=np.int64)
-    cx, cy = fx[ic], fy[ic]
-    acx, acy = fx[ia] - cx, fy[ia] - cy
-    bcx, bcy = fx[ib] - cx, fy[ib] - cy
-    left = acx * bcy
-    right = acy * bcx
-    det = left - right
-    t = np.abs(acx) + np.abs(acy) + np.abs(bcx) + np.abs(bcy) + ORIENT2D_K
-    bound = t * (np.abs(cx) + np.abs(cy) + t) * ORIENT2D_C
-    positive = ((left > 0.0) & (right < 0.0)) | (det > bound)
-    negative = ((left < 0.0) & (right > 0.0)) | (-det > bound)
-    signs = positive.astype(np.int64) - negative.astype(np.int64)
+    fx, fy = point_doubles(points)
+    signs = orient2d_signs(fx, fy, a, b, c)
     result: list[int] = signs.tolist()
-    for i in np.flatnonzero(~(positive | negative)).tolist():
+    for i in np.flatnonzero(signs == 0).tolist():
         result[i] = int(orient2d(points[a[i]], points[b[i]], points[c[i]]))
     return result
 

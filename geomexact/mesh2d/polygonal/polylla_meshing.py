@@ -41,9 +41,11 @@ import attrs
 import numpy as np
 
 from geomexact.errors import PolyllaError
+from geomexact.kernel.array_filters import point_doubles, squared_length_signs
 from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import LENGTHS_C, LENGTHS_K, Comparison, compare_squared_lengths
+from geomexact.kernel.predicate_results import Comparison
 from geomexact.mesh2d.longest_edge import edge_order
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle
@@ -308,39 +310,24 @@ class EdgeLabels:
     terminal: tuple[Edge, ...]
 
 
-# The float filters below repeat those of compare_squared_lengths on numpy arrays: the same
-# differences and squares; the error bound t * (m + 2t) * C with t and m sums of the same
-# absolute values (m over more points here, so at least as large), added in another order.
-# A reordered float sum differs from the real sum by a few units in the last place, far
-# inside the margin of LENGTHS_C (9u) over the derived minimum 8.001u.  Whatever a filter
-# does not decide goes to the exact functions.
-
-
-@np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified: exact path
-def _longest_edges(table: HalfEdgeTable, fx: Any, fy: Any, squares: Any, widths: Any) -> Any:
+def _longest_edges(table: HalfEdgeTable, fx: Any, fy: Any, squares: Any) -> Any:
     """For each triangle t, the half-edge ``3 t + i`` of its longest edge in the edge order
-    of :func:`geomexact.mesh2d.longest_edge.edge_order` (certified float filter, else
-    ``edge_order``)."""
-    count = len(table.triangles)
-    s3 = squares.reshape(-1, 3)
-    w3 = widths.reshape(-1, 3)
-    ax = np.abs(fx)[table.origin_array].reshape(-1, 3)
-    ay = np.abs(fy)[table.origin_array].reshape(-1, 3)
-    m = ((((ax[:, 0] + ay[:, 0]) + ax[:, 1]) + ay[:, 1]) + ax[:, 2]) + ay[:, 2]
-    rows = np.arange(count)
-    first = np.argmax(s3, axis=1)  # NaN (beyond doubles) is never certified below
-    second, third = (first + 1) % 3, (first + 2) % 3
-    longest, width = s3[rows, first], w3[rows, first]
-    t2 = (width + w3[rows, second]) + LENGTHS_K
-    t3 = (width + w3[rows, third]) + LENGTHS_K
-    certain = ((longest - s3[rows, second] > t2 * (m + (t2 + t2)) * LENGTHS_C)
-               & (longest - s3[rows, third] > t3 * (m + (t3 + t3)) * LENGTHS_C))
-    result = 3 * rows + first
+    of :func:`geomexact.mesh2d.longest_edge.edge_order` (the float filter certifies a
+    strictly longest edge, else ``edge_order`` decides)."""
+    rows = np.arange(len(table.triangles))
+    first = np.argmax(squares.reshape(-1, 3), axis=1)  # a guess: NaN and ties stay undecided
+    longest = 3 * rows + first
+    origin, target = table.origin_array, table.target_array
+    certain = np.ones(len(rows), dtype=bool)
+    for step in (1, 2):
+        other = 3 * rows + (first + step) % 3
+        certain &= squared_length_signs(fx, fy, origin[longest], target[longest],
+                                        origin[other], target[other]) > 0
     points = table.points
     for t in np.flatnonzero(~certain).tolist():
         a, b, c = table.triangles[t]
-        result[t] = 3 * t + edge_order(points[a], points[b], points[c], a, b, c)[0]
-    return result
+        longest[t] = 3 * t + edge_order(points[a], points[b], points[c], a, b, c)[0]
+    return longest
 
 
 @np.errstate(over="ignore", invalid="ignore")
@@ -351,14 +338,11 @@ def _label(table: HalfEdgeTable, mesh: Mesh2) -> list[int]:
     if not size:
         return []
     points = table.points
-    fx = np.fromiter((p.fx for p in points), dtype=np.float64, count=len(points))
-    fy = np.fromiter((p.fy for p in points), dtype=np.float64, count=len(points))
+    fx, fy = point_doubles(points)
     origin, target, twin = table.origin_array, table.target_array, table.twin_array
     ex = fx[target] - fx[origin]
     ey = fy[target] - fy[origin]
-    squares = ex * ex + ey * ey
-    widths = np.abs(ex) + np.abs(ey)
-    longest = _longest_edges(table, fx, fy, squares, widths)
+    longest = _longest_edges(table, fx, fy, ex * ex + ey * ey)
     halfedges = np.arange(size)
     is_longest = longest[halfedges // 3] == halfedges
     # constraint edges: boundary, constrained segment, different triangle attributes
@@ -385,11 +369,8 @@ def _label(table: HalfEdgeTable, mesh: Mesh2) -> list[int]:
     candidates = np.flatnonzero(one_sided & is_longest)  # the side whose Lepp would cross
     if len(candidates):
         other = longest[partner[candidates] // 3]
-        difference = squares[candidates] - squares[other]
-        mo = np.abs(fx[origin]) + np.abs(fy[origin])
-        t = (widths[candidates] + widths[other]) + LENGTHS_K
-        bound = t * ((mo[candidates] + mo[other]) + (t + t)) * LENGTHS_C
-        unsure = ~(np.abs(difference) > bound)
+        unsure = squared_length_signs(fx, fy, origin[candidates], target[candidates],
+                                      origin[other], target[other]) == 0
         for index in np.flatnonzero(unsure).tolist():
             h, g = int(candidates[index]), int(other[index])
             if compare_squared_lengths(points[table.origin[h]], points[table.target(h)],

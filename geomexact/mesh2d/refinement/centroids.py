@@ -19,7 +19,8 @@ import gmpy2
 
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.ops import quadrilateral_area_centroid
 
 __all__ = ["CENTROID_BITS", "rounded_area_centroid"]

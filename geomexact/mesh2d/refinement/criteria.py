@@ -5,7 +5,7 @@ A :class:`Criterion` rates a counter-clockwise triangle from its three exact poi
 value (``mpq``) or a tuple of them; the smallest key is refined first ("worst first"), and
 equal keys are ordered by the triangle's vertex ids (``specs/refine.md``).  Every decision
 is exact: areas and lengths in rationals, angles against an
-:class:`~geomexact.kernel.predicates.AngleThreshold`.
+:class:`~geomexact.kernel.angles.AngleThreshold`.
 
 >>> from geomexact.kernel.points import point2
 >>> a, b, c = point2(0, 0), point2(1, 0), point2(0, 1)
@@ -25,14 +25,11 @@ from typing import Any, Protocol, runtime_checkable
 import attrs
 
 from geomexact.errors import PreconditionError
+from geomexact.kernel.angles import AngleThreshold, compare_angle
+from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.numbers import Rational, format_rational, mpq, to_rational
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import (
-    AngleThreshold,
-    Comparison,
-    compare_angle,
-    compare_squared_lengths,
-)
+from geomexact.kernel.predicate_results import Comparison
 
 __all__ = [
     "AverageAreaFactor",
@@ -184,7 +181,7 @@ class MinAngle:
 
     The comparison is exact against cos²θ when it is rational (θ = 30° or 45°), else against
     a rational bound that never accepts an angle below θ (see
-    :class:`~geomexact.kernel.predicates.AngleThreshold`).  Key: −cos²(smallest angle), exact, so
+    :class:`~geomexact.kernel.angles.AngleThreshold`).  Key: −cos²(smallest angle), exact, so
     the sharpest triangle is refined first.
     """
 

@@ -8,17 +8,12 @@ from typing import Literal, TypeAlias
 
 import attrs
 
+from geomexact.kernel.angles import compare_angle
+from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import (
-    CircleLocation,
-    Comparison,
-    Orientation,
-    compare_angle,
-    compare_squared_lengths,
-    incircle,
-    orient2d,
-)
+from geomexact.kernel.predicate_results import CircleLocation, Comparison, Orientation
+from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.longest_edge import _before, is_constraint_edge
 from geomexact.mesh2d.refinement.criteria import Criterion
 from geomexact.mesh2d.refinement.queue import WorkQueue

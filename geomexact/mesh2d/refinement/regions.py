@@ -23,7 +23,8 @@ import attrs
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, format_rational, to_rational
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.segments import within_box
 
 __all__ = [

@@ -15,7 +15,7 @@ import geomexact.mesh2d.polygonal.polygon_mesh as polymesh_module
 from geomexact import InvalidMeshError, mesh_from_triangles, mpq, point2
 from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import orient2d
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.polygonal.polygon_mesh import (
     PolygonMesh,
     check_polygon_mesh,

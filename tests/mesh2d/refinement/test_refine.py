@@ -28,7 +28,8 @@ from geomexact import (
     validate,
 )
 from geomexact.io.trace_file import read_trace, write_trace
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.delaunay.triangulation import make_delaunay, triangulate
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.refinement.api import Progress, Result, refine

@@ -19,7 +19,8 @@ from geomexact import (
     total_area,
     validate,
 )
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.ops import quadrilateral_area_centroid
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.strategies import convex_polygons

@@ -452,7 +452,8 @@ def test_grid_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]], deno
     """The kernel's integer path of ``rounded_area_centroid`` (grid quadrilaterals) gives
     exactly the Python function's point, or defers to it (ties round half up; negative
     coordinates floor)."""
-    from geomexact.kernel.predicates import Orientation, orient2d
+    from geomexact.kernel.predicate_results import Orientation
+    from geomexact.kernel.predicates2d import orient2d
     from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
     from geomexact.mesh2d.refinement.engines import lepp_kernel
 

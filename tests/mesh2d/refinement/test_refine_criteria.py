@@ -11,8 +11,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from geomexact import PreconditionError, mpq, point2
+from geomexact.kernel.angles import angle_degrees
 from geomexact.kernel.points import Point2
-from geomexact.kernel.predicates import angle_degrees
 from geomexact.mesh2d.refinement import criteria as criteria_module
 from geomexact.mesh2d.refinement import regions as regions_module
 from geomexact.mesh2d.refinement.criteria import (

@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 
 from geomexact import Mesh2, io, is_delaunay, replay, total_area, validate
-from geomexact.kernel.predicates import angle_degrees
+from geomexact.kernel.angles import angle_degrees
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG

@@ -9,17 +9,12 @@ import immutables
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel import digest as _digest
+from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.dyadic_grid import grid_flags, midpoint_on_grid
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import (
-    CircleLocation,
-    Comparison,
-    Orientation,
-    compare_squared_lengths,
-    incircle,
-    orient2d,
-)
+from geomexact.kernel.predicate_results import CircleLocation, Comparison, Orientation
+from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.ops import (
     quadrilateral_area_centroid,
     quadrilateral_vertex_centroid,

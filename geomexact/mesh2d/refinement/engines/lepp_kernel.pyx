@@ -27,8 +27,9 @@ Where the C data live:
   decided by a float filter with a wide margin, else exactly in Python.
 
 Every geometric decision is exact: on grid vertices by integer arithmetic in ``__int128``;
-otherwise by the certified float filters of ``geomexact.kernel.predicates`` (same formulas and
-constants), falling back to the exact Python predicate on the ``Point2`` objects.
+otherwise by the certified float filters of ``geomexact.kernel.predicates2d`` and
+``geomexact.kernel.comparisons`` (same formulas and constants), falling back to the exact
+Python predicate on the ``Point2`` objects.
 """
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
@@ -43,7 +44,8 @@ import gmpy2
 import immutables
 
 from geomexact.kernel import digest as _digest
-from geomexact.kernel import predicates as _predicates
+from geomexact.kernel import comparisons as _comparisons
+from geomexact.kernel import predicates2d as _predicates2d
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
 from geomexact.errors import PreconditionError
@@ -526,7 +528,7 @@ cdef class Kernel:
         if result != 2:
             return result
         points = self.points
-        return int(_predicates.compare_squared_lengths(points[a], points[b], points[c],
+        return int(_comparisons.compare_squared_lengths(points[a], points[b], points[c],
                                                        points[d]))
 
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
@@ -535,7 +537,7 @@ cdef class Kernel:
         if result != 2:
             return result
         points = self.points
-        return int(_predicates.orient2d_exact(points[a], points[b], points[c]))
+        return int(_predicates2d.orient2d_exact(points[a], points[b], points[c]))
 
     cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
         """The sign of incircle(points[a], points[b], points[c], points[d])."""
@@ -544,7 +546,7 @@ cdef class Kernel:
         if result != 2:
             return result
         points = self.points
-        return int(_predicates.incircle_exact(points[a], points[b], points[c], points[d]))
+        return int(_predicates2d.incircle_exact(points[a], points[b], points[c], points[d]))
 
     cdef int _dot_sign(self, int64_t p, int64_t a, int64_t b) nogil:
         """The sign of (a - p).(b - p), or 2 when the float filter cannot tell."""

@@ -1,0 +1,253 @@
+"""Exact comparisons of an angle with a threshold (2D and 3D), and angles in degrees for
+reports.
+
+:class:`AngleThreshold` prepares an angle θ once (cos²θ as a rational, rounded to the safe
+side when it is irrational); :func:`compare_angle` compares ∠abc with it without square
+roots, by a certified float filter in two stages (constants in
+:mod:`~geomexact.kernel.filter_bounds`), else exactly.  See ``specs/predicates.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from typing import Final
+
+import attrs
+import gmpy2
+
+from geomexact.errors import PreconditionError
+from geomexact.kernel.filter_bounds import ANGLE_C, ANGLE_K, DOT_C, DOT_K
+from geomexact.kernel.filter_bounds import ANGLE_COUNTS as _ANG
+from geomexact.kernel.numbers import Rational, mpq, sign, to_rational
+from geomexact.kernel.points import PointT
+from geomexact.kernel.predicate_results import COMPARISONS, Comparison
+
+__all__ = ["AngleThreshold", "angle_degrees", "compare_angle"]
+
+_LESS: Final = Comparison.LESS
+_GREATER: Final = Comparison.GREATER
+
+_EXACT_COS2_BITS: Final = 64
+_SMALLEST_NORMAL: Final = 2.0**-1022  # relative accuracy 2^-64 of an inexact threshold's cos^2
+
+
+def _cos2_exact(degrees: Rational) -> Rational | None:
+    """cos^2 of ``degrees`` when it is rational (sympy), else None.
+
+    cos^2(theta) = (1 + cos 2theta)/2, and by Niven's theorem the cosine of a rational
+    number of degrees is rational only when it is 0, +-1/2 or +-1: in (0, 180) that is
+    theta in {30, 45, 60, 90, 120, 135, 150}.  sympy evaluates exactly these cases to
+    rationals and leaves the others symbolic.
+    """
+    import sympy  # type: ignore[import-untyped]
+
+    turn = sympy.Rational(int(degrees.numerator), int(degrees.denominator)) / 180
+    value = sympy.cos(sympy.pi * turn) ** 2
+    if value.is_Rational:
+        return mpq(int(value.p), int(value.q))
+    return None
+
+
+def _cos2_safe(degrees: Rational, cos_sign: int) -> Rational:
+    """A rational within 2^-64 (relative) of cos^2(degrees), rounded to the safe side.
+
+    Safe side: the effective threshold angle is >= the requested one, i.e. cos^2 rounded
+    down for acute thresholds and up for obtuse ones.  Computed with mpmath interval
+    arithmetic, so the direction is certified.
+    """
+    from mpmath import iv  # type: ignore[import-untyped]
+    from mpmath.libmp import to_rational as mpf_to_rational  # type: ignore[import-untyped]
+
+    numerator, denominator = int(degrees.numerator), int(degrees.denominator)
+    precision = 160
+    while True:
+        saved = iv.prec  # mpmath's interval context is global: restore it afterwards
+        try:
+            iv.prec = precision
+            cos_double = iv.cos(iv.pi * iv.mpf(numerator) / iv.mpf(denominator * 90))
+            interval = (1 + cos_double) / 2
+        finally:
+            iv.prec = saved
+        low = Fraction(*mpf_to_rational(interval._mpi_[0]))
+        high = Fraction(*mpf_to_rational(interval._mpi_[1]))
+        if low > 0:
+            # bits: relative error 2^-64 needs 64 bits below the leading bit of low
+            leading = low.numerator.bit_length() - low.denominator.bit_length()
+            bits = _EXACT_COS2_BITS + 2 - leading
+            scale = Fraction(2) ** bits
+            if (high - low) * scale < Fraction(1, 4):
+                if cos_sign > 0:
+                    rounded = Fraction(math.floor(low * scale)) / scale
+                else:
+                    rounded = min(Fraction(math.ceil(high * scale)) / scale, Fraction(1))
+                return mpq(rounded.numerator, rounded.denominator)
+        precision *= 2
+
+
+@attrs.frozen(slots=True)
+class AngleThreshold:
+    """An angle θ in (0°, 180°) prepared for exact comparisons; build with :meth:`from_degrees`.
+
+    ``cos2`` is cos²θ as a rational and ``cos_sign`` the sign of cos θ.  When cos²θ is
+    rational (θ in {30, 45, 60, 90, 120, 135, 150} degrees) ``exact`` is True and
+    comparisons are against θ itself.  Otherwise ``cos2`` is cos²θ' for an angle θ' >= θ
+    within 2^-64 relative in cos², so :func:`compare_angle` never reports an angle below
+    θ as GREATER or EQUAL (it may report an angle in [θ, θ') as LESS).  ``cos2_float`` is
+    the nearest double of ``cos2``, used by the float filter.
+    """
+
+    degrees: Rational
+    cos2: Rational
+    cos_sign: int
+    exact: bool
+    cos2_float: float = attrs.field(eq=False)  # derived from cos2 (may be nan)
+
+    @classmethod
+    def from_degrees(cls, degrees: object) -> AngleThreshold:
+        """The threshold of ``degrees`` (int, str, rational or float, read exactly)."""
+        value = to_rational(degrees)
+        if not 0 < value < 180:
+            raise PreconditionError(
+                "AngleThreshold.from_degrees",
+                f"an angle threshold must be strictly between 0 and 180 degrees, not {value}",
+                degrees=value,
+            )
+        cos_sign = sign(90 - value)
+        cos2 = _cos2_exact(value)
+        exact = cos2 is not None
+        if cos2 is None:
+            cos2 = _cos2_safe(value, cos_sign)
+        cos2_float = float(cos2)
+        if cos2 != 0 and cos2_float < _SMALLEST_NORMAL:
+            cos2_float = math.nan  # no relative error bound: the filter defers to exact
+        return cls(value, cos2, cos_sign, exact, cos2_float)
+
+
+def _compare_angle_exact(a: PointT, b: PointT, c: PointT, threshold: AngleThreshold) -> Comparison:
+    if len(a) == 4:
+        ux = a[0] - b[0]
+        uy = a[1] - b[1]
+        vx = c[0] - b[0]
+        vy = c[1] - b[1]
+        dot = ux * vx + uy * vy
+        lengths = (ux * ux + uy * uy) * (vx * vx + vy * vy)
+    else:
+        ux = a[0] - b[0]
+        uy = a[1] - b[1]
+        uz = a[2] - b[2]
+        vx = c[0] - b[0]
+        vy = c[1] - b[1]
+        vz = c[2] - b[2]
+        dot = ux * vx + uy * vy + uz * vz
+        lengths = (ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz)
+    if lengths == 0:
+        raise PreconditionError(
+            "compare_angle", "the angle at b is undefined: a or c coincides with b", a=a, b=b, c=c
+        )
+    cos_sign = threshold.cos_sign
+    dot_sign = sign(dot)
+    if cos_sign == 0:
+        return COMPARISONS[-dot_sign]
+    if dot_sign != cos_sign:
+        # cos(angle) <= 0 < cos(theta) (angle > theta) or cos(angle) >= 0 > cos(theta)
+        return _GREATER if cos_sign > 0 else _LESS
+    # same sign: compare cos^2(angle) = dot^2 / lengths with cos2
+    difference = sign(threshold.cos2 * lengths - dot * dot)  # > 0: |cos angle| < |cos theta|
+    return COMPARISONS[difference * cos_sign]
+
+
+def compare_angle(a: PointT, b: PointT, c: PointT, threshold: AngleThreshold) -> Comparison:
+    """Compare the angle ∠abc at vertex b (in [0°, 180°]) with ``threshold``.
+
+    GREATER when the angle is larger than θ, EQUAL when equal, LESS when smaller (θ is
+    the threshold's effective angle, see :class:`AngleThreshold`).  Exact: the dot
+    product's sign and a squared comparison, no square roots.  Raises
+    :class:`~geomexact.errors.PreconditionError` when a or c coincides with b.
+    """
+    if len(a) == 4:
+        bx = b[2]
+        by = b[3]
+        ux = a[2] - bx
+        uy = a[3] - by
+        vx = c[2] - bx
+        vy = c[3] - by
+        dot = ux * vx + uy * vy
+        lu = ux * ux + uy * uy
+        lv = vx * vx + vy * vy
+        t = abs(ux) + abs(uy) + abs(vx) + abs(vy) + DOT_K
+        mt = abs(bx) + abs(by) + t
+    else:
+        bx = b[3]
+        by = b[4]
+        bz = b[5]
+        ux = a[3] - bx
+        uy = a[4] - by
+        uz = a[5] - bz
+        vx = c[3] - bx
+        vy = c[4] - by
+        vz = c[5] - bz
+        dot = ux * vx + uy * vy + uz * vz
+        lu = ux * ux + uy * uy + uz * uz
+        lv = vx * vx + vy * vy + vz * vz
+        t = abs(ux) + abs(uy) + abs(uz) + abs(vx) + abs(vy) + abs(vz) + DOT_K
+        mt = abs(bx) + abs(by) + abs(bz) + t
+    cos_sign = threshold.cos_sign
+    bound = t * mt * DOT_C
+    if dot > bound:
+        dot_sign = 1
+    elif -dot > bound:
+        dot_sign = -1
+    else:
+        _ANG[1] += 1
+        return _compare_angle_exact(a, b, c, threshold)
+    if cos_sign == 0:
+        _ANG[0] += 1
+        return _LESS if dot_sign > 0 else _GREATER
+    if dot_sign != cos_sign:
+        _ANG[0] += 1
+        return _GREATER if cos_sign > 0 else _LESS
+    difference = threshold.cos2_float * lu * lv - dot * dot
+    t += ANGLE_K
+    bound = t * t * t * (mt + ANGLE_K) * ANGLE_C  # t and m + t, each grown by ANGLE_K
+    if difference > bound:
+        _ANG[0] += 1
+        return _GREATER if cos_sign > 0 else _LESS
+    if -difference > bound:
+        _ANG[0] += 1
+        return _LESS if cos_sign > 0 else _GREATER
+    _ANG[1] += 1
+    return _compare_angle_exact(a, b, c, threshold)
+
+
+def angle_degrees(a: PointT, b: PointT, c: PointT) -> float:
+    """The angle ∠abc at b in degrees, as a float (for reports only, never for decisions).
+
+    Computed from the exact dot and cross products with ``atan2`` in 64-bit MPFR, so it is
+    accurate for any magnitude.  Raises ``PreconditionError`` when a or c coincides with b.
+    """
+    if len(a) == 4:
+        ux = a[0] - b[0]
+        uy = a[1] - b[1]
+        vx = c[0] - b[0]
+        vy = c[1] - b[1]
+        dot = ux * vx + uy * vy
+        cross2 = (ux * vy - uy * vx) ** 2
+        degenerate = (ux == 0 and uy == 0) or (vx == 0 and vy == 0)
+    else:
+        ux = a[0] - b[0]
+        uy = a[1] - b[1]
+        uz = a[2] - b[2]
+        vx = c[0] - b[0]
+        vy = c[1] - b[1]
+        vz = c[2] - b[2]
+        dot = ux * vx + uy * vy + uz * vz
+        cross2 = (uy * vz - uz * vy) ** 2 + (uz * vx - ux * vz) ** 2 + (ux * vy - uy * vx) ** 2
+        degenerate = (ux == 0 and uy == 0 and uz == 0) or (vx == 0 and vy == 0 and vz == 0)
+    if degenerate:
+        raise PreconditionError(
+            "angle_degrees", "the angle at b is undefined: a or c coincides with b", a=a, b=b, c=c
+        )
+    with gmpy2.context(precision=64):
+        radians = gmpy2.atan2(gmpy2.sqrt(gmpy2.mpfr(cross2)), gmpy2.mpfr(dot))
+    return math.degrees(float(radians))

@@ -1,0 +1,99 @@
+"""The certified float filters on numpy arrays: many plane predicates at once.
+
+Each function takes the points' doubles as two float64 arrays ``fx``, ``fy`` (indexed by
+point id, see :func:`point_doubles`) and index arrays naming the points of each query, and
+returns an int8 array of signs: the exact sign where the float filter certifies it, **0
+where it does not** (an exact zero is never certified either): the caller decides those
+entries exactly, with the scalar predicate.  The filters repeat the scalar ones of
+:mod:`~geomexact.kernel.predicates2d` and :mod:`~geomexact.kernel.comparisons` operation
+for operation, in the same order and with the same constants
+(:mod:`~geomexact.kernel.filter_bounds`), so they certify exactly the queries the scalar
+filter certifies, with the same sign; NaN (a coordinate beyond the double range) and
+overflow are never certified.  They do not touch the filter counters.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from geomexact.kernel.filter_bounds import LENGTHS_C, LENGTHS_K, ORIENT2D_C, ORIENT2D_K
+from geomexact.kernel.points import Point2
+
+__all__ = ["orient2d_signs", "point_doubles", "squared_length_signs"]
+
+FloatArray = npt.NDArray[np.float64]
+SignArray = npt.NDArray[np.int8]
+BoolArray = npt.NDArray[np.bool_]
+
+
+def point_doubles(points: Sequence[Point2]) -> tuple[FloatArray, FloatArray]:
+    """The doubles ``fx`` and ``fy`` of ``points`` (``nan`` beyond the double range), as
+    two arrays indexed like ``points``."""
+    count = len(points)
+    fx = np.fromiter((p.fx for p in points), dtype=np.float64, count=count)
+    fy = np.fromiter((p.fy for p in points), dtype=np.float64, count=count)
+    return fx, fy
+
+
+def _signs(positive: BoolArray, negative: BoolArray) -> SignArray:
+    return positive.astype(np.int8) - negative.astype(np.int8)
+
+
+@np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified
+def orient2d_signs(
+    fx: FloatArray, fy: FloatArray, a: npt.ArrayLike, b: npt.ArrayLike, c: npt.ArrayLike
+) -> SignArray:
+    """``orient2d(p[a[i]], p[b[i]], p[c[i]])`` for every i as 1 (counterclockwise) or -1
+    (clockwise) where its float filter certifies it, else 0 (undecided).  O(n)."""
+    ia = np.asarray(a, dtype=np.intp)
+    ib = np.asarray(b, dtype=np.intp)
+    ic = np.asarray(c, dtype=np.intp)
+    cx = fx[ic]
+    cy = fy[ic]
+    acx = fx[ia] - cx
+    acy = fy[ia] - cy
+    bcx = fx[ib] - cx
+    bcy = fy[ib] - cy
+    left = acx * bcy
+    right = acy * bcx
+    det = left - right
+    t = np.abs(acx) + np.abs(acy) + np.abs(bcx) + np.abs(bcy) + ORIENT2D_K
+    bound = t * (np.abs(cx) + np.abs(cy) + t) * ORIENT2D_C
+    # the sign shortcut of orient2d first (products of opposite strict signs), then the bound
+    positive = ((left > 0.0) & (right < 0.0)) | (det > bound)
+    negative = ((left < 0.0) & (right > 0.0)) | (-det > bound)
+    return _signs(positive, negative)
+
+
+@np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified
+def squared_length_signs(
+    fx: FloatArray,
+    fy: FloatArray,
+    a: npt.ArrayLike,
+    b: npt.ArrayLike,
+    c: npt.ArrayLike,
+    d: npt.ArrayLike,
+) -> SignArray:
+    """``compare_squared_lengths(p[a[i]], p[b[i]], p[c[i]], p[d[i]])`` (the sign of
+    ``|ab|^2 - |cd|^2``) for every i where its float filter certifies it, else 0
+    (undecided).  O(n)."""
+    ia = np.asarray(a, dtype=np.intp)
+    ib = np.asarray(b, dtype=np.intp)
+    ic = np.asarray(c, dtype=np.intp)
+    i_d = np.asarray(d, dtype=np.intp)
+    ax = fx[ia]
+    ay = fy[ia]
+    cx = fx[ic]
+    cy = fy[ic]
+    ux = fx[ib] - ax
+    uy = fy[ib] - ay
+    vx = fx[i_d] - cx
+    vy = fy[i_d] - cy
+    diff = (ux * ux + uy * uy) - (vx * vx + vy * vy)
+    t = np.abs(ux) + np.abs(uy) + np.abs(vx) + np.abs(vy) + LENGTHS_K
+    m = np.abs(ax) + np.abs(ay) + np.abs(cx) + np.abs(cy)
+    bound = t * (m + (t + t)) * LENGTHS_C
+    return _signs(diff > bound, -diff > bound)
