@@ -44,12 +44,12 @@ from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
+from geomexact.mesh2d.polygonal.halfedge_table import HalfEdgeTable
 from geomexact.mesh2d.polygonal.polygon_mesh import (
     PolygonMesh,
     nonconvex_polygons,
     orientation_signs,
 )
-from geomexact.mesh2d.polygonal.polylla_meshing import HalfEdgeTable
 from geomexact.mesh2d.snapshot import Edge
 
 __all__ = [
