@@ -22,13 +22,17 @@ def collector_paused() -> Iterator[None]:
     long-lived, and otherwise the first young collection after the block would walk every
     object it allocated (0.2 s for a 10^5-point triangulation).  This is process-wide:
     every tracked object then lives in the oldest generation, which is only a scheduling
-    change (nothing is leaked or kept alive)."""
+    change (nothing is leaked or kept alive).  When the caller has frozen objects itself
+    (``gc.freeze()``, e.g. before forking workers) the move is skipped: ``gc.unfreeze()``
+    would thaw the caller's objects too."""
     enabled = gc.isenabled()
+    caller_froze = gc.get_freeze_count() > 0
     gc.disable()
     try:
         yield
     finally:
         if enabled:
-            gc.freeze()
-            gc.unfreeze()
+            if not caller_froze:
+                gc.freeze()
+                gc.unfreeze()
             gc.enable()

@@ -255,6 +255,7 @@ class Transient2:
 
     def record(self, step: Step) -> None:
         """Append ``step`` (just completed) and the digest after it to the run's record."""
+        self._check_open()
         self.steps.append(step)
         self.step_digests.append(self._digest)
 
@@ -288,6 +289,7 @@ class Transient2:
         # imported here: the ops are written against this class
         from geomexact.mesh2d.ops import apply_in
 
+        self._check_open()  # a step that edits nothing must be refused too
         apply_in(self, step)
 
     def seal(self) -> Mesh2:

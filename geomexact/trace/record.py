@@ -22,8 +22,13 @@ def _digests(values: Iterable[int]) -> tuple[int, ...]:
     return tuple(values)
 
 
-def _freeze(parameters: Mapping[str, Any] | None) -> tuple[tuple[str, Any], ...]:
-    return tuple(sorted((parameters or {}).items()))
+def _freeze(
+    parameters: Mapping[str, Any] | Iterable[tuple[str, Any]] | None,
+) -> tuple[tuple[str, Any], ...]:
+    """Parameters as sorted (name, value) pairs, from a mapping or from such pairs (so
+    that ``attrs.evolve`` and ``Trace(..., parameters=trace.parameters)`` work)."""
+    pairs = parameters.items() if isinstance(parameters, Mapping) else parameters or ()
+    return tuple(sorted(pairs))
 
 
 @attrs.frozen(slots=True)

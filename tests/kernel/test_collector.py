@@ -128,11 +128,6 @@ def test_objects_stay_collectable_after_the_block() -> None:
     assert freed == [True]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="collector_paused ends with gc.unfreeze(), which also unfreezes objects the "
-    "caller had frozen before the block (e.g. gc.freeze() before forking workers)",
-)
 def test_a_freeze_made_before_the_block_survives_it() -> None:
     """Objects the caller froze before the block are still frozen after it."""
     gc.enable()

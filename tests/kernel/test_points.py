@@ -14,7 +14,8 @@ from hypothesis import given, settings
 from geomexact.errors import RationalParseError
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, Point3, midpoint2, midpoint3, point2, point3
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.strategies import coordinates, points2, points3, rationals
 
 FEW = settings(max_examples=min(settings().max_examples, 60))

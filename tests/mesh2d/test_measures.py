@@ -11,7 +11,8 @@ from hypothesis import given, settings
 
 from geomexact.kernel.numbers import format_rational, mpq, parse_rational, to_float
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.delaunay.triangulation import is_delaunay
 from geomexact.mesh2d.measures import (
     boundary_enclosed_area,

@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, point2
-from geomexact.kernel.predicates import Orientation, orient2d
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.segments import (
     crossing_point,
     meeting_pairs,

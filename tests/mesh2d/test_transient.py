@@ -283,11 +283,6 @@ def test_a_sealed_transient_refuses_every_write(write: str) -> None:
     assert mesh == kite() and t.steps == []
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="an op that edits nothing never calls _check_open: carve_exterior on a mesh "
-    "with no exterior triangles is applied to a sealed transient and recorded",
-)
 def test_a_sealed_transient_refuses_a_step_that_edits_nothing() -> None:
     """apply on a sealed transient raises even for a step with nothing to remove."""
     t = Transient2(square())

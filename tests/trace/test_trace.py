@@ -203,3 +203,17 @@ def test_trace_files_are_identical_across_hash_seeds() -> None:
         outputs.append(result.stdout)
     assert outputs[0] == outputs[1]
     assert outputs[0].count(b"\n") > 100
+
+
+def test_a_trace_rebuilds_from_its_own_fields() -> None:
+    """``Trace(..., parameters=trace.parameters)`` and ``attrs.evolve`` keep the
+    parameters (they are stored as sorted pairs)."""
+    import attrs
+
+    from geomexact.trace.record import Trace
+
+    trace = Trace(1, [], [], {"b": 2, "a": "x"}, "0.1.0")
+    again = Trace(trace.input_digest, trace.steps, trace.digests, trace.parameters,
+                  trace.version)
+    assert again == trace == attrs.evolve(trace)
+    assert trace.parameter("a") == "x" and trace.parameters == (("a", "x"), ("b", 2))
