@@ -4,7 +4,7 @@ half-edges."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -106,29 +106,41 @@ class HalfEdgeTable:
             g = g + 1 if g % 3 != 2 else g - 2
         return found
 
+    def flood(self, start: int, claim: Callable[[int], bool]) -> list[int]:
+        """The triangles reached from triangle ``start`` across internal (non-frontier)
+        edges, sorted.  ``claim(u)`` is called for each neighbour u reached and says
+        whether u joins now (it marks u taken, so it answers False the next time; it may
+        raise for a neighbour that belongs elsewhere).  ``start`` is already claimed."""
+        frontier, twin = self.frontier, self.twin
+        group = [start]
+        stack = [start]
+        while stack:
+            t = stack.pop()
+            for h in (3 * t, 3 * t + 1, 3 * t + 2):
+                if not frontier[h]:
+                    u = twin[h] // 3
+                    if claim(u):
+                        group.append(u)
+                        stack.append(u)
+        group.sort()
+        return group
+
     def components(self, triangles: Sequence[int]) -> list[list[int]]:
         """The given triangles (ids) grouped into classes connected across internal
         (non-frontier) edges, each sorted; classes ordered by their smallest triangle."""
         wanted = set(triangles)
-        frontier, twin = self.frontier, self.twin
+
+        def claim(u: int) -> bool:
+            if u in wanted:
+                wanted.discard(u)
+                return True
+            return False
+
         result = []
         for start in sorted(wanted):
-            if start not in wanted:
-                continue
-            wanted.discard(start)
-            group = [start]
-            stack = [start]
-            while stack:
-                t = stack.pop()
-                for h in (3 * t, 3 * t + 1, 3 * t + 2):
-                    if not frontier[h]:
-                        u = twin[h] // 3
-                        if u in wanted:
-                            wanted.discard(u)
-                            group.append(u)
-                            stack.append(u)
-            group.sort()
-            result.append(group)
+            if start in wanted:
+                wanted.discard(start)
+                result.append(self.flood(start, claim))
         return result
 
     def boundary_cycle(self, triangles: Sequence[int]) -> list[int]:
@@ -173,24 +185,17 @@ class HalfEdgeTable:
         count = len(self.triangles)
         label = [-1] * count
         groups: list[list[int]] = []
+
+        def claim(u: int) -> bool:
+            if label[u] < 0:
+                label[u] = len(groups)
+                return True
+            return False
+
         for start in range(count):
-            if label[start] >= 0:
-                continue
-            number = len(groups)
-            label[start] = number
-            group = [start]
-            stack = [start]
-            while stack:
-                t = stack.pop()
-                for h in (3 * t, 3 * t + 1, 3 * t + 2):
-                    if not frontier[h]:
-                        u = twin[h] // 3
-                        if label[u] < 0:
-                            label[u] = number
-                            group.append(u)
-                            stack.append(u)
-            group.sort()
-            groups.append(group)
+            if label[start] < 0:
+                label[start] = len(groups)
+                groups.append(self.flood(start, claim))
         cycles: list[list[int] | None] = [None] * len(groups)
         seen = bytearray(len(frontier))
         for first in range(len(frontier)):

@@ -259,30 +259,24 @@ def _regions(table: HalfEdgeTable, seeds: list[int]) -> list[list[int]]:
     """The terminal-edge region of each seed: its triangles, collected across internal
     edges (each triangle exactly once)."""
     region_of = [-1] * len(table.triangles)
-    frontier, twin = table.frontier, table.twin
-    regions = []
-    for number, seed in enumerate(seeds):
+    regions: list[list[int]] = []
+
+    def claim(u: int) -> bool:
+        if region_of[u] < 0:
+            region_of[u] = len(regions)
+            return True
+        if region_of[u] != len(regions):
+            raise PolyllaError(f"triangle {table.triangles[u]} is reached from two "
+                               "terminal edges")
+        return False
+
+    for seed in seeds:
         start = seed // 3
         if region_of[start] >= 0:
             raise PolyllaError(f"triangle {table.triangles[start]} is reached from two "
                                "terminal edges")
-        region_of[start] = number
-        group = [start]
-        stack = [start]
-        while stack:
-            t = stack.pop()
-            for h in (3 * t, 3 * t + 1, 3 * t + 2):
-                if not frontier[h]:
-                    u = twin[h] // 3
-                    if region_of[u] < 0:
-                        region_of[u] = number
-                        group.append(u)
-                        stack.append(u)
-                    elif region_of[u] != number:
-                        raise PolyllaError(f"triangle {table.triangles[u]} is reached from "
-                                           "two terminal edges")
-        group.sort()
-        regions.append(group)
+        region_of[start] = len(regions)
+        regions.append(table.flood(start, claim))
     if -1 in region_of:
         t = region_of.index(-1)
         raise PolyllaError(f"triangle {table.triangles[t]} belongs to no terminal-edge region")
