@@ -45,53 +45,58 @@ if TYPE_CHECKING:
     )
     from geomexact.kernel.predicates2d import incircle, orient2d
     from geomexact.kernel.predicates3d import insphere, orient3d
-    from geomexact.mesh2d.delaunay.triangulation import (
+    from geomexact.mesh2d import (
+        PSLG,
+        AverageAreaFactor,
+        Circle,
         Construction,
-        is_delaunay,
-        make_delaunay,
-        non_delaunay_edges,
-        triangulate,
-        triangulate_points,
-        vertices_mesh,
-    )
-    from geomexact.mesh2d.longest_edge import Lepp, lepp
-    from geomexact.mesh2d.measures import signed_area, total_area, triangle_area
-    from geomexact.mesh2d.ops import (
+        ConvexDecomposition,
+        EdgeLabels,
+        Lepp,
+        MaxArea,
+        MaxEdgeLength,
+        Mesh2,
+        MinAngle,
+        Polygon,
+        PolygonMesh,
+        PolyllaRun,
+        Rectangle,
+        RefineStats,
+        Result,
+        Transient2,
+        Violation,
         apply,
         bisect,
+        canonical_triangle,
+        check,
+        check_polygon_mesh,
+        convex_decomposition,
+        empty_mesh,
         flip,
         insert_centroid,
         insert_in_edge,
         insert_in_triangle,
-        legalize,
-    )
-    from geomexact.mesh2d.polygonal.convex import ConvexDecomposition, convex_decomposition
-    from geomexact.mesh2d.polygonal.polygon_mesh import (
-        PolygonMesh,
-        check_polygon_mesh,
-        mesh_stats,
-        validate_polygon_mesh,
-    )
-    from geomexact.mesh2d.polygonal.polylla_meshing import (
-        EdgeLabels,
-        PolyllaRun,
+        is_delaunay,
         label_edges,
+        legalize,
+        lepp,
+        make_delaunay,
+        mesh_from_triangles,
+        mesh_stats,
+        mesh_summary,
+        non_delaunay_edges,
         polylla,
         polylla_run,
+        refine,
+        signed_area,
+        total_area,
+        triangle_area,
+        triangulate,
+        triangulate_points,
+        validate,
+        validate_polygon_mesh,
+        vertices_mesh,
     )
-    from geomexact.mesh2d.pslg import PSLG
-    from geomexact.mesh2d.refinement.api import RefineStats, Result, refine
-    from geomexact.mesh2d.refinement.criteria import (
-        AverageAreaFactor,
-        MaxArea,
-        MaxEdgeLength,
-        MinAngle,
-    )
-    from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle
-    from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle, empty_mesh
-    from geomexact.mesh2d.summary import mesh_summary
-    from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
-    from geomexact.mesh2d.validation import Violation, check, validate
     from geomexact.trace.playback import first_divergence, replay
     from geomexact.trace.record import Trace, trace_of
     from geomexact.trace.step import Step
