@@ -13,52 +13,161 @@ from geomexact._lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
     from geomexact.mesh2d.delaunay.triangulation import (
-        Construction,
-        is_delaunay,
-        make_delaunay,
-        non_delaunay_edges,
-        triangulate,
-        triangulate_points,
-        vertices_mesh,
+        Construction as Construction,
     )
-    from geomexact.mesh2d.longest_edge import Lepp, lepp
-    from geomexact.mesh2d.measures import signed_area, total_area, triangle_area
+    from geomexact.mesh2d.delaunay.triangulation import (
+        is_delaunay as is_delaunay,
+    )
+    from geomexact.mesh2d.delaunay.triangulation import (
+        make_delaunay as make_delaunay,
+    )
+    from geomexact.mesh2d.delaunay.triangulation import (
+        non_delaunay_edges as non_delaunay_edges,
+    )
+    from geomexact.mesh2d.delaunay.triangulation import (
+        triangulate as triangulate,
+    )
+    from geomexact.mesh2d.delaunay.triangulation import (
+        triangulate_points as triangulate_points,
+    )
+    from geomexact.mesh2d.delaunay.triangulation import (
+        vertices_mesh as vertices_mesh,
+    )
+    from geomexact.mesh2d.longest_edge import (
+        Lepp as Lepp,
+    )
+    from geomexact.mesh2d.longest_edge import (
+        lepp as lepp,
+    )
+    from geomexact.mesh2d.measures import (
+        signed_area as signed_area,
+    )
+    from geomexact.mesh2d.measures import (
+        total_area as total_area,
+    )
+    from geomexact.mesh2d.measures import (
+        triangle_area as triangle_area,
+    )
     from geomexact.mesh2d.ops import (
-        apply,
-        bisect,
-        flip,
-        insert_centroid,
-        insert_in_edge,
-        insert_in_triangle,
-        legalize,
+        apply as apply,
     )
-    from geomexact.mesh2d.polygonal.convex import ConvexDecomposition, convex_decomposition
+    from geomexact.mesh2d.ops import (
+        bisect as bisect,
+    )
+    from geomexact.mesh2d.ops import (
+        flip as flip,
+    )
+    from geomexact.mesh2d.ops import (
+        insert_centroid as insert_centroid,
+    )
+    from geomexact.mesh2d.ops import (
+        insert_in_edge as insert_in_edge,
+    )
+    from geomexact.mesh2d.ops import (
+        insert_in_triangle as insert_in_triangle,
+    )
+    from geomexact.mesh2d.ops import (
+        legalize as legalize,
+    )
+    from geomexact.mesh2d.polygonal.convex import (
+        ConvexDecomposition as ConvexDecomposition,
+    )
+    from geomexact.mesh2d.polygonal.convex import (
+        convex_decomposition as convex_decomposition,
+    )
     from geomexact.mesh2d.polygonal.polygon_mesh import (
-        PolygonMesh,
-        check_polygon_mesh,
-        mesh_stats,
-        validate_polygon_mesh,
+        PolygonMesh as PolygonMesh,
+    )
+    from geomexact.mesh2d.polygonal.polygon_mesh import (
+        check_polygon_mesh as check_polygon_mesh,
+    )
+    from geomexact.mesh2d.polygonal.polygon_mesh import (
+        mesh_stats as mesh_stats,
+    )
+    from geomexact.mesh2d.polygonal.polygon_mesh import (
+        validate_polygon_mesh as validate_polygon_mesh,
     )
     from geomexact.mesh2d.polygonal.polylla_meshing import (
-        EdgeLabels,
-        PolyllaRun,
-        label_edges,
-        polylla,
-        polylla_run,
+        EdgeLabels as EdgeLabels,
     )
-    from geomexact.mesh2d.pslg import PSLG
-    from geomexact.mesh2d.refinement.api import RefineStats, Result, refine
+    from geomexact.mesh2d.polygonal.polylla_meshing import (
+        PolyllaRun as PolyllaRun,
+    )
+    from geomexact.mesh2d.polygonal.polylla_meshing import (
+        label_edges as label_edges,
+    )
+    from geomexact.mesh2d.polygonal.polylla_meshing import (
+        polylla as polylla,
+    )
+    from geomexact.mesh2d.polygonal.polylla_meshing import (
+        polylla_run as polylla_run,
+    )
+    from geomexact.mesh2d.pslg import (
+        PSLG as PSLG,
+    )
+    from geomexact.mesh2d.refinement.api import (
+        RefineStats as RefineStats,
+    )
+    from geomexact.mesh2d.refinement.api import (
+        Result as Result,
+    )
+    from geomexact.mesh2d.refinement.api import (
+        refine as refine,
+    )
     from geomexact.mesh2d.refinement.criteria import (
-        AverageAreaFactor,
-        MaxArea,
-        MaxEdgeLength,
-        MinAngle,
+        AverageAreaFactor as AverageAreaFactor,
     )
-    from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle
-    from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle, empty_mesh
-    from geomexact.mesh2d.summary import mesh_summary
-    from geomexact.mesh2d.transient import Transient2, mesh_from_triangles
-    from geomexact.mesh2d.validation import Violation, check, validate
+    from geomexact.mesh2d.refinement.criteria import (
+        MaxArea as MaxArea,
+    )
+    from geomexact.mesh2d.refinement.criteria import (
+        MaxEdgeLength as MaxEdgeLength,
+    )
+    from geomexact.mesh2d.refinement.criteria import (
+        MinAngle as MinAngle,
+    )
+    from geomexact.mesh2d.refinement.regions import (
+        Circle as Circle,
+    )
+    from geomexact.mesh2d.refinement.regions import (
+        Polygon as Polygon,
+    )
+    from geomexact.mesh2d.refinement.regions import (
+        Rectangle as Rectangle,
+    )
+    from geomexact.mesh2d.snapshot import (
+        Edge as Edge,
+    )
+    from geomexact.mesh2d.snapshot import (
+        Mesh2 as Mesh2,
+    )
+    from geomexact.mesh2d.snapshot import (
+        Triangle as Triangle,
+    )
+    from geomexact.mesh2d.snapshot import (
+        canonical_triangle as canonical_triangle,
+    )
+    from geomexact.mesh2d.snapshot import (
+        empty_mesh as empty_mesh,
+    )
+    from geomexact.mesh2d.summary import (
+        mesh_summary as mesh_summary,
+    )
+    from geomexact.mesh2d.transient import (
+        Transient2 as Transient2,
+    )
+    from geomexact.mesh2d.transient import (
+        mesh_from_triangles as mesh_from_triangles,
+    )
+    from geomexact.mesh2d.validation import (
+        Violation as Violation,
+    )
+    from geomexact.mesh2d.validation import (
+        check as check,
+    )
+    from geomexact.mesh2d.validation import (
+        validate as validate,
+    )
 
 _HOMES: dict[str, str] = {
     "Construction": "geomexact.mesh2d.delaunay.triangulation",
@@ -116,59 +225,7 @@ _HOMES: dict[str, str] = {
 }
 """Public 2D name -> the module that defines it."""
 
-__all__ = [
-    "PSLG",
-    "AverageAreaFactor",
-    "Circle",
-    "Construction",
-    "ConvexDecomposition",
-    "Edge",
-    "EdgeLabels",
-    "Lepp",
-    "MaxArea",
-    "MaxEdgeLength",
-    "Mesh2",
-    "MinAngle",
-    "Polygon",
-    "PolygonMesh",
-    "PolyllaRun",
-    "Rectangle",
-    "RefineStats",
-    "Result",
-    "Transient2",
-    "Triangle",
-    "Violation",
-    "apply",
-    "bisect",
-    "canonical_triangle",
-    "check",
-    "check_polygon_mesh",
-    "convex_decomposition",
-    "empty_mesh",
-    "flip",
-    "insert_centroid",
-    "insert_in_edge",
-    "insert_in_triangle",
-    "is_delaunay",
-    "label_edges",
-    "legalize",
-    "lepp",
-    "make_delaunay",
-    "mesh_from_triangles",
-    "mesh_stats",
-    "mesh_summary",
-    "non_delaunay_edges",
-    "polylla",
-    "polylla_run",
-    "refine",
-    "signed_area",
-    "total_area",
-    "triangle_area",
-    "triangulate",
-    "triangulate_points",
-    "validate",
-    "validate_polygon_mesh",
-    "vertices_mesh",
-]
+# the TYPE_CHECKING imports above re-export each name explicitly (``name as name``)
+__all__ = sorted(_HOMES)
 
 __getattr__, __dir__ = lazy_exports(__name__, globals(), _HOMES)
