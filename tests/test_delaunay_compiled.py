@@ -1,5 +1,5 @@
 """The compiled Delaunay kernel (``geomexact.mesh2d.delaunay.delaunay_kernel`` through
-``geomexact.mesh2d.delaunay.compiled``) against the Python builder ``_DelaunayBuilder``: the same
+``geomexact.mesh2d.delaunay.compiled``) against the Python engine ``BatchDelaunay``: the same
 steps, the same digest after every step, the same final mesh (``outgoing`` hints
 included) on every input — random, lattices (cocircular ties), collinear prefixes,
 duplicates, huge / tiny / beyond-double coordinates, non-dyadic rationals, real point
@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from geomexact import io
 from geomexact.mesh2d.delaunay.triangulation import (
-    _DelaunayBuilder,
+    BatchDelaunay,
     duplicate_points,
     insertion_order,
     triangulate_points,
@@ -63,7 +63,7 @@ def same(points: Sequence[Point2], seed: int = 0) -> CompiledConstruction | None
     vertices, start, (a, b, c), rest = setup
     compiled = run_compiled(vertices, start, (a, b, c), rest)
     assert compiled is not None
-    builder = _DelaunayBuilder(vertices, start.digest)
+    builder = BatchDelaunay(start)
     builder.make_triangle(a, b, c)
     for vertex in rest:
         builder.insert(vertex)

@@ -2,7 +2,7 @@
 :func:`geomexact.mesh2d.delaunay.triangulation.triangulate_points` and the typed kernel
 :mod:`geomexact.mesh2d.delaunay.delaunay_kernel` (a Cython extension, optional).
 
-``run_compiled(points, start, first, rest)`` runs what ``_DelaunayBuilder`` runs —
+``run_compiled(points, start, first, rest)`` runs what ``BatchDelaunay`` runs —
 ``make_triangle(*first)`` then ``insert(v)`` for each ``v`` of ``rest`` — and returns a
 :class:`CompiledConstruction` with the same steps, the same digest after every step and
 the same final ``Mesh2`` (``outgoing`` hints included), or None when the kernel is not

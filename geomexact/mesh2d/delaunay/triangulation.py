@@ -19,9 +19,9 @@ import immutables
 
 from geomexact.errors import PreconditionError, SegmentError
 from geomexact.kernel.collector import collector_paused
-from geomexact.kernel.digest import MODULUS, cell_hash
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicates import CircleLocation, Orientation, incircle, orient2d
+from geomexact.mesh2d.batch_store import BatchTriangulation
 from geomexact.mesh2d.delaunay.compiled import run_compiled
 from geomexact.mesh2d.ops import (
     carve_exterior_in,
@@ -46,9 +46,7 @@ from geomexact.mesh2d.snapshot import (
 )
 from geomexact.mesh2d.transient import Transient2
 from geomexact.trace.record import Trace, trace_of
-from geomexact.trace.step import Step
 
-_MASK = MODULUS - 1
 CCW = Orientation.COUNTERCLOCKWISE
 CW = Orientation.CLOCKWISE
 COLLINEAR = Orientation.COLLINEAR
@@ -192,52 +190,26 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     return result
 
 
-class _DelaunayBuilder:
-    """The batch builder of :func:`triangulate_points`: a plain half-edge dict, the
-    incremental digest and the steps, owned by one call (same step semantics as
-    :mod:`geomexact.mesh2d.ops`, checked by replaying the trace in the tests)."""
+class BatchDelaunay(BatchTriangulation):
+    """The Python engine of :func:`triangulate_points`: the incremental insertion on a
+    :class:`~geomexact.mesh2d.batch_store.BatchTriangulation`, owned by one call.  Its steps
+    are those of :mod:`geomexact.mesh2d.ops` (``make_triangle``, ``attach_in_triangle``,
+    ``attach_in_edge``, ``attach_outside``, ``flip``); the tests replay its trace through
+    them and compare it with the compiled kernel's."""
 
-    __slots__ = ("apex", "digest", "digests", "hashes", "last", "points", "steps")
+    __slots__ = ("last",)
 
-    def __init__(self, points: Sequence[Point2], digest: int) -> None:
-        self.points = points
-        self.apex: dict[tuple[int, int], int] = {}
-        # cell hash of each live triangle, keyed by its canonical form: a triangle is
-        # hashed once even when a later flip removes it
-        self.hashes: dict[tuple[int, int, int], int] = {}
-        self.digest = digest
-        self.steps: list[Step] = []
-        self.digests: list[int] = []
-        self.last: tuple[int, int] = (0, 0)
-
-    def _add(self, a: int, b: int, c: int) -> None:
-        apex = self.apex
-        apex[(a, b)] = c
-        apex[(b, c)] = a
-        apex[(c, a)] = b
-        key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
-        value = self.hashes[key] = cell_hash(key)
-        self.digest = (self.digest + value) & _MASK
-
-    def _remove(self, a: int, b: int, c: int) -> None:
-        apex = self.apex
-        del apex[(a, b)]
-        del apex[(b, c)]
-        del apex[(c, a)]
-        key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
-        self.digest = (self.digest - self.hashes.pop(key)) & _MASK
-
-    def _record(self, op: str, args: tuple[int, ...]) -> None:
-        self.steps.append(Step(op, args))
-        self.digests.append(self.digest)
+    def __init__(self, start: Mesh2) -> None:
+        super().__init__(start)
+        self.last: tuple[int, int] = (0, 0)  # a half-edge of the last triangle made
 
     def make_triangle(self, a: int, b: int, c: int) -> None:
         pa, pb, pc = self.points[a], self.points[b], self.points[c]
         if orient2d(pa, pb, pc) == CCW:
-            self._add(a, b, c)
+            self.add(a, b, c)
         else:
-            self._add(a, c, b)
-        self._record("make_triangle", (a, b, c))
+            self.add(a, c, b)
+        self.record("make_triangle", (a, b, c))
         self.last = (a, b) if (a, b) in self.apex else (a, c)
 
     def locate(self, p: Point2) -> tuple[str, tuple[int, int, int]]:
@@ -283,36 +255,27 @@ class _DelaunayBuilder:
             return "inside", (a, b, c)
 
     def insert(self, vertex: int) -> None:
-        p = self.points[vertex]
-        where, (a, b, c) = self.locate(p)
-        apex = self.apex
+        """Attach the isolated ``vertex`` where it lies, then legalize around it."""
+        where, (a, b, c) = self.locate(self.points[vertex])
         pending: list[tuple[int, int]]
         if where == "inside":
-            self._remove(a, b, c)
-            self._add(a, b, vertex)
-            self._add(b, c, vertex)
-            self._add(c, a, vertex)
-            self._record("attach_in_triangle", (vertex, a, b, c))
+            self.split_triangle(a, b, c, vertex)
+            self.record("attach_in_triangle", (vertex, a, b, c))
             pending = [(c, a), (b, c), (a, b)]
         elif where == "edge":
             u, v = a, b
-            w, x = apex.get((u, v)), apex.get((v, u))
+            w, x = self.apex.get((u, v)), self.apex.get((v, u))
+            self.split_edge(u, v, vertex)
+            self.record("attach_in_edge", (vertex, u, v))
             pending = []
             if w is not None:
-                self._remove(u, v, w)
-                self._add(u, vertex, w)
-                self._add(vertex, v, w)
                 pending += [(v, w), (w, u)]
             if x is not None:
-                self._remove(v, u, x)
-                self._add(v, vertex, x)
-                self._add(vertex, u, x)
                 pending += [(u, x), (x, v)]
-            self._record("attach_in_edge", (vertex, u, v))
         else:
             pending = self._attach_outside(vertex, a, b)
         self.last = (vertex, pending[0][0])
-        self._legalize(vertex, pending)
+        self.legalize_edges(vertex, pending)
 
     def _attach_outside(self, vertex: int, u: int, v: int) -> list[tuple[int, int]]:
         apex, points = self.apex, self.points
@@ -331,59 +294,14 @@ class _DelaunayBuilder:
             visible.insert(0, edge)
             edge = previous_boundary_edge(find, *edge)
         for a, b in visible:
-            self._add(b, a, vertex)
-        self._record("attach_outside", (vertex, u, v))
+            self.add(b, a, vertex)
+        self.record("attach_outside", (vertex, u, v))
         return [(b, a) for a, b in visible]
 
-    def _legalize(self, vertex: int, pending: list[tuple[int, int]]) -> None:
-        """Lawson flips of the edges (a, b) opposite ``vertex`` in triangles
-        (vertex, a, b)... given as (a, b) with apex(a, b) == vertex."""
-        apex, points, hashes = self.apex, self.points, self.hashes
-        steps, digests = self.steps, self.digests
-        p = points[vertex]
-        digest = self.digest
-        while pending:
-            a, b = pending.pop()
-            q = apex.get((b, a))
-            if q is None or apex.get((a, b)) != vertex:
-                continue
-            if incircle(points[a], points[b], p, points[q]) != INSIDE:
-                continue
-            # flip (a, b): triangles (a, b, vertex), (b, a, q) -> (q, vertex, a), (vertex, q, b)
-            old1 = ((a, b, vertex) if a < b and a < vertex else
-                    (b, vertex, a) if b < vertex else (vertex, a, b))
-            old2 = (b, a, q) if b < a and b < q else (a, q, b) if a < q else (q, b, a)
-            new1 = ((q, vertex, a) if q < vertex and q < a else
-                    (vertex, a, q) if vertex < a else (a, q, vertex))
-            new2 = ((vertex, q, b) if vertex < q and vertex < b else
-                    (q, b, vertex) if q < b else (b, vertex, q))
-            del apex[(a, b)]
-            del apex[(b, a)]
-            apex[(q, vertex)] = a
-            apex[(vertex, a)] = q
-            apex[(a, q)] = vertex
-            apex[(vertex, q)] = b
-            apex[(q, b)] = vertex
-            apex[(b, vertex)] = q
-            hash1 = hashes[new1] = cell_hash(new1)
-            hash2 = hashes[new2] = cell_hash(new2)
-            digest = (digest + hash1 + hash2 - hashes.pop(old1) - hashes.pop(old2)) & _MASK
-            steps.append(Step("flip", (a, b)))
-            digests.append(digest)
-            pending.append((q, b))
-            pending.append((a, q))
-        self.digest = digest
-
     def seal(self, start: Mesh2) -> Mesh2:
-        apex = self.apex
-        outgoing = {u: v for u, v in apex}
-        return attrs.evolve(
-            start,
-            halfedges=immutables.Map(apex),
-            outgoing=immutables.Map(outgoing),
-            triangle_count=len(apex) // 3,
-            digest=self.digest,
-        )
+        # the outgoing hint of a vertex: its last inserted live half-edge (the compiled
+        # kernel keeps insertion numbers to give the same hints)
+        return self.sealed(start, outgoing=immutables.Map({u: v for u, v in self.apex}))
 
 
 def triangulate_points(
@@ -406,8 +324,8 @@ def triangulate_points(
     first stays isolated and is listed in ``Construction.duplicates``).
 
     ``engine``: ``"fast"`` runs the compiled kernel (:mod:`geomexact.mesh2d.delaunay.compiled`)
-    when it is built, else the Python builder; ``"python"`` always runs the Python builder.
-    Both record the same trace and build the same mesh.
+    when it is built, else the Python engine :class:`BatchDelaunay`; ``"python"`` always
+    runs :class:`BatchDelaunay`.  Both record the same trace and build the same mesh.
     """
     if engine not in ENGINES:
         raise PreconditionError("triangulate", f"unknown engine {engine!r}; choose from {ENGINES}")
@@ -441,12 +359,13 @@ def triangulate_points(
 
     with collector_paused():
         compiled = (
-            run_compiled(vertices, start, (a, b, c), order[2:]) if engine == "fast" else None
+            run_compiled(vertices, start, (a, b, c), order[2:])
+            if engine == "fast" else None
         )
         if compiled is not None:
             mesh, steps, digests = compiled.mesh, compiled.steps, compiled.digests
         else:
-            builder = _DelaunayBuilder(vertices, start.digest)
+            builder = BatchDelaunay(start)
             builder.make_triangle(a, b, c)
             for vertex in order[2:]:
                 builder.insert(vertex)

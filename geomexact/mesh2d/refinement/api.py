@@ -61,9 +61,9 @@ from geomexact.mesh2d.refinement.driver import (
     Refinement,
     Status,
 )
-from geomexact.mesh2d.refinement.engines.batch import FastRefinement
+from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
 from geomexact.mesh2d.refinement.engines.compiled import run_compiled
-from geomexact.mesh2d.refinement.engines.reference import TransientRefinement
+from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
 from geomexact.mesh2d.refinement.regions import Region, as_region
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.record import Trace
@@ -264,9 +264,9 @@ def refine(
         else:
             run: Refinement
             if engine == "transient":
-                run = TransientRefinement(mesh, max_steps, **options)
+                run = ReferenceRefinement(mesh, max_steps, **options)
             else:
-                run = FastRefinement(mesh, max_steps, **options)
+                run = BatchRefinement(mesh, max_steps, **options)
             run.start_queue(sorted(mesh.iter_triangles()))
             status = run.run()
             result, steps, digests = run.finish(mesh)

@@ -3,7 +3,7 @@ and the
 typed kernel :mod:`geomexact.mesh2d.refinement.engines.lepp_kernel` (a Cython extension, optional).
 
 ``run_compiled(mesh, max_steps, **options)`` takes the arguments of
-``geomexact.mesh2d.refinement.engines.batch.FastRefinement`` and returns a :class:`CompiledRun` —
+``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` and returns a :class:`CompiledRun` —
 the same steps, digests, final mesh, status and counters as the fast engine — or None when
 the kernel is not built or the run is outside its subset (then the caller runs the Python
 engine):
@@ -91,7 +91,7 @@ def supports(mesh: Mesh2, **options: Any) -> bool:
 
 def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> CompiledRun | None:
     """Run Lepp refinement in the kernel, or return None (not built, or outside the
-    subset).  ``options`` are those ``refine()`` gives ``FastRefinement``: ``criterion``,
+    subset).  ``options`` are those ``refine()`` gives ``BatchRefinement``: ``criterion``,
     ``region``, ``method``, ``delaunay``, ``centroid``, ``constraint_midpoints``,
     ``on_step``."""
     if not supports(mesh, **options):
