@@ -22,7 +22,9 @@ from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicates import CircleLocation, Orientation, incircle, orient2d
 from geomexact.mesh2d.batch_store import BatchTriangulation
+from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
 from geomexact.mesh2d.delaunay.compiled import run_compiled
+from geomexact.mesh2d.engine_names import OLD_NAMES, engine_named
 from geomexact.mesh2d.ops import (
     carve_exterior_in,
     carve_in,
@@ -52,8 +54,10 @@ CW = Orientation.CLOCKWISE
 COLLINEAR = Orientation.COLLINEAR
 INSIDE = CircleLocation.INSIDE
 
-Engine: TypeAlias = Literal["fast", "python"]
-ENGINES: tuple[str, ...] = ("fast", "python")
+DelaunayEngine: TypeAlias = Literal["auto", "compiled", "python", "fast"]
+ENGINES: tuple[str, ...] = ("auto", "compiled", "python")
+"""The engines of :func:`triangulate_points` (:mod:`geomexact.mesh2d.engine_names`; no
+``"reference"``: replaying the trace applies the reference ops)."""
 
 
 def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
@@ -304,12 +308,23 @@ class BatchDelaunay(BatchTriangulation):
         return self.sealed(start, outgoing=immutables.Map({u: v for u, v in self.apex}))
 
 
+def _delaunay_engine(engine: str) -> str:
+    """The Delaunay engine ``engine`` names (:mod:`geomexact.mesh2d.engine_names`)."""
+    if OLD_NAMES.get(engine, engine) == "reference":
+        raise PreconditionError(
+            "triangulate", "there is no 'reference' engine for Delaunay triangulation: "
+            "engine 'python' records the same trace, and replaying it "
+            "(geomexact.trace.playback.replay) applies the reference ops step by step"
+        )
+    return engine_named("triangulate", engine, ENGINES)
+
+
 def triangulate_points(
     points: PSLG | Sequence[Point2],
     *,
     merge_duplicates: bool = False,
     seed: int = 0,
-    engine: Engine = "fast",
+    engine: DelaunayEngine = "auto",
 ) -> Construction:
     """The Delaunay triangulation of a point set (a PSLG's segments, holes and regions are
     ignored here; see :func:`triangulate`).
@@ -323,12 +338,17 @@ def triangulate_points(
     collinear, or duplicate points unless ``merge_duplicates`` (then every copy after the
     first stays isolated and is listed in ``Construction.duplicates``).
 
-    ``engine``: ``"fast"`` runs the compiled kernel (:mod:`geomexact.mesh2d.delaunay.compiled`)
-    when it is built, else the Python engine :class:`BatchDelaunay`; ``"python"`` always
-    runs :class:`BatchDelaunay`.  Both record the same trace and build the same mesh.
+    ``engine``: ``"auto"`` runs the compiled kernel (:mod:`geomexact.mesh2d.delaunay.compiled`)
+    when it is built, else the Python engine :class:`BatchDelaunay`; ``"compiled"`` runs the
+    kernel or raises :class:`PreconditionError` (not built, or a run beyond its counters);
+    ``"python"`` runs :class:`BatchDelaunay`.  All record the same trace and build the same
+    mesh.  There is no ``"reference"`` engine: a reference run would need the walk, the
+    hull attachment and the insertion-order legalization written a second time against a
+    transient; instead the trace, replayed (:func:`geomexact.trace.playback.replay`),
+    applies the reference ops step by step and reproduces every digest.  ``"fast"`` is
+    the old name of ``"auto"``.
     """
-    if engine not in ENGINES:
-        raise PreconditionError("triangulate", f"unknown engine {engine!r}; choose from {ENGINES}")
+    name = _delaunay_engine(engine)
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
     duplicates = duplicate_points(vertices)
@@ -360,8 +380,16 @@ def triangulate_points(
     with collector_paused():
         compiled = (
             run_compiled(vertices, start, (a, b, c), order[2:])
-            if engine == "fast" else None
+            if name in ("auto", "compiled") else None
         )
+        if compiled is None and name == "compiled":
+            raise PreconditionError(
+                "triangulate", "engine 'compiled' cannot run this triangulation: "
+                + ("the compiled Delaunay kernel is not built (no C compiler at install)"
+                   if not compiled_delaunay.AVAILABLE else
+                   "it exceeds the kernel's counters (about 2**31 half-edge insertions)")
+                + " (engine 'auto' runs the Python engine then)"
+            )
         if compiled is not None:
             mesh, steps, digests = compiled.mesh, compiled.steps, compiled.digests
         else:
@@ -531,7 +559,7 @@ def triangulate(
     split_segments: bool = False,
     merge_duplicates: bool = False,
     seed: int = 0,
-    engine: Engine = "fast",
+    engine: DelaunayEngine = "auto",
 ) -> Construction:
     """The constrained Delaunay triangulation of a PSLG (a point set gives its Delaunay
     triangulation).
@@ -546,7 +574,8 @@ def triangulate(
        PSLG has segments), then each hole seed's region, then regional attributes are set.
 
     Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
-    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1).
+    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1; the
+    rest runs the reference ops on a transient).
     """
     pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
     points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed,
