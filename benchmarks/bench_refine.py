@@ -103,7 +103,7 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
         start = unit_square()
         criterion: Any = MaxArea(spec["area"])
         options = {"method": "bisection", "delaunay": spec["delaunay"],
-                   "engine": spec.get("refine_engine", "fast")}
+                   "engine": spec.get("refine_engine", "auto")}
     else:
         start = triangulate(superior_pslg()).mesh
         criterion = MinAngle(spec["degrees"])
@@ -177,9 +177,9 @@ def measure(spec: dict[str, Any], timeout: float | None) -> dict[str, Any]:
 # --- the benchmark ----------------------------------------------------------------------------
 def square_runs(name: str, area: str, repeat: int) -> list[dict[str, Any]]:
     runs = []
-    for delaunay, engine in ((True, "fast"), (False, "fast"), (True, "python")):
+    for delaunay, engine in ((True, "auto"), (False, "auto"), (True, "python")):
         label = "geomexact bisection" + ("" if delaunay else " --no-delaunay") + (
-            "" if engine == "fast" else f" ({engine} engine)")
+            "" if engine == "auto" else f" ({engine} engine)")
         spec = {"engine": "geomexact", "input": "square", "area": area,
                 "delaunay": delaunay, "repeat": repeat, "refine_engine": engine}
         runs.append({"workload": name, "program": label, **measure(spec, None)})

@@ -28,13 +28,21 @@ from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import write
 from geomexact.errors import OverwriteError
 from geomexact.io.trace_file import write_trace
-from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine, triangulate
+from geomexact.mesh2d.engine_names import ENGINES, OLD_NAMES
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
 from geomexact.mesh2d.validation import validate
 from geomexact.trace.record import Trace
+
+_TRIANGULATION_ENGINE: dict[str, DelaunayEngine] = {
+    "auto": "auto", "compiled": "compiled", "python": "python", "reference": "python",
+    "fast": "auto", "transient": "python",
+}
+"""``--engine`` -> the engine that triangulates a PSLG input first (Delaunay has no
+reference engine: the Python engine's trace replays through the reference ops)."""
 
 
 class _RefineProgress:
@@ -145,9 +153,7 @@ def command_refine(args: argparse.Namespace) -> int:
     region = _refine_region(args)
     construction = None
     if isinstance(loaded.value, PSLG):
-        construction = triangulate(
-            loaded.value, engine="python" if args.engine == "transient" else args.engine
-        )
+        construction = triangulate(loaded.value, engine=_TRIANGULATION_ENGINE[args.engine])
         mesh = construction.mesh
     elif isinstance(loaded.value, Mesh2):
         mesh = loaded.value
@@ -282,9 +288,12 @@ def add_parser(commands: Subcommands) -> None:
     refine_.add_argument("--plain-centroids", action="store_true",
                          help="do not bisect a constraint second-longest edge of a terminal "
                               "triangle; always insert the centroid")
-    refine_.add_argument("--engine", choices=("fast", "python", "transient"), default="fast",
-                         help="fast (default: compiled where it applies), python, or "
-                              "transient (the reference); all record the same trace")
+    refine_.add_argument("--engine", choices=(*ENGINES, *OLD_NAMES), default="auto",
+                         help="auto (default: compiled where it applies, else python), "
+                              "compiled (the kernel; an error where it does not apply), "
+                              "python (the batch engine) or reference (the pure ops); all "
+                              "record the same trace; fast and transient are old names of "
+                              "auto and reference")
     refine_.add_argument("--max-steps", type=non_negative, metavar="N",
                          help="stop after N steps (status 'step-limit')")
     refine_.add_argument("--trace", metavar="FILE",

@@ -105,9 +105,12 @@ def add_parser(commands: Subcommands) -> None:
     triangulate_.add_argument("--check", action="store_true",
                               help="validate the result and check Delaunay-ness (exit 1 if not)")
     triangulate_.add_argument("--trace", metavar="FILE", help="write the trace (JSON Lines)")
-    triangulate_.add_argument("--engine", choices=("fast", "python"), default="fast",
-                              help="fast (default: compiled when built) or python; both "
-                                   "record the same trace")
+    triangulate_.add_argument("--engine", choices=("auto", "compiled", "python", "fast"),
+                              default="auto",
+                              help="auto (default: compiled when built, else python), "
+                                   "compiled (the kernel; an error when not built) or "
+                                   "python (the batch engine); all record the same trace; "
+                                   "fast is the old name of auto")
     add_exact_flag(triangulate_)
     add_force_flag(triangulate_)
     add_json_flag(triangulate_)

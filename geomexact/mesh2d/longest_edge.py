@@ -27,6 +27,7 @@ triangle they belong to on their left.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Literal, TypeAlias
 
 import attrs
@@ -41,30 +42,50 @@ from geomexact.mesh2d.transient import Transient2
 __all__ = [
     "Lepp",
     "TerminalKind",
+    "comes_first",
     "edge_order",
     "edges_by_length",
     "is_constraint_edge",
     "lepp",
     "longest_edge",
+    "longest_first",
     "second_longest_edge",
 ]
 
 TerminalKind: TypeAlias = Literal["interior", "boundary", "constrained"]
 MeshLike: TypeAlias = Mesh2 | Transient2
 
-_GREATER = Comparison.GREATER
 _LESS = Comparison.LESS
+
+
+def comes_first(order: int, u: int, v: int, x: int, y: int) -> bool:
+    """True when edge {u, v} comes before edge {x, y} in the edge order, given ``order``,
+    the sign (-1, 0, 1 or a :class:`Comparison`) of ``|uv|² - |xy|²``: longer, or as long
+    with the smaller (min id, max id) pair."""
+    if order > 0:
+        return True
+    if order < 0:
+        return False
+    return (min(u, v), max(u, v)) < (min(x, y), max(x, y))
 
 
 def _before(p: Point2, q: Point2, u: int, v: int, r: Point2, s: Point2, x: int, y: int) -> bool:
     """True when edge {u, v} (points p, q) comes before edge {x, y} (points r, s) in the
-    edge order: longer, or as long with the smaller (min id, max id) pair."""
-    order = compare_squared_lengths(p, q, r, s)
-    if order == _GREATER:
-        return True
-    if order == _LESS:
-        return False
-    return (min(u, v), max(u, v)) < (min(x, y), max(x, y))
+    edge order."""
+    return comes_first(compare_squared_lengths(p, q, r, s), u, v, x, y)
+
+
+def longest_first(
+    pa: Point2, pb: Point2, pc: Point2, a: int, b: int, c: int,
+    compare: Callable[[Point2, Point2, Point2, Point2], int] = compare_squared_lengths,
+) -> Triangle:
+    """The rotation (u, v, w) of the triangle (a, b, c), at pa, pb, pc, whose edge {u, v}
+    is its longest in the edge order.  Two comparisons by ``compare``: the exact
+    :func:`~geomexact.kernel.comparisons.compare_squared_lengths`, or one equal to it on
+    the points given (the batch engine's float comparison on the dyadic grid)."""
+    if comes_first(compare(pa, pb, pb, pc), a, b, b, c):
+        return (a, b, c) if comes_first(compare(pa, pb, pc, pa), a, b, c, a) else (c, a, b)
+    return (b, c, a) if comes_first(compare(pb, pc, pc, pa), b, c, c, a) else (c, a, b)
 
 
 def edge_order(
@@ -108,7 +129,8 @@ def edges_by_length(mesh: MeshLike, triangle: Triangle) -> tuple[Edge, Edge, Edg
 def longest_edge(mesh: MeshLike, triangle: Triangle) -> Edge:
     """The longest edge of ``triangle`` (tie rule: smaller vertex pair), directed with the
     triangle on its left."""
-    return edges_by_length(mesh, triangle)[0]
+    u, v, _ = longest_first(*_points(mesh, triangle), *triangle)
+    return u, v
 
 
 def second_longest_edge(mesh: MeshLike, triangle: Triangle) -> Edge:

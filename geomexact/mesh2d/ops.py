@@ -340,6 +340,16 @@ def insert_centroid_in(t: Transient2, u: int, v: int, *, kind: str = "area") -> 
     raise PreconditionError("insert_centroid", f"unknown centroid kind {kind!r}")
 
 
+def legalization_stack(star: list[Edge]) -> list[Edge]:
+    """The edges (a, b) opposite a vertex in its triangles (vertex, a, b), given
+    counter-clockwise as ``star``, as the stack legalization pops them: first the one
+    with the smallest a, then counter-clockwise."""
+    start = min(range(len(star)), key=lambda i: star[i][0])
+    pending = star[start:] + star[:start]
+    pending.reverse()
+    return pending
+
+
 def legalize_in(t: Transient2, vertex: int) -> list[Step]:
     """Lawson flips around ``vertex``: while an edge (a, b) opposite ``vertex`` in a
     triangle (vertex, a, b) is unconstrained, interior, and its other apex q lies strictly
@@ -350,9 +360,7 @@ def legalize_in(t: Transient2, vertex: int) -> list[Step]:
     star = walk_star(t.apex, vertex, t.outgoing(vertex))
     if not star:
         raise PreconditionError("legalize", f"vertex {vertex} is in no triangle")
-    start = min(range(len(star)), key=lambda i: star[i][1])
-    pending = [(a, b) for _, a, b in star[start:] + star[:start]]
-    pending.reverse()
+    pending = legalization_stack([(a, b) for _, a, b in star])
     flips: list[Step] = []
     p = t.point(vertex)
     while pending:

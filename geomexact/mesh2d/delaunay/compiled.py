@@ -2,13 +2,14 @@
 :func:`geomexact.mesh2d.delaunay.triangulation.triangulate_points` and the typed kernel
 :mod:`geomexact.mesh2d.delaunay.delaunay_kernel` (a Cython extension, optional).
 
-``run_compiled(points, start, first, rest)`` runs what ``_DelaunayBuilder`` runs —
+``run_compiled(points, start, first, rest)`` runs what ``BatchDelaunay`` runs —
 ``make_triangle(*first)`` then ``insert(v)`` for each ``v`` of ``rest`` — and returns a
 :class:`CompiledConstruction` with the same steps, the same digest after every step and
 the same final ``Mesh2`` (``outgoing`` hints included), or None when the kernel is not
-built (then the caller runs the Python builder).  ``triangulate_points(...,
-engine="fast")`` uses it whenever it is built; ``engine="python"`` always runs the Python
-builder (the tests compare the two).
+built.  ``triangulate_points(..., engine="auto")`` uses it whenever it is built, and the
+Python engine otherwise; ``engine="compiled"`` uses it or raises
+:class:`~geomexact.errors.PreconditionError`; ``engine="python"`` never uses it (the tests
+compare them).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ __all__ = ["AVAILABLE", "CompiledConstruction", "run_compiled"]
 def _load_kernel() -> Any:
     try:
         return importlib.import_module("geomexact.mesh2d.delaunay.delaunay_kernel")
-    except ImportError:  # not built: the Python builder runs instead
+    except ImportError:  # not built: engine "auto" runs the Python engine instead
         return None
 
 

@@ -19,11 +19,13 @@ import immutables
 
 from geomexact.errors import PreconditionError, SegmentError
 from geomexact.kernel.collector import collector_paused
-from geomexact.kernel.digest import MODULUS, cell_hash
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
+from geomexact.mesh2d.batch_store import BatchTriangulation
+from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
 from geomexact.mesh2d.delaunay.compiled import run_compiled
+from geomexact.mesh2d.engine_names import OLD_NAMES, engine_named
 from geomexact.mesh2d.ops import (
     carve_exterior_in,
     carve_in,
@@ -47,16 +49,16 @@ from geomexact.mesh2d.snapshot import (
 )
 from geomexact.mesh2d.transient import Transient2
 from geomexact.trace.record import Trace, trace_of
-from geomexact.trace.step import Step
 
-_MASK = MODULUS - 1
 CCW = Orientation.COUNTERCLOCKWISE
 CW = Orientation.CLOCKWISE
 COLLINEAR = Orientation.COLLINEAR
 INSIDE = CircleLocation.INSIDE
 
-Engine: TypeAlias = Literal["fast", "python"]
-ENGINES: tuple[str, ...] = ("fast", "python")
+DelaunayEngine: TypeAlias = Literal["auto", "compiled", "python", "fast"]
+ENGINES: tuple[str, ...] = ("auto", "compiled", "python")
+"""The engines of :func:`triangulate_points` (:mod:`geomexact.mesh2d.engine_names`; no
+``"reference"``: replaying the trace applies the reference ops)."""
 
 
 def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
@@ -193,52 +195,26 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     return result
 
 
-class _DelaunayBuilder:
-    """The batch builder of :func:`triangulate_points`: a plain half-edge dict, the
-    incremental digest and the steps, owned by one call (same step semantics as
-    :mod:`geomexact.mesh2d.ops`, checked by replaying the trace in the tests)."""
+class BatchDelaunay(BatchTriangulation):
+    """The Python engine of :func:`triangulate_points`: the incremental insertion on a
+    :class:`~geomexact.mesh2d.batch_store.BatchTriangulation`, owned by one call.  Its steps
+    are those of :mod:`geomexact.mesh2d.ops` (``make_triangle``, ``attach_in_triangle``,
+    ``attach_in_edge``, ``attach_outside``, ``flip``); the tests replay its trace through
+    them and compare it with the compiled kernel's."""
 
-    __slots__ = ("apex", "digest", "digests", "hashes", "last", "points", "steps")
+    __slots__ = ("last",)
 
-    def __init__(self, points: Sequence[Point2], digest: int) -> None:
-        self.points = points
-        self.apex: dict[tuple[int, int], int] = {}
-        # cell hash of each live triangle, keyed by its canonical form: a triangle is
-        # hashed once even when a later flip removes it
-        self.hashes: dict[tuple[int, int, int], int] = {}
-        self.digest = digest
-        self.steps: list[Step] = []
-        self.digests: list[int] = []
-        self.last: tuple[int, int] = (0, 0)
-
-    def _add(self, a: int, b: int, c: int) -> None:
-        apex = self.apex
-        apex[(a, b)] = c
-        apex[(b, c)] = a
-        apex[(c, a)] = b
-        key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
-        value = self.hashes[key] = cell_hash(key)
-        self.digest = (self.digest + value) & _MASK
-
-    def _remove(self, a: int, b: int, c: int) -> None:
-        apex = self.apex
-        del apex[(a, b)]
-        del apex[(b, c)]
-        del apex[(c, a)]
-        key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
-        self.digest = (self.digest - self.hashes.pop(key)) & _MASK
-
-    def _record(self, op: str, args: tuple[int, ...]) -> None:
-        self.steps.append(Step(op, args))
-        self.digests.append(self.digest)
+    def __init__(self, start: Mesh2) -> None:
+        super().__init__(start)
+        self.last: tuple[int, int] = (0, 0)  # a half-edge of the last triangle made
 
     def make_triangle(self, a: int, b: int, c: int) -> None:
         pa, pb, pc = self.points[a], self.points[b], self.points[c]
         if orient2d(pa, pb, pc) == CCW:
-            self._add(a, b, c)
+            self.add(a, b, c)
         else:
-            self._add(a, c, b)
-        self._record("make_triangle", (a, b, c))
+            self.add(a, c, b)
+        self.record("make_triangle", (a, b, c))
         self.last = (a, b) if (a, b) in self.apex else (a, c)
 
     def locate(self, p: Point2) -> tuple[str, tuple[int, int, int]]:
@@ -284,36 +260,27 @@ class _DelaunayBuilder:
             return "inside", (a, b, c)
 
     def insert(self, vertex: int) -> None:
-        p = self.points[vertex]
-        where, (a, b, c) = self.locate(p)
-        apex = self.apex
+        """Attach the isolated ``vertex`` where it lies, then legalize around it."""
+        where, (a, b, c) = self.locate(self.points[vertex])
         pending: list[tuple[int, int]]
         if where == "inside":
-            self._remove(a, b, c)
-            self._add(a, b, vertex)
-            self._add(b, c, vertex)
-            self._add(c, a, vertex)
-            self._record("attach_in_triangle", (vertex, a, b, c))
+            self.split_triangle(a, b, c, vertex)
+            self.record("attach_in_triangle", (vertex, a, b, c))
             pending = [(c, a), (b, c), (a, b)]
         elif where == "edge":
             u, v = a, b
-            w, x = apex.get((u, v)), apex.get((v, u))
+            w, x = self.apex.get((u, v)), self.apex.get((v, u))
+            self.split_edge(u, v, vertex)
+            self.record("attach_in_edge", (vertex, u, v))
             pending = []
             if w is not None:
-                self._remove(u, v, w)
-                self._add(u, vertex, w)
-                self._add(vertex, v, w)
                 pending += [(v, w), (w, u)]
             if x is not None:
-                self._remove(v, u, x)
-                self._add(v, vertex, x)
-                self._add(vertex, u, x)
                 pending += [(u, x), (x, v)]
-            self._record("attach_in_edge", (vertex, u, v))
         else:
             pending = self._attach_outside(vertex, a, b)
         self.last = (vertex, pending[0][0])
-        self._legalize(vertex, pending)
+        self.legalize_edges(vertex, pending)
 
     def _attach_outside(self, vertex: int, u: int, v: int) -> list[tuple[int, int]]:
         apex, points = self.apex, self.points
@@ -332,59 +299,25 @@ class _DelaunayBuilder:
             visible.insert(0, edge)
             edge = previous_boundary_edge(find, *edge)
         for a, b in visible:
-            self._add(b, a, vertex)
-        self._record("attach_outside", (vertex, u, v))
+            self.add(b, a, vertex)
+        self.record("attach_outside", (vertex, u, v))
         return [(b, a) for a, b in visible]
 
-    def _legalize(self, vertex: int, pending: list[tuple[int, int]]) -> None:
-        """Lawson flips of the edges (a, b) opposite ``vertex`` in triangles
-        (vertex, a, b)... given as (a, b) with apex(a, b) == vertex."""
-        apex, points, hashes = self.apex, self.points, self.hashes
-        steps, digests = self.steps, self.digests
-        p = points[vertex]
-        digest = self.digest
-        while pending:
-            a, b = pending.pop()
-            q = apex.get((b, a))
-            if q is None or apex.get((a, b)) != vertex:
-                continue
-            if incircle(points[a], points[b], p, points[q]) != INSIDE:
-                continue
-            # flip (a, b): triangles (a, b, vertex), (b, a, q) -> (q, vertex, a), (vertex, q, b)
-            old1 = ((a, b, vertex) if a < b and a < vertex else
-                    (b, vertex, a) if b < vertex else (vertex, a, b))
-            old2 = (b, a, q) if b < a and b < q else (a, q, b) if a < q else (q, b, a)
-            new1 = ((q, vertex, a) if q < vertex and q < a else
-                    (vertex, a, q) if vertex < a else (a, q, vertex))
-            new2 = ((vertex, q, b) if vertex < q and vertex < b else
-                    (q, b, vertex) if q < b else (b, vertex, q))
-            del apex[(a, b)]
-            del apex[(b, a)]
-            apex[(q, vertex)] = a
-            apex[(vertex, a)] = q
-            apex[(a, q)] = vertex
-            apex[(vertex, q)] = b
-            apex[(q, b)] = vertex
-            apex[(b, vertex)] = q
-            hash1 = hashes[new1] = cell_hash(new1)
-            hash2 = hashes[new2] = cell_hash(new2)
-            digest = (digest + hash1 + hash2 - hashes.pop(old1) - hashes.pop(old2)) & _MASK
-            steps.append(Step("flip", (a, b)))
-            digests.append(digest)
-            pending.append((q, b))
-            pending.append((a, q))
-        self.digest = digest
-
     def seal(self, start: Mesh2) -> Mesh2:
-        apex = self.apex
-        outgoing = {u: v for u, v in apex}
-        return attrs.evolve(
-            start,
-            halfedges=immutables.Map(apex),
-            outgoing=immutables.Map(outgoing),
-            triangle_count=len(apex) // 3,
-            digest=self.digest,
+        # the outgoing hint of a vertex: its last inserted live half-edge (the compiled
+        # kernel keeps insertion numbers to give the same hints)
+        return self.sealed(start, outgoing=immutables.Map({u: v for u, v in self.apex}))
+
+
+def _delaunay_engine(engine: str) -> str:
+    """The Delaunay engine ``engine`` names (:mod:`geomexact.mesh2d.engine_names`)."""
+    if OLD_NAMES.get(engine, engine) == "reference":
+        raise PreconditionError(
+            "triangulate", "there is no 'reference' engine for Delaunay triangulation: "
+            "engine 'python' records the same trace, and replaying it "
+            "(geomexact.trace.playback.replay) applies the reference ops step by step"
         )
+    return engine_named("triangulate", engine, ENGINES)
 
 
 def triangulate_points(
@@ -392,7 +325,7 @@ def triangulate_points(
     *,
     merge_duplicates: bool = False,
     seed: int = 0,
-    engine: Engine = "fast",
+    engine: DelaunayEngine = "auto",
 ) -> Construction:
     """The Delaunay triangulation of a point set (a PSLG's segments, holes and regions are
     ignored here; see :func:`triangulate`).
@@ -406,12 +339,17 @@ def triangulate_points(
     collinear, or duplicate points unless ``merge_duplicates`` (then every copy after the
     first stays isolated and is listed in ``Construction.duplicates``).
 
-    ``engine``: ``"fast"`` runs the compiled kernel (:mod:`geomexact.mesh2d.delaunay.compiled`)
-    when it is built, else the Python builder; ``"python"`` always runs the Python builder.
-    Both record the same trace and build the same mesh.
+    ``engine``: ``"auto"`` runs the compiled kernel (:mod:`geomexact.mesh2d.delaunay.compiled`)
+    when it is built, else the Python engine :class:`BatchDelaunay`; ``"compiled"`` runs the
+    kernel or raises :class:`PreconditionError` (not built, or a run beyond its counters);
+    ``"python"`` runs :class:`BatchDelaunay`.  All record the same trace and build the same
+    mesh.  There is no ``"reference"`` engine: a reference run would need the walk, the
+    hull attachment and the insertion-order legalization written a second time against a
+    transient; instead the trace, replayed (:func:`geomexact.trace.playback.replay`),
+    applies the reference ops step by step and reproduces every digest.  ``"fast"`` is
+    the old name of ``"auto"``.
     """
-    if engine not in ENGINES:
-        raise PreconditionError("triangulate", f"unknown engine {engine!r}; choose from {ENGINES}")
+    name = _delaunay_engine(engine)
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
     duplicates = duplicate_points(vertices)
@@ -442,12 +380,21 @@ def triangulate_points(
 
     with collector_paused():
         compiled = (
-            run_compiled(vertices, start, (a, b, c), order[2:]) if engine == "fast" else None
+            run_compiled(vertices, start, (a, b, c), order[2:])
+            if name in ("auto", "compiled") else None
         )
+        if compiled is None and name == "compiled":
+            raise PreconditionError(
+                "triangulate", "engine 'compiled' cannot run this triangulation: "
+                + ("the compiled Delaunay kernel is not built (no C compiler at install)"
+                   if not compiled_delaunay.AVAILABLE else
+                   "it exceeds the kernel's counters (about 2**31 half-edge insertions)")
+                + " (engine 'auto' runs the Python engine then)"
+            )
         if compiled is not None:
             mesh, steps, digests = compiled.mesh, compiled.steps, compiled.digests
         else:
-            builder = _DelaunayBuilder(vertices, start.digest)
+            builder = BatchDelaunay(start)
             builder.make_triangle(a, b, c)
             for vertex in order[2:]:
                 builder.insert(vertex)
@@ -613,7 +560,7 @@ def triangulate(
     split_segments: bool = False,
     merge_duplicates: bool = False,
     seed: int = 0,
-    engine: Engine = "fast",
+    engine: DelaunayEngine = "auto",
 ) -> Construction:
     """The constrained Delaunay triangulation of a PSLG (a point set gives its Delaunay
     triangulation).
@@ -628,7 +575,8 @@ def triangulate(
        PSLG has segments), then each hole seed's region, then regional attributes are set.
 
     Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
-    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1).
+    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1; the
+    rest runs the reference ops on a transient).
     """
     pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
     points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed,

@@ -20,19 +20,20 @@ last of the path) and t2 (across e):
   pair that is not locally Delaunay, flip e (when ``delaunay=True``) and search again;
   otherwise insert as the centroid method does.
 
-Three engines run the same algorithm and record identical traces
-(``tests/engines/test_refine_engines.py``, ``tests/mesh2d/refinement/test_refine_compiled.py``):
+Four engine names choose what runs (:mod:`geomexact.mesh2d.engine_names`); all record
+identical traces (``tests/engines/test_engine_equivalence.py``):
 
-* ``"transient"``: the ops on a :class:`~geomexact.mesh2d.transient.Transient2`, the readable
-  reference (:mod:`geomexact.mesh2d.refinement.engines.reference`);
-* ``"python"``: a batch kernel on plain tables with the digest kept incrementally
+* ``"reference"``: the ops on a :class:`~geomexact.mesh2d.transient.Transient2`, the
+  readable reference (:mod:`geomexact.mesh2d.refinement.engines.reference`);
+* ``"python"``: the batch engine on plain dicts with the digest kept incrementally
   (:mod:`geomexact.mesh2d.refinement.engines.batch`);
-* ``"fast"`` (the default): the compiled kernel
-(:mod:`geomexact.mesh2d.refinement.engines.compiled`,
+* ``"compiled"``: the compiled kernel (:mod:`geomexact.mesh2d.refinement.engines.compiled`,
   a C extension built at install when a compiler is present) for the runs it implements —
   every method with a size criterion (no minimum angle), centroid kind ``"area"`` and no
-  triangle attributes — and the
-  ``"python"`` engine otherwise.
+  triangle attributes; any other run raises :class:`~geomexact.errors.PreconditionError`;
+* ``"auto"`` (the default): ``"compiled"`` where it applies, else ``"python"``.
+
+``"fast"`` and ``"transient"`` are the old names of ``"auto"`` and ``"reference"``.
 
 >>> from geomexact.mesh2d.refinement.criteria import MaxArea
 >>> from geomexact.mesh2d.transient import mesh_from_triangles
@@ -54,6 +55,7 @@ import attrs
 from geomexact.errors import PreconditionError
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.points import Point2
+from geomexact.mesh2d.engine_names import ENGINES, Engine, engine_named
 from geomexact.mesh2d.refinement.criteria import Criterion, as_criterion
 from geomexact.mesh2d.refinement.driver import (
     Method,
@@ -61,9 +63,9 @@ from geomexact.mesh2d.refinement.driver import (
     Refinement,
     Status,
 )
-from geomexact.mesh2d.refinement.engines.batch import FastRefinement
-from geomexact.mesh2d.refinement.engines.compiled import run_compiled
-from geomexact.mesh2d.refinement.engines.reference import TransientRefinement
+from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
+from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
+from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
 from geomexact.mesh2d.refinement.regions import Region, as_region
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.record import Trace
@@ -80,7 +82,6 @@ __all__ = [
 
 METHODS: tuple[str, ...] = ("bisection", "centroid", "quasi")
 CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices")
-ENGINES: tuple[str, ...] = ("fast", "python", "transient")
 
 
 @attrs.frozen(slots=True)
@@ -153,7 +154,7 @@ def refine(
     constraint_midpoints: bool = True,
     max_steps: int | None = None,
     on_step: Callable[[Progress], None] | None = None,
-    engine: Literal["fast", "python", "transient"] = "fast",
+    engine: Engine = "auto",
 ) -> Result:
     """Refine the triangles of ``region`` that ``criterion`` rates bad, by Lepp steps.
 
@@ -197,13 +198,15 @@ def refine(
     on_step:
         Called with a :class:`Progress` after every step.
     engine:
-        ``"fast"`` (the compiled kernel where it applies, else ``"python"``), ``"python"``
-        (the batch kernel in Python) or ``"transient"`` (the ops on a transient; slower,
-        the reference).  All record the same trace.
+        ``"auto"`` (the compiled kernel where it applies, else ``"python"``),
+        ``"compiled"`` (the kernel, or :class:`~geomexact.errors.PreconditionError` when it
+        is not built or does not implement this run), ``"python"`` (the batch engine) or
+        ``"reference"`` (the ops on a transient; slower).  All record the same trace.
+        ``"fast"`` and ``"transient"`` are old names of ``"auto"`` and ``"reference"``.
 
     Raises :class:`~geomexact.errors.PreconditionError` for an unknown method, centroid or
-    engine, a negative ``max_steps``, or a minimum angle with bisection or without
-    Delaunay flips and no step limit.
+    engine, engine ``"compiled"`` where the kernel cannot run, a negative ``max_steps``,
+    or a minimum angle with bisection or without Delaunay flips and no step limit.
 
     Every decision is exact and every tie is broken by vertex ids (``specs/refine.md``),
     so the trace is the same on every machine.  Cost: O(steps × Lepp length) exact
@@ -219,8 +222,7 @@ def refine(
         raise PreconditionError(
             "refine", f"unknown centroid {centroid!r}; choose from {CENTROIDS}"
         )
-    if engine not in ENGINES:
-        raise PreconditionError("refine", f"unknown engine {engine!r}; choose from {ENGINES}")
+    name = engine_named("refine", engine)
     if max_steps is not None and (
         isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 0
     ):
@@ -252,8 +254,17 @@ def refine(
         "constraint_midpoints": constraint_midpoints,
         "on_step": on_step,
     }
+    if name == "compiled":
+        reason = unsupported(mesh, **options)
+        if reason is not None:
+            raise PreconditionError(
+                "refine", f"engine 'compiled' cannot run this refinement: {reason} "
+                "(engine 'auto' runs the Python engine where the kernel does not apply)"
+            )
     with collector_paused():  # a large run makes millions of small tuples
-        compiled = run_compiled(mesh, max_steps, **options) if engine == "fast" else None
+        compiled = (
+            run_compiled(mesh, max_steps, **options) if name in ("auto", "compiled") else None
+        )
         if compiled is not None:
             status, result, steps, digests = (
                 compiled.status, compiled.mesh, compiled.steps, compiled.digests
@@ -263,10 +274,10 @@ def refine(
             )
         else:
             run: Refinement
-            if engine == "transient":
-                run = TransientRefinement(mesh, max_steps, **options)
+            if name == "reference":
+                run = ReferenceRefinement(mesh, max_steps, **options)
             else:
-                run = FastRefinement(mesh, max_steps, **options)
+                run = BatchRefinement(mesh, max_steps, **options)
             run.start_queue(sorted(mesh.iter_triangles()))
             status = run.run()
             result, steps, digests = run.finish(mesh)

@@ -4,12 +4,11 @@ the exceptions that end a run.  The engines subclass :class:`Refinement` with a 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Literal, TypeAlias
+from typing import Any, Literal, TypeAlias
 
 import attrs
 
 from geomexact.kernel.angles import compare_angle
-from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Comparison, Orientation
@@ -56,11 +55,12 @@ class CriterionMet(Exception):
 
 
 class Refinement:
-    """The refinement loop over a mesh store.  Subclasses provide the store: ``get``
-    (directed edge -> apex or None), ``point``, ``is_segment``, ``attributed`` and
-    ``attributes``, and the steps ``bisect``, ``flip``, ``centroid`` and ``legalize``,
-    each appending the canonical triangles it adds and removes to ``created`` and
-    ``removed``."""
+    """The refinement loop over a mesh store, written once for every engine.  Subclasses
+    provide the store: ``get`` (directed edge -> apex or None), ``point``, ``is_segment``,
+    ``attributed`` and ``attributes``; the steps ``bisect``, ``flip``, ``centroid`` and
+    ``legalize``, each appending the canonical triangles it adds and removes to
+    ``created`` and ``removed``; and the Lepp search ``terminal``.  They may replace
+    ``rating`` and ``insert_midpoint`` by faster equal ones."""
 
     get: Callable[[Edge], int | None]
     point: Callable[[int], Point2]
@@ -140,14 +140,18 @@ class Refinement:
         note it as left when it is bad only at input angles)."""
         if not self.in_region(a, b, c):
             return
-        point = self.point
-        key = self.criterion.rate(point(a), point(b), point(c))
+        key = self.rating(a, b, c)
         if key is None:
             return
         if self.threshold is not None and self.unimprovable(a, b, c):
             self.left[(a, b, c)] = None
             return
         self.queue.push(key, (a, b, c))
+
+    def rating(self, a: int, b: int, c: int) -> Any | None:
+        """The criterion's key of the triangle (a, b, c), or None when it is good."""
+        point = self.point
+        return self.criterion.rate(point(a), point(b), point(c))
 
     def different_attributes(self, u: int, v: int, w: int, x: int) -> bool:
         return self.attributes((u, v, w)) != self.attributes((v, u, x))
@@ -233,34 +237,11 @@ class Refinement:
 
     # -- Lepp ---------------------------------------------------------------------------
     def terminal(self, a: int, b: int, c: int) -> tuple[int, int, int, int | None, bool]:
-        """The terminal edge (u, v) of Lepp((a, b, c)), its apexes w (left, in the last
-        triangle of the path) and x (right; None on the boundary), and whether it is a
-        constraint edge.  As :func:`geomexact.mesh2d.longest_edge.lepp`."""
-        get, point = self.get, self.point
-        pa, pb, pc = point(a), point(b), point(c)
-        if _before(pa, pb, a, b, pb, pc, b, c):
-            u, v, w = (a, b, c) if _before(pa, pb, a, b, pc, pa, c, a) else (c, a, b)
-        else:
-            u, v, w = (b, c, a) if _before(pb, pc, b, c, pc, pa, c, a) else (c, a, b)
-        self.searches += 1
-        self.hops += 1
-        while True:
-            x = get((v, u))
-            if x is None or self.is_segment(u, v) or (
-                self.attributed and self.different_attributes(u, v, w, x)
-            ):
-                return u, v, w, x, True
-            pu, pv, px = point(u), point(v), point(x)
-            if (
-                compare_squared_lengths(pu, pv, pv, px) != _LESS
-                and compare_squared_lengths(pu, pv, px, pu) != _LESS
-            ):
-                return u, v, w, x, False
-            self.hops += 1
-            if _before(pu, px, u, x, px, pv, x, v):
-                u, v, w = u, x, v
-            else:
-                u, v, w = x, v, u
+        """The terminal edge (u, v) of Lepp((a, b, c)) (:func:`geomexact.mesh2d.longest_edge.
+        lepp`), its apexes w (left, in the last triangle of the path) and x (right; None on
+        the boundary), and whether it is a constraint edge; adds 1 to ``searches`` and the
+        path's length in triangles to ``hops``."""
+        raise NotImplementedError
 
     def second_edge(self, u: int, v: int, w: int) -> Edge:
         """The longer (edge order) of the edges (v, w), (w, u) of triangle (u, v, w)."""

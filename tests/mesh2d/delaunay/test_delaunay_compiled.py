@@ -1,5 +1,5 @@
 """The compiled Delaunay kernel (``geomexact.mesh2d.delaunay.delaunay_kernel`` through
-``geomexact.mesh2d.delaunay.compiled``) against the Python builder ``_DelaunayBuilder``: the same
+``geomexact.mesh2d.delaunay.compiled``) against the Python engine ``BatchDelaunay``: the same
 steps, the same digest after every step, the same final mesh (``outgoing`` hints
 included) on every input — random, lattices (cocircular ties), collinear prefixes,
 duplicates, huge / tiny / beyond-double coordinates, non-dyadic rationals, real point
@@ -24,7 +24,7 @@ from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.delaunay.compiled import AVAILABLE, CompiledConstruction, run_compiled
 from geomexact.mesh2d.delaunay.triangulation import (
-    _DelaunayBuilder,
+    BatchDelaunay,
     duplicate_points,
     insertion_order,
     triangulate_points,
@@ -64,7 +64,7 @@ def same(points: Sequence[Point2], seed: int = 0) -> CompiledConstruction | None
     vertices, start, (a, b, c), rest = setup
     compiled = run_compiled(vertices, start, (a, b, c), rest)
     assert compiled is not None
-    builder = _DelaunayBuilder(vertices, start.digest)
+    builder = BatchDelaunay(start)
     builder.make_triangle(a, b, c)
     for vertex in rest:
         builder.insert(vertex)

@@ -1,5 +1,5 @@
 """The compiled Lepp-bisection kernel (``geomexact.mesh2d.refinement.engines.lepp_kernel`` through
-``geomexact.mesh2d.refinement.engines.compiled``) against the Python engine (``FastRefinement``, run
+``geomexact.mesh2d.refinement.engines.compiled``) against the Python engine (``BatchRefinement``, run
 directly): the same steps, the same digest after every step, the same progress reports,
 the same final snapshot (every table) and the same stats.  Skipped when the extension is
 not built."""
@@ -29,8 +29,8 @@ from geomexact.mesh2d.refinement.criteria import (
     doubled_area,
 )
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
-from geomexact.mesh2d.refinement.engines.batch import FastRefinement
 from geomexact.mesh2d.refinement.engines.compiled import CompiledRun, run_compiled
+from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
 from geomexact.mesh2d.refinement.regions import Circle, Polygon, Rectangle, Region, as_region
 from geomexact.mesh2d.validation import check
 from geomexact.strategies import meshes_with_traces, pslgs
@@ -55,7 +55,7 @@ def options(criterion: Criterion, region: Region | None = None, delaunay: bool =
 
 def python_run(mesh: Mesh2, max_steps: int | None, **kw: Any) -> CompiledRun:
     """The Python fast engine, exactly as ``refine()`` drives it."""
-    run = FastRefinement(mesh, max_steps, **kw)
+    run = BatchRefinement(mesh, max_steps, **kw)
     run.start_queue(sorted(mesh.iter_triangles()))
     status = run.run()
     result, steps, digests = run.finish(mesh)
@@ -219,7 +219,7 @@ class Wide(AverageAreaFactor):
 
 def mean_state(start: Mesh2, criterion: Criterion, **kw: Any) -> tuple[Any, ...]:
     """The Python engine's (area2, count, target_area2) after ``start_queue``."""
-    run = FastRefinement(start, None, **options(criterion, **kw))
+    run = BatchRefinement(start, None, **options(criterion, **kw))
     run.start_queue(sorted(start.iter_triangles()))
     return run.area2, run.count, run.target_area2
 

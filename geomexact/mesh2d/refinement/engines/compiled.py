@@ -1,12 +1,12 @@
-"""The compiled Lepp-bisection engine: glue between :func:`geomexact.mesh2d.refinement.api.refine`
-and the
-typed kernel :mod:`geomexact.mesh2d.refinement.engines.lepp_kernel` (a Cython extension, optional).
+"""The compiled Lepp engine: glue between :func:`geomexact.mesh2d.refinement.api.refine` and
+the typed kernel :mod:`geomexact.mesh2d.refinement.engines.lepp_kernel` (a Cython
+extension, optional).
 
 ``run_compiled(mesh, max_steps, **options)`` takes the arguments of
-``geomexact.mesh2d.refinement.engines.batch.FastRefinement`` and returns a :class:`CompiledRun` —
-the same steps, digests, final mesh, status and counters as the fast engine — or None when
-the kernel is not built or the run is outside its subset (then the caller runs the Python
-engine):
+``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` and returns a
+:class:`CompiledRun` — the same steps, digests, final mesh, status and counters as the
+Python engine — or None when the kernel is not built or the run is outside its subset
+(:func:`unsupported` says why):
 
 * method ``"bisection"``, with or without Delaunay legalization; methods ``"centroid"``
   and ``"quasi"`` with ``centroid="area"`` (the rounded area centroid, computed by
@@ -18,8 +18,10 @@ engine):
   its ``rate``; the region's mean area is tracked exactly as ``Refinement.account``;
 * any region; no triangle attributes; any ``max_steps`` and ``on_step``.
 
-``refine(..., engine="fast")`` (the default) uses it whenever it applies;
-``engine="python"`` always runs the Python engine (tests compare the two).
+``refine(..., engine="auto")`` (the default) uses it whenever it applies, and the Python
+engine otherwise; ``engine="compiled"`` uses it or raises
+:class:`~geomexact.errors.PreconditionError` with that reason; ``engine="python"`` never
+uses it (``tests/engines`` compares them all with the reference engine).
 """
 
 from __future__ import annotations
@@ -42,13 +44,13 @@ from geomexact.trace.step import Step
 def _load_kernel() -> Any:
     try:
         return importlib.import_module("geomexact.mesh2d.refinement.engines.lepp_kernel")
-    except ImportError:  # not built: the pure-Python engine runs instead
+    except ImportError:  # not built: engine "auto" runs the Python engine instead
         return None
 
 
 _lepp_kernel: Any = _load_kernel()
 
-__all__ = ["AVAILABLE", "CompiledRun", "run_compiled", "supports"]
+__all__ = ["AVAILABLE", "CompiledRun", "run_compiled", "supports", "unsupported"]
 
 AVAILABLE: bool = _lepp_kernel is not None
 """True when the extension is built and importable."""
@@ -71,27 +73,38 @@ class CompiledRun:
     hops: int
 
 
+def unsupported(mesh: Mesh2, **options: Any) -> str | None:
+    """Why the kernel cannot run this refinement exactly (not built, or outside its
+    subset), or None when it can."""
+    if not AVAILABLE:
+        return "the compiled Lepp kernel is not built (no C compiler at install)"
+    criterion = options["criterion"]
+    if not (
+        options["method"] == "bisection"
+        or (options["method"] in ("centroid", "quasi") and options["centroid"] == "area")
+    ):
+        return (f"it runs method 'bisection', and 'centroid' or 'quasi' with centroid "
+                f"'area', not method {options['method']!r} with centroid "
+                f"{options['centroid']!r}")
+    if criterion.angle_threshold is not None:
+        return "it runs no minimum-angle criterion"
+    if type(criterion) is not AverageAreaFactor and (
+        criterion.target_mean_area(mpq(1), 1) is not None
+    ):
+        return "the only region-wide criterion it runs is AverageAreaFactor"
+    if len(mesh.triangle_attributes):
+        return "it runs no mesh with triangle attributes"
+    return None
+
+
 def supports(mesh: Mesh2, **options: Any) -> bool:
     """True when the kernel is available and implements this run exactly."""
-    criterion = options["criterion"]
-    return (
-        AVAILABLE
-        and (
-            options["method"] == "bisection"
-            or (options["method"] in ("centroid", "quasi") and options["centroid"] == "area")
-        )
-        and criterion.angle_threshold is None
-        and (
-            type(criterion) is AverageAreaFactor
-            or criterion.target_mean_area(mpq(1), 1) is None
-        )
-        and not len(mesh.triangle_attributes)
-    )
+    return unsupported(mesh, **options) is None
 
 
 def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> CompiledRun | None:
     """Run Lepp refinement in the kernel, or return None (not built, or outside the
-    subset).  ``options`` are those ``refine()`` gives ``FastRefinement``: ``criterion``,
+    subset).  ``options`` are those ``refine()`` gives ``BatchRefinement``: ``criterion``,
     ``region``, ``method``, ``delaunay``, ``centroid``, ``constraint_midpoints``,
     ``on_step``."""
     if not supports(mesh, **options):

@@ -1,6 +1,7 @@
-"""The reference engine: every step is the op of :mod:`geomexact.mesh2d.ops` (or
-:mod:`geomexact.mesh2d.refinement.centroids`) on a
-:class:`~geomexact.mesh2d.transient.Transient2`."""
+"""The reference engine: the refinement loop of
+:class:`~geomexact.mesh2d.refinement.driver.Refinement` with every step the op of
+:mod:`geomexact.mesh2d.ops` on a :class:`~geomexact.mesh2d.transient.Transient2` and every
+Lepp search :func:`geomexact.mesh2d.longest_edge.lepp`."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 from geomexact.kernel.points import Point2
+from geomexact.mesh2d.longest_edge import lepp
 from geomexact.mesh2d.ops import (
     bisect_in,
     flip_in,
@@ -69,7 +71,10 @@ class RecordingTransient(Transient2):
             self.report(step)
 
 
-class TransientRefinement(Refinement):
+class ReferenceRefinement(Refinement):
+    """The refinement loop on a recording transient: the readable reference the other
+    engines are tested against, step by step."""
+
     def __init__(self, mesh: Mesh2, max_steps: int | None, **options: Any) -> None:
         super().__init__(mesh, **options)
         self.t = t = RecordingTransient(mesh, max_steps)
@@ -112,6 +117,15 @@ class TransientRefinement(Refinement):
 
     def legalize(self, vertex: int) -> None:
         legalize_in(self.t, vertex)
+
+    def terminal(self, a: int, b: int, c: int) -> tuple[int, int, int, int | None, bool]:
+        path = lepp(self.t, (a, b, c))
+        self.searches += 1
+        self.hops += len(path.path)
+        u, v = path.terminal_edge
+        w = self.t.apex(u, v)
+        assert w is not None  # the terminal edge has the path's last triangle on its left
+        return u, v, w, self.t.apex(v, u), path.kind != "interior"
 
     def finish(self, start: Mesh2) -> tuple[Mesh2, list[Step], list[int]]:
         t = self.t

@@ -1,0 +1,45 @@
+"""The names of the engines that run a 2D algorithm (``engine=`` of ``refine`` and
+``triangulate``; ``--engine`` of the CLI).
+
+* ``"auto"`` (the default): the compiled kernel where it applies, else ``"python"``;
+* ``"compiled"``: the Cython kernel, or :class:`~geomexact.errors.PreconditionError` when it
+  is not built or the run is outside what it implements (never something else silently);
+* ``"python"``: the Python batch engine (:mod:`geomexact.mesh2d.batch_store`);
+* ``"reference"``: the pure ops on a transient (refinement only).
+
+All record the same trace; the engine is never a parameter of it.  ``"fast"`` and
+``"transient"`` are the old names of ``"auto"`` and ``"reference"``, still accepted.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import Literal, TypeAlias
+
+from geomexact.errors import PreconditionError
+
+Engine: TypeAlias = Literal["auto", "compiled", "python", "reference", "fast", "transient"]
+
+ENGINES: tuple[str, ...] = ("auto", "compiled", "python", "reference")
+"""The engine names, each saying what runs."""
+
+OLD_NAMES: Mapping[str, str] = MappingProxyType({"fast": "auto", "transient": "reference"})
+"""Old engine name -> its name now."""
+
+
+def engine_named(op: str, engine: str, engines: tuple[str, ...] = ENGINES) -> str:
+    """The engine ``engine`` names (an old name gives the new one), which must be one of
+    ``engines`` (those of the algorithm ``op``); else :class:`PreconditionError`."""
+    name = OLD_NAMES.get(engine, engine)
+    if name not in engines:
+        choices = ", ".join(repr(e) for e in engines)
+        old = ", ".join(f"{o!r} for {n!r}" for o, n in OLD_NAMES.items() if n in engines)
+        if name in ENGINES:
+            raise PreconditionError(
+                op, f"there is no {name!r} engine for {op}; choose from {choices}"
+            )
+        raise PreconditionError(
+            op, f"unknown engine {engine!r}; choose from {choices} (old names: {old})"
+        )
+    return name
