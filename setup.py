@@ -2,9 +2,11 @@
 
 * ``geomexact/mesh2d/refinement/engines/lepp_kernel.pyx``: Lepp-bisection (``geomexact.mesh2d.refinement.api``);
 * ``geomexact/mesh2d/delaunay/delaunay_kernel.pyx``: the Delaunay triangulation of a point set
-  (``geomexact.mesh2d.delaunay.triangulation.triangulate_points``).
+  (``geomexact.mesh2d.delaunay.triangulation.triangulate_points``);
+* ``geomexact/kernel/cfilters.pyx``: test-facing wrappers of the C filters, so that the tests
+  can check them against the exact predicates (nothing in the package imports it).
 
-Both include the shared C pieces ``geomexact/kernel/ckernel.h`` (declared in
+All include the shared C pieces ``geomexact/kernel/ckernel.h`` (declared in
 ``geomexact/kernel/ckernel.pxd``).  All metadata lives in pyproject.toml.  The extensions
 are optional, each on its own: without Cython or a C compiler, or when a build fails, the
 package installs without it and the caller uses its pure-Python code
@@ -61,6 +63,7 @@ def _remove_stale(name: str) -> None:
 KERNELS = [
     ("geomexact.mesh2d.refinement.engines.lepp_kernel", "geomexact/mesh2d/refinement/engines/lepp_kernel.pyx"),
     ("geomexact.mesh2d.delaunay.delaunay_kernel", "geomexact/mesh2d/delaunay/delaunay_kernel.pyx"),
+    ("geomexact.kernel.cfilters", "geomexact/kernel/cfilters.pyx"),
 ]
 
 
@@ -82,7 +85,7 @@ def _extensions() -> list[Extension]:
             # the float filters' error bounds assume one rounding per operation: no FMA
             extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"],
         )
-        try:  # each kernel on its own: one failing to compile keeps the other
+        try:  # each kernel on its own: one failing to compile keeps the others
             built.extend(cythonize([extension], language_level=3, quiet=True))
         except Exception as error:
             _warn(error)

@@ -2,11 +2,13 @@
 
 A kernel that fails to compile only warns at install (the pure-Python engines take over),
 so without these checks a compile error would pass CI silently: every kernel test would
-skip.  Where a C compiler and the Python headers exist (as on our machines and in CI), both
-kernels must be importable; and an in-tree build must be newer than its sources."""
+skip.  Where a C compiler and the Python headers exist (as on our machines and in CI), every
+kernel (and the test-facing C filters) must be importable; and an in-tree build must be
+newer than its sources."""
 
 from __future__ import annotations
 
+import importlib
 import os
 import shutil
 import sysconfig
@@ -21,6 +23,7 @@ PACKAGE = Path(__file__).resolve().parents[2] / "geomexact"
 SOURCES = {
     "geomexact.mesh2d.refinement.engines.lepp_kernel": PACKAGE / "mesh2d" / "refinement" / "engines" / "lepp_kernel.pyx",
     "geomexact.mesh2d.delaunay.delaunay_kernel": PACKAGE / "mesh2d" / "delaunay" / "delaunay_kernel.pyx",
+    "geomexact.kernel.cfilters": PACKAGE / "kernel" / "cfilters.pyx",
 }
 SHARED = [PACKAGE / "kernel" / "ckernel.h", PACKAGE / "kernel" / "ckernel.pxd"]
 
@@ -36,12 +39,14 @@ def can_build() -> bool:
 def test_kernels_are_built_where_they_can_be() -> None:
     assert compiled_engine.AVAILABLE, "the Lepp kernel did not build: see pip's warning"
     assert delaunay_compiled.AVAILABLE, "the Delaunay kernel did not build: see pip's warning"
+    try:
+        importlib.import_module("geomexact.kernel.cfilters")
+    except ImportError as error:
+        pytest.fail(f"the test-facing C filters did not build ({error}): see pip's warning")
 
 
 @pytest.mark.parametrize("name", sorted(SOURCES))
 def test_an_in_tree_kernel_is_newer_than_its_sources(name: str) -> None:
-    import importlib
-
     try:
         module = importlib.import_module(name)
     except ImportError:
