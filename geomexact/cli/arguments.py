@@ -71,6 +71,18 @@ def add_to_option(sub: argparse.ArgumentParser) -> None:
                      help="format of OUT (default: by its extension)")
 
 
+def add_writing_options(sub: argparse.ArgumentParser, *, formats: bool = True) -> None:
+    """The options of a command that reads a file and writes others: ``--format F`` and
+    ``--to F`` (with ``formats``), ``--exact``, ``--force``, ``--json`` and ``-v``."""
+    if formats:
+        add_format_option(sub)
+        add_to_option(sub)
+    add_exact_flag(sub)
+    add_force_flag(sub)
+    add_json_flag(sub)
+    add_verbose_flag(sub)
+
+
 def non_negative(text: str) -> int:
     """An integer argument >= 0."""
     try:

@@ -7,10 +7,7 @@ import argparse
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_exact_flag,
-    add_force_flag,
-    add_json_flag,
-    add_verbose_flag,
+    add_writing_options,
     format_names,
 )
 from geomexact.cli.exit_codes import EXIT_OK
@@ -56,7 +53,4 @@ def add_parser(commands: Subcommands) -> None:
         "--to", dest="target_format", choices=formats, metavar="F",
         help=f"format of OUT, one of {names} (default: from its extension)",
     )
-    add_exact_flag(convert)
-    add_force_flag(convert)
-    add_json_flag(convert)
-    add_verbose_flag(convert)
+    add_writing_options(convert, formats=False)

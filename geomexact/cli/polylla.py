@@ -10,12 +10,7 @@ from pathlib import Path
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_exact_flag,
-    add_force_flag,
-    add_format_option,
-    add_json_flag,
-    add_to_option,
-    add_verbose_flag,
+    add_writing_options,
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
@@ -125,9 +120,4 @@ def add_parser(commands: Subcommands) -> None:
     polylla_.add_argument("--check", action="store_true",
                           help="validate the polygons against the triangulation (exit 1 if "
                                "invalid)")
-    add_format_option(polylla_)
-    add_to_option(polylla_)
-    add_exact_flag(polylla_)
-    add_force_flag(polylla_)
-    add_json_flag(polylla_)
-    add_verbose_flag(polylla_)
+    add_writing_options(polylla_)

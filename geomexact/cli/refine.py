@@ -13,12 +13,7 @@ from typing import Any
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_exact_flag,
-    add_force_flag,
-    add_format_option,
-    add_json_flag,
-    add_to_option,
-    add_verbose_flag,
+    add_writing_options,
     non_negative,
 )
 from geomexact.cli.errors import UsageProblem
@@ -309,9 +304,4 @@ def add_parser(commands: Subcommands) -> None:
                          help="exit 1 when the result is not (constrained) Delaunay")
     refine_.add_argument("--progress", action="store_true",
                          help="show progress on stderr")
-    add_format_option(refine_)
-    add_to_option(refine_)
-    add_exact_flag(refine_)
-    add_force_flag(refine_)
-    add_json_flag(refine_)
-    add_verbose_flag(refine_)
+    add_writing_options(refine_)

@@ -8,10 +8,7 @@ import sys
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_exact_flag,
-    add_force_flag,
-    add_json_flag,
-    add_verbose_flag,
+    add_writing_options,
     format_names,
     non_negative,
 )
@@ -97,7 +94,4 @@ def add_parser(commands: Subcommands) -> None:
     replay_.add_argument(
         "--to", choices=formats, metavar="F", help=f"format of OUT, one of {names}"
     )
-    add_exact_flag(replay_)
-    add_force_flag(replay_)
-    add_json_flag(replay_)
-    add_verbose_flag(replay_)
+    add_writing_options(replay_, formats=False)

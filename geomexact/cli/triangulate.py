@@ -10,12 +10,7 @@ from pathlib import Path
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_exact_flag,
-    add_force_flag,
-    add_format_option,
-    add_json_flag,
-    add_to_option,
-    add_verbose_flag,
+    add_writing_options,
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
@@ -93,8 +88,6 @@ def add_parser(commands: Subcommands) -> None:
     triangulate_.add_argument("input", metavar="INPUT",
                               help=".node, .poly, PSLG text or a triangle mesh (OFF, .ele…)")
     triangulate_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
-    add_format_option(triangulate_)
-    add_to_option(triangulate_)
     triangulate_.add_argument("--keep-convex-hull", action="store_true",
                               help="keep the triangles between the segments and the convex hull")
     triangulate_.add_argument("--split-segments", action="store_true",
@@ -111,7 +104,4 @@ def add_parser(commands: Subcommands) -> None:
                                    "compiled (the kernel; an error when not built) or "
                                    "python (the batch engine); all record the same trace; "
                                    "fast is the old name of auto")
-    add_exact_flag(triangulate_)
-    add_force_flag(triangulate_)
-    add_json_flag(triangulate_)
-    add_verbose_flag(triangulate_)
+    add_writing_options(triangulate_)
