@@ -17,7 +17,7 @@ absolute computed differences plus K and ``m`` the sum of the absolute pivot coo
 C covers the rounding of the inputs (each float is only the nearest double of its
 rational), of the differences, products and sums; K >= 2^(-950/k) keeps every product in
 the bound normal so that underflow is covered.  The derivation, and the minimal C each
-value was rounded up from, are in ``specs/predicates.md``; ``tests/test_predicates.py``
+value was rounded up from, are in ``specs/predicates.md``; ``tests/kernel/test_predicates.py``
 recomputes the requirements with exact rationals.
 """
 

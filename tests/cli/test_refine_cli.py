@@ -311,18 +311,30 @@ def test_factor_and_left_triangles_are_reported(
 def test_every_engine_records_the_same_trace(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, criterion: list[str], method: str
 ) -> None:
-    """--engine fast / python / transient: the same trace and the same mesh, byte for byte
-    (from a PSLG: the triangulation's steps included)."""
+    """--engine auto / compiled / python / reference (and the old names fast, transient):
+    the same trace and the same mesh, byte for byte (from a PSLG: the triangulation's steps
+    included); compiled refuses a minimum angle (exit 2) instead of running another engine."""
+    from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
+
     source = tmp_path / "pentagon.poly"
     source.write_text(PENTAGON_POLY)
     texts = set()
-    for engine in ("fast", "python", "transient"):
+    engines = ["auto", "python", "reference", "fast", "transient"]
+    in_kernel = "--min-angle" not in criterion
+    if compiled_engine.AVAILABLE and in_kernel:
+        engines.append("compiled")
+    for engine in engines:
         out, trace = tmp_path / f"{engine}.off", tmp_path / f"{engine}.jsonl"
         code, _, err = run(capsys, "refine", source, *criterion, "--method", method,
                            "--engine", engine, "-o", out, "--trace", trace, "--exact")
         assert code == 0, err
         texts.add((out.read_text(), trace.read_text()))
     assert len(texts) == 1
+    if not in_kernel or not compiled_engine.AVAILABLE:
+        code, _, err = run(capsys, "refine", source, *criterion, "--method", method,
+                           "--engine", "compiled")
+        assert code == 2
+        assert "engine 'compiled' cannot run this" in err
 
 
 def test_triangulate_engines_record_the_same_trace(
@@ -330,13 +342,17 @@ def test_triangulate_engines_record_the_same_trace(
 ) -> None:
     source = tmp_path / "pentagon.poly"
     source.write_text(PENTAGON_POLY)
+    from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
+
     texts = set()
-    for engine in ("fast", "python"):
+    engines = ["auto", "python", "fast", *(["compiled"] if compiled_delaunay.AVAILABLE else [])]
+    for engine in engines:
         trace = tmp_path / f"{engine}.jsonl"
         code, _, err = run(capsys, "triangulate", source, "--engine", engine, "--trace", trace)
         assert code == 0, err
         texts.add(trace.read_text())
     assert len(texts) == 1
-    code, _, err = run(capsys, "triangulate", source, "--engine", "transient")
-    assert code == 2  # a usage error: argparse's usage, then the problem
-    assert "argument --engine: invalid choice: 'transient'" in err
+    for engine in ("reference", "transient"):  # Delaunay has no reference engine
+        code, _, err = run(capsys, "triangulate", source, "--engine", engine)
+        assert code == 2  # a usage error: argparse's usage, then the problem
+        assert f"argument --engine: invalid choice: '{engine}'" in err

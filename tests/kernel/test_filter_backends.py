@@ -66,7 +66,7 @@ Decisions = list[int | None]  # a certified sign, or None where the backend does
 def _load_cfilters() -> Any:
     try:
         return importlib.import_module("geomexact.kernel.cfilters")
-    except ImportError:  # not built: the C cases skip (tests/test_kernels_built.py says why)
+    except ImportError:  # not built: the C cases skip (tests/package/test_kernels_built.py says why)
         return None
 
 

@@ -1,14 +1,14 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
 # cython: initializedcheck=False, infer_types=False
 """Typed kernel of ``geomexact.mesh2d.delaunay.triangulation.triangulate_points``: the incremental Delaunay
-construction of ``_DelaunayBuilder`` on C data structures.
+construction of ``BatchDelaunay`` on C data structures.
 
-Contract: :class:`Builder` runs exactly ``_DelaunayBuilder.make_triangle`` then
+Contract: :class:`Builder` runs exactly ``BatchDelaunay.make_triangle`` then
 ``insert`` for every vertex of the given order (visibility walk ``locate``,
-``attach_in_triangle`` / ``attach_in_edge`` / ``_attach_outside``, ``_legalize`` with Lawson
+``attach_in_triangle`` / ``attach_in_edge`` / ``_attach_outside``, ``legalize_edges`` with Lawson
 flips and the tie rule "no flip on cocircular").  It records the same steps, the same
 digest after every step, and seals the same ``Mesh2`` — including the ``outgoing`` hints,
-which the Python builder takes from the insertion order of its half-edge dict (the last
+which the Python engine takes from the insertion order of its half-edge dict (the last
 inserted live half-edge out of each vertex): every half-edge here carries the sequence
 number of its insertion, kept when its apex is updated in place, as a dict does.
 ``geomexact.mesh2d.delaunay.compiled`` is the only caller.
@@ -333,7 +333,7 @@ cdef class Builder:
         return 0
 
     cdef int _locate(self, int64_t p, int64_t *out) except -1:
-        """``_DelaunayBuilder.locate`` for vertex p: WHERE_INSIDE (a, b, c), WHERE_EDGE
+        """``BatchDelaunay.locate`` for vertex p: WHERE_INSIDE (a, b, c), WHERE_EDGE
         (u, v, _) or WHERE_OUTSIDE (u, v, _), the triple in ``out``."""
         cdef int64_t a = self.last_a, b = self.last_b, c, d
         cdef int o0, o1, o2
@@ -448,7 +448,7 @@ cdef class Builder:
         return 0
 
     cdef int _attach_outside(self, int64_t vertex, int64_t u, int64_t v) except -1:
-        """``_DelaunayBuilder._attach_outside``: the visible run is the edges before (u, v)
+        """``BatchDelaunay._attach_outside``: the visible run is the edges before (u, v)
         (collected backwards, then reversed), (u, v), the edges after it."""
         cdef Pair edge, swap
         cdef Py_ssize_t before = 0, total, i
@@ -479,7 +479,7 @@ cdef class Builder:
         return 0
 
     cdef int _legalize(self, int64_t vertex) except -1:
-        """``_DelaunayBuilder._legalize``: pop (a, b) with apex(a, b) == vertex; flip when
+        """``BatchTriangulation.legalize_edges``: pop (a, b) with apex(a, b) == vertex; flip when
         the vertex is strictly inside the circle of (a, b, q) across it."""
         cdef int64_t a, b, q
         while self.npending:
@@ -524,7 +524,7 @@ cdef class Builder:
 
     def finish(self):
         """(halfedges, outgoing, triangle count, digest) of the result, as
-        ``_DelaunayBuilder.seal`` makes them: the half-edge map, the outgoing hints (the
+        ``BatchDelaunay.seal`` makes them: the half-edge map, the outgoing hints (the
         last inserted live half-edge out of each vertex) as ``immutables.Map``s."""
         cdef Py_ssize_t i, slots = self.apex.mask + 1
         cdef uint64_t key

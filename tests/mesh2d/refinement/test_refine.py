@@ -295,7 +295,7 @@ def test_unknown_options_are_refused(option: str, value: str) -> None:
         refine(unit_square(), MaxArea("0.1"), **{option: value})
 
 
-@pytest.mark.parametrize("engine", ["fast", "transient"])
+@pytest.mark.parametrize("engine", ["auto", "python", "reference"])
 def test_on_step_reports_every_step(engine: Any) -> None:
     """on_step receives one Progress per step, numbered 1..n, with the mesh's counts."""
     seen: list[Progress] = []
@@ -429,7 +429,7 @@ def test_triangle_attributes_are_inherited_and_their_border_is_kept() -> None:
         assert_run_is_sound(start, result)
         fast = result.trace
         reference = refine(start, MaxArea(mpq(1, 128)), method=method,  # type: ignore[arg-type]
-                           engine="transient").trace
+                           engine="reference").trace
         assert fast == reference
 
 
@@ -603,5 +603,5 @@ def test_sharp_input_spikes_terminate_and_report_what_is_left(
     assert result.stats.left
     assert_criterion_met(result, MinAngle(degrees), Whole())
     assert_run_is_sound(start, result)
-    engines = refine(start, MinAngle(degrees), method=method, engine="transient")
+    engines = refine(start, MinAngle(degrees), method=method, engine="reference")
     assert engines.trace == result.trace

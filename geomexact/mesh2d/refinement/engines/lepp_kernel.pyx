@@ -1,9 +1,9 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
 # cython: initializedcheck=False, infer_types=False
-"""Typed Lepp refinement kernel: ``refine(..., engine="fast")`` on C data structures.
+"""Typed Lepp refinement kernel: ``refine(..., engine="compiled")`` on C data structures.
 
 Contract: :class:`Kernel` runs exactly the loop of
-``geomexact.mesh2d.refinement.engines.batch.FastRefinement`` for the methods ``"bisection"``,
+``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` for the methods ``"bisection"``,
 ``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; centroid kind ``"area"``,
 with or without constraint midpoints), a criterion rating single triangles (no angle
 threshold) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
@@ -363,7 +363,7 @@ cdef class Kernel:
         return True
 
     cdef int64_t _add_midpoint(self, int64_t u, int64_t v) except -1:
-        """The vertex at the exact midpoint of u and v (as ``FastRefinement.bisect``)."""
+        """The vertex at the exact midpoint of u and v (as ``BatchRefinement.bisect``)."""
         cdef int64_t n = self.nv
         cdef Vertex *vertex
         cdef Vertex *vu
@@ -410,7 +410,7 @@ cdef class Kernel:
 
     cdef int64_t _add_point(self, point, bint known=False, int64_t gx=0,
                             int64_t gy=0) except -1:
-        """A new vertex at the ``Point2`` ``point`` (as ``FastRefinement._add_vertex``,
+        """A new vertex at the ``Point2`` ``point`` (as ``BatchRefinement.add_vertex``,
         no marker); ``known``: it is the grid point (gx, gy)."""
         cdef int64_t n = self.nv
         cdef Vertex *vertex
@@ -796,7 +796,7 @@ cdef class Kernel:
         return 0
 
     cdef int64_t _bisect(self, int64_t u, int64_t v) except -2:
-        """``FastRefinement.bisect`` (no attributes): the new vertex, or -1 at the step
+        """``BatchRefinement.bisect`` (no attributes): the new vertex, or -1 at the step
         limit (no change then)."""
         cdef int64_t w, x, n, p, q, r, side
         cdef uint64_t key
@@ -860,7 +860,7 @@ cdef class Kernel:
         return n
 
     cdef int _flip(self, int64_t u, int64_t v) except -2:
-        """``FastRefinement.flip``: 0, or -1 at the step limit (no change then)."""
+        """``BatchTriangulation.flip``: 0, or -1 at the step limit (no change then)."""
         cdef int64_t w, x
         if self.limit >= 0 and self.nrec >= self.limit:
             return -1
@@ -877,7 +877,7 @@ cdef class Kernel:
         return 0
 
     cdef int64_t _centroid(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
-        """``FastRefinement.centroid`` with ``centroid="area"`` on the interior edge
+        """``BatchRefinement.centroid`` with ``centroid="area"`` on the interior edge
         (u, v) with apexes w, x: the new vertex, or -1 at the step limit (no change)."""
         cdef int64_t n
         cdef int64_t at[2]
@@ -907,7 +907,7 @@ cdef class Kernel:
         return n
 
     cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
-        """``FastRefinement._add`` (no attributes): the triangle (a, b, c), its hints,
+        """``BatchRefinement.add`` (no attributes): the triangle (a, b, c), its hints,
         noted as created."""
         self._set(a, b, c)
         self._set(b, c, a)
@@ -933,7 +933,7 @@ cdef class Kernel:
 
     cdef int _insert_midpoint(self, int64_t u, int64_t v) except -2:
         """``Refinement.insert_midpoint``: bisect (u, v), then legalize the midpoint's
-        star (as ``FastRefinement._star`` lists it); 0, or -1 at the step limit."""
+        star (as ``snapshot.walk_star`` lists it); 0, or -1 at the step limit."""
         cdef int64_t w, x, n
         cdef Pair star[4]
         w = gx_map_get(&self.apex, _edge(u, v), -1)
@@ -998,7 +998,7 @@ cdef class Kernel:
         return 0
 
     cdef int _legalize(self, int64_t vertex, Pair *star, int size) except -2:
-        """``FastRefinement.legalize`` with its known star: 0, or -1 at the step limit.
+        """``BatchRefinement.legalize`` with its known star: 0, or -1 at the step limit.
 
         The dot-product shortcut only skips pairs that incircle would not flip (two
         angles <= 90° facing {a, b} sum to <= 180°), so an undecided dot goes to incircle.
@@ -1035,7 +1035,7 @@ cdef class Kernel:
 
     # -- the loop -----------------------------------------------------------------------
     def run(self):
-        """``FastRefinement.run`` for Lepp-bisection: ``"complete"`` or
+        """``Refinement.run`` (on ``BatchRefinement``) for Lepp-bisection: ``"complete"`` or
         ``"step-limit"``."""
         cdef Entry target
         cdef int64_t a, b, c, u, v, w, x, n, hops
@@ -1122,7 +1122,7 @@ cdef class Kernel:
         return "complete"
 
     def finish(self, start):
-        """(mesh, steps, digests) as ``FastRefinement.finish``."""
+        """(mesh, steps, digests) as ``BatchRefinement.finish``."""
         cdef Py_ssize_t i
         cdef uint64_t slot, edge
         cdef int64_t u, v, n0 = self.n0

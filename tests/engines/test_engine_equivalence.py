@@ -1,0 +1,916 @@
+"""One equivalence suite for every engine, in the manner of immutables' ``BaseMapTest``.
+
+:class:`RefinementSuite` holds every refinement workload — Lepp-bisection with and without
+Delaunay flips, Lepp-centroid (each centroid kind), quasi-Delaunay, every criterion with
+step limits, regions, triangle attributes, grid / off-grid / huge / tiny coordinates, Lake
+Superior, random meshes, PSLGs and lattices — and :class:`DelaunaySuite` every Delaunay
+workload (point sets and PSLGs).  One subclass per engine runs the whole suite with that
+engine: ``reference``, ``python`` and ``compiled`` (skipped when the kernel is not built).
+
+Every refinement run is held against the reference engine's run of the same workload, op
+by op: the same step list and the same digest after every step (the first divergence is
+named), the same progress reports, the same final mesh (every table) and stats; and the
+engine's trace, replayed through the reference ops (:func:`geomexact.trace.playback.replay`
+checks the digest after every step), gives the engine's mesh.  Where the compiled kernel
+does not implement a run, engine ``"compiled"`` must refuse it with ``PreconditionError``
+(never run something else).  Delaunay triangulation has no reference engine: every run is
+replayed through the reference ops, and the compiled run is held against the Python one
+(``outgoing`` hints included).
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.resources
+import random
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, ClassVar
+
+import attrs
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from geomexact import Mesh2, io, mesh_from_triangles, mpq, total_area
+from geomexact.errors import PreconditionError
+from geomexact.kernel.numbers import Rational
+from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
+from geomexact.mesh2d.delaunay.triangulation import (
+    Construction,
+    duplicate_points,
+    triangulate,
+    triangulate_points,
+)
+from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.refinement.api import Progress, Result, refine
+from geomexact.mesh2d.refinement.criteria import (
+    AverageAreaFactor,
+    CallableCriterion,
+    Criterion,
+    MaxArea,
+    MaxEdgeLength,
+    MinAngle,
+    doubled_area,
+)
+from geomexact.mesh2d.refinement.engines import compiled as compiled_refinement
+from geomexact.mesh2d.refinement.regions import (
+    Circle,
+    Polygon,
+    Rectangle,
+    Region,
+    Whole,
+    as_region,
+)
+from geomexact.mesh2d.validation import check
+from geomexact.strategies import (
+    coordinates,
+    dyadic_rationals,
+    meshes_with_traces,
+    points2,
+    pslgs,
+)
+from geomexact.trace.playback import first_divergence, replay
+from geomexact.trace.record import Trace
+from geomexact.trace.step import Step
+
+TABLES = ("vertices", "halfedges", "outgoing", "segments", "vertex_markers",
+          "vertex_attributes", "triangle_attributes")
+
+
+def assert_same_mesh(mesh: Mesh2, expected: Mesh2, tables: Sequence[str] = TABLES) -> None:
+    assert mesh == expected
+    assert mesh.digest == expected.digest and mesh.triangle_count == expected.triangle_count
+    for table in tables:
+        assert getattr(mesh, table) == getattr(expected, table), table
+
+
+def assert_replays(start: Mesh2, trace: Trace, mesh: Mesh2) -> None:
+    """The trace, through the reference ops, reproduces every digest and the mesh."""
+    assert _replayed(start, trace.steps, trace.digests) == mesh
+
+
+@functools.lru_cache(maxsize=256)
+def _replayed(start: Mesh2, steps: tuple[Step, ...], digests: tuple[int, ...]) -> Mesh2:
+    # cached: every engine's suite replays the same traces (replay is deterministic)
+    return replay(start, Trace(start.digest, steps, digests))
+
+
+# --- the inputs --------------------------------------------------------------------------------
+def square() -> Mesh2:
+    return mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],
+                               [(0, 1, 1), (1, 2, 1), (2, 3, 1), (3, 0, 1)])
+
+
+def off_grid() -> Mesh2:
+    """Thirds and tenths: float filters and exact fallbacks; midpoints of off-grid vertices
+    that land on the grid (1/3 + 2/3)."""
+    return mesh_from_triangles(
+        [(mpq(1, 3), 0), (mpq(2, 3), 0), (mpq(2, 3), 1), (mpq(1, 3), 1), ("0.1", "0.5")],
+        [(0, 1, 2), (0, 2, 3), (4, 0, 3)], [(0, 1, 7), (1, 2, 7), (2, 3, 7)])
+
+
+def mixed_grid() -> Mesh2:
+    """A grid triangle among off-grid ones."""
+    return mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1), (mpq(1, 3), 2)],
+                               [(0, 1, 2), (0, 2, 3), (3, 2, 4)])
+
+
+def box(side: Rational) -> Mesh2:
+    return mesh_from_triangles([(0, 0), (side, 0), (side, side), (0, side)],
+                               [(0, 1, 2), (0, 2, 3)])
+
+
+BIG = mpq(1 << 70)
+TINY = mpq(1, 1 << 80)
+
+
+def two_regions() -> Mesh2:
+    """Regional attributes: the attribute borders are constraint edges."""
+    return mesh_from_triangles(
+        [(0, 0), (4, 0), (4, 3), (0, 3), (2, 1)],
+        [(0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+        [(0, 1, 1), (1, 2, 1), (2, 3, 1), (3, 0, 1)],
+        triangle_attributes=[(mpq(1),), (mpq(1),), (mpq(2),), (mpq(3),)],
+    )
+
+
+@functools.lru_cache(maxsize=1)
+def superior_pslg() -> PSLG:
+    source = importlib.resources.files("geomexact") / "data" / "superior.poly"
+    with importlib.resources.as_file(source) as path:
+        pslg = io.read(path, format="poly")
+    assert isinstance(pslg, PSLG)
+    return pslg
+
+
+@functools.lru_cache(maxsize=1)
+def superior() -> Mesh2:
+    return triangulate(superior_pslg()).mesh
+
+
+@attrs.frozen(slots=True)
+class Wide(AverageAreaFactor):
+    """A region-wide criterion that is not exactly ``AverageAreaFactor`` (no kernel)."""
+
+
+def lattice_mesh(raw: list[tuple[int, int]], denominator: int) -> Mesh2 | None:
+    """The Delaunay triangulation of lattice points (cocircular quadruples), or None."""
+    points = [point2(mpq(x, denominator), mpq(y, denominator)) for x, y in raw]
+    try:
+        return triangulate(points).mesh
+    except PreconditionError:  # collinear input: nothing to refine
+        return None
+
+
+# every engine's class runs the same @given methods: the examples do not depend on the
+# engine (a failing example saved by one engine is replayed for all, which is what we want)
+every_engine = settings(suppress_health_check=[HealthCheck.differing_executors])
+
+REGIONS = st.sampled_from([
+    Whole(), Circle(0, 0, 3), Circle(100, 100, 90), Rectangle(-2, -2, 6, 3),
+    Polygon([(0, 0), (300, 0), (0, 300)]),
+])
+
+
+# --- the reference runs --------------------------------------------------------------------------
+@attrs.frozen(slots=True)
+class Run:
+    """A run and the progress reports it made."""
+
+    result: Result
+    reports: tuple[Progress, ...]
+
+
+def run_engine(engine: str, start: Mesh2, criterion: Criterion, options: dict[str, Any]) -> Run:
+    reports: list[Progress] = []
+    result = refine(start, criterion, engine=engine, on_step=reports.append, **options)
+    return Run(result, tuple(reports))
+
+
+@functools.lru_cache(maxsize=256)
+def _cached_reference(start: Mesh2, outgoing: Any, criterion: Criterion,
+                      options: tuple[tuple[str, Any], ...]) -> Run:
+    return run_engine("reference", start, criterion, dict(options))
+
+
+def reference_run(start: Mesh2, criterion: Criterion, options: dict[str, Any]) -> Run:
+    """The reference engine's run (cached: each engine's suite holds the same one).  The
+    key holds the start's ``outgoing`` hints: equal meshes (which ignore them) may carry
+    different hints, and the result's hints come from them."""
+    try:
+        return _cached_reference(start, start.outgoing, criterion,
+                                 tuple(sorted(options.items())))
+    except TypeError:  # an unhashable option: no cache
+        return run_engine("reference", start, criterion, options)
+
+
+def refinement_options(criterion: Criterion, options: dict[str, Any]) -> dict[str, Any]:
+    """The options ``refine()`` hands the engines, with the defaults filled in."""
+    full = {"region": None, "method": "bisection", "delaunay": True, "centroid": "area",
+            "constraint_midpoints": True, "on_step": None, **options}
+    full["region"] = as_region(full["region"])
+    full["criterion"] = criterion
+    full.pop("max_steps", None)
+    return full
+
+
+# --- the refinement suite -----------------------------------------------------------------------
+class RefinementSuite:
+    """Every refinement workload, run by ``engine`` and held against the reference run."""
+
+    engine: ClassVar[str]
+
+    def same(self, start: Mesh2, criterion: Criterion, **options: Any) -> Result:
+        """Run the workload with this suite's engine; assert it equals the reference run
+        op by op and replays; return the run (the reference's where ``compiled`` must
+        refuse it)."""
+        reference = reference_run(start, criterion, options)
+        if self.engine == "compiled" and compiled_refinement.unsupported(
+                start, **refinement_options(criterion, options)) is not None:
+            with pytest.raises(PreconditionError, match="engine 'compiled' cannot run"):
+                refine(start, criterion, engine="compiled", **options)
+            return reference.result
+        if self.engine == "reference":
+            run = reference
+        else:
+            run = run_engine(self.engine, start, criterion, options)
+            assert_same_run(run, reference)
+        assert_replays(start, run.result.trace, run.result.mesh)
+        return run.result
+
+    # -- the unit square (the dyadic grid: exact float paths) -------------------------------
+    @pytest.mark.parametrize("area", ["1/8", "0.01", "0.001", "3e-4"])
+    @pytest.mark.parametrize("delaunay", [True, False])
+    def test_square(self, area: str, delaunay: bool) -> None:
+        result = self.same(square(), MaxArea(area), delaunay=delaunay)
+        assert result.status == "complete"
+        check(result.mesh)
+
+    @pytest.mark.parametrize("region", [
+        Circle(mpq(1, 3), mpq(1, 2), mpq(1, 4)), Rectangle(0, 0, mpq(1, 2), mpq(1, 5)),
+        Polygon([(0, 0), (1, 0), (0, 1)]), Circle(5, 5, 1),
+    ])
+    def test_square_regions(self, region: Region) -> None:
+        self.same(square(), MaxArea("1e-3"), region=region)
+
+    @pytest.mark.parametrize("limit", [0, 1, 2, 7, 100, 333])
+    def test_square_step_limits(self, limit: int) -> None:
+        result = self.same(square(), MaxArea("1e-3"), max_steps=limit)
+        assert result.status == "step-limit" and len(result.trace) == limit
+
+    def test_criteria_rated_in_python(self) -> None:
+        """Criteria rated through their ``rate`` (tuple keys, edge lengths)."""
+        self.same(square(), MaxEdgeLength("0.05"))
+        self.same(square(), CallableCriterion(
+            lambda a, b, c: doubled_area(a, b, c) > mpq(1, 500),
+            priority=lambda a, b, c: (a.x + a.y, -doubled_area(a, b, c))))
+
+    def test_off_grid(self) -> None:
+        self.same(off_grid(), MaxArea("2e-3"))
+        self.same(off_grid(), MaxArea("2e-3"), delaunay=False)
+        self.same(off_grid(), MaxArea("2e-3"), region=Circle(mpq(1, 2), 0, mpq(1, 3)),
+                  max_steps=150)
+
+    def test_huge_and_tiny_coordinates(self) -> None:
+        """Beyond the grid's range (integers above 2^60) and far below it."""
+        self.same(box(BIG), MaxArea(BIG * BIG / 100))
+        self.same(box(TINY), MaxArea(TINY * TINY / 50))
+
+    def test_superior(self) -> None:
+        area = total_area(superior())
+        assert self.same(superior(), MaxArea(area / 2000)).status == "complete"
+        self.same(superior(), MaxArea(area / 500), delaunay=False)
+        self.same(superior(), MaxEdgeLength(mpq(1, 20)), max_steps=300)
+
+    # -- AverageAreaFactor (region-wide: the mean area of the region's triangles) ---------
+    @pytest.mark.parametrize("factor", ["1/2", "1/10", "0.3", "1/300", "1/2000", "7/12345"])
+    @pytest.mark.parametrize("delaunay", [True, False])
+    def test_factor_square(self, factor: str, delaunay: bool) -> None:
+        result = self.same(square(), AverageAreaFactor(factor), delaunay=delaunay)
+        assert result.status == "complete"
+        check(result.mesh)
+        triangles = result.mesh.triangle_count
+        assert total_area(result.mesh) <= mpq(factor) * mpq(1, 2) * triangles  # mean met
+        assert len(result.trace) > 0
+
+    def test_factor_exact_tie(self) -> None:
+        """Factor 1/2: one bisection of the diagonal makes 4 triangles of mean exactly 1/4,
+        the target (the float filter cannot decide a tie; the exact test does)."""
+        result = self.same(square(), AverageAreaFactor("1/2"))
+        assert len(result.trace) == 1 and result.mesh.triangle_count == 4
+        below = self.same(square(), AverageAreaFactor(mpq(1, 2) - mpq(1, 10**30)))
+        assert len(below.trace) > 1
+
+    @pytest.mark.parametrize("factor", ["1", "3", "1e9"])
+    def test_factor_at_least_one_is_met_at_once(self, factor: str) -> None:
+        result = self.same(square(), AverageAreaFactor(factor))
+        assert result.status == "complete" and len(result.trace) == 0
+        assert result.stats.targets == 0
+
+    @pytest.mark.parametrize("region", [
+        Circle(mpq(1, 3), mpq(1, 2), mpq(1, 4)),  # no vertex inside: no triangle in it
+        Circle(5, 5, 1),
+        Circle(mpq(1, 2), mpq(1, 2), mpq(1, 3)),
+        Rectangle(0, 0, mpq(1, 2), mpq(1, 5)),
+        Polygon([(0, 0), (1, 0), (0, 1)]),
+    ])
+    @pytest.mark.parametrize("delaunay", [True, False])
+    def test_factor_regions(self, region: Region, delaunay: bool) -> None:
+        """Triangles enter and leave the region as vertices are added and edges flipped; a
+        region with no triangle is met at once."""
+        refined = refine(square(), MaxArea("0.02")).mesh  # vertices inside the small circles
+        for mesh in (square(), refined):
+            result = self.same(mesh, AverageAreaFactor("1/40"), region=region,
+                               delaunay=delaunay)
+            if not any(region.contains(mesh.point(v)) for v in range(mesh.vertex_count)):
+                assert len(result.trace) == 0
+
+    @pytest.mark.parametrize("limit", [0, 1, 2, 7, 100, 333])
+    @pytest.mark.parametrize("delaunay", [True, False])
+    def test_factor_step_limits(self, limit: int, delaunay: bool) -> None:
+        result = self.same(square(), AverageAreaFactor("1/2000"), max_steps=limit,
+                           delaunay=delaunay)
+        assert result.status == "step-limit" and len(result.trace) == limit
+
+    def test_factor_limit_after_completion(self) -> None:
+        result = self.same(square(), AverageAreaFactor("1/10"), max_steps=1000)
+        assert result.status == "complete" and 0 < len(result.trace) < 1000
+
+    def test_factor_off_grid(self) -> None:
+        """Off-grid triangles in the region: their areas summed as rationals."""
+        for delaunay in (True, False):
+            self.same(off_grid(), AverageAreaFactor("1/50"), delaunay=delaunay)
+        self.same(off_grid(), AverageAreaFactor("1/50"), region=Circle(mpq(1, 2), 0, mpq(1, 3)))
+        self.same(off_grid(), AverageAreaFactor("1/200"), max_steps=150)
+        self.same(mixed_grid(), AverageAreaFactor("1/60"))
+        self.same(mixed_grid(), AverageAreaFactor("1/60"), region=Rectangle(0, 0, 1, 1),
+                  delaunay=False)
+
+    def test_factor_huge_and_tiny(self) -> None:
+        self.same(box(BIG), AverageAreaFactor("1/100"))
+        self.same(box(TINY), AverageAreaFactor("1/100"))
+        # an extreme factor: the target outside the float filter's range (exact test)
+        self.same(square(), AverageAreaFactor(mpq(1, 1 << 600)), max_steps=50)
+        self.same(square(), AverageAreaFactor(mpq(1 << 600)))
+
+    def test_factor_superior(self) -> None:
+        assert self.same(superior(), AverageAreaFactor("1/4")).status == "complete"
+        self.same(superior(), AverageAreaFactor("1/3"), delaunay=False)
+        self.same(superior(), AverageAreaFactor("1/20"), max_steps=300)
+        self.same(superior(), AverageAreaFactor("1/2"), region=Circle(-88, 47, 1))
+
+    def test_other_region_wide_criterion(self) -> None:
+        self.same(square(), Wide("1/300"))
+
+    # -- methods centroid and quasi -------------------------------------------------------
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    @pytest.mark.parametrize("area", ["1/8", "0.01", "0.001"])
+    @pytest.mark.parametrize("delaunay", [True, False])
+    @pytest.mark.parametrize("midpoints", [True, False])
+    def test_methods_square(self, method: str, area: str, delaunay: bool,
+                            midpoints: bool) -> None:
+        result = self.same(square(), MaxArea(area), method=method, delaunay=delaunay,
+                           constraint_midpoints=midpoints)
+        assert result.status == "complete"
+        check(result.mesh)
+        ops = {step.op for step in result.trace.steps}
+        if area != "1/8":
+            assert "insert_in_quadrilateral" in ops
+        if method == "quasi" and delaunay and midpoints and area == "0.001":
+            assert "flip" in ops
+
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    @pytest.mark.parametrize("centroid", ["area-exact", "vertices"])
+    def test_centroid_kinds(self, method: str, centroid: str) -> None:
+        self.same(square(), MaxArea("0.01"), method=method, centroid=centroid)
+        self.same(off_grid(), MaxArea("0.01"), method=method, centroid=centroid,
+                  delaunay=False, max_steps=40)
+
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    @pytest.mark.parametrize("region", [
+        Circle(mpq(1, 3), mpq(1, 2), mpq(1, 4)), Rectangle(0, 0, mpq(1, 2), mpq(1, 5)),
+        Polygon([(0, 0), (1, 0), (0, 1)]), Circle(5, 5, 1),
+    ])
+    def test_methods_regions(self, method: str, region: Region) -> None:
+        self.same(square(), MaxArea("1e-3"), method=method, region=region)
+        self.same(square(), AverageAreaFactor("1/60"), method=method, region=region,
+                  delaunay=False)
+
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    @pytest.mark.parametrize("limit", [0, 1, 2, 7, 100, 333])
+    @pytest.mark.parametrize("delaunay", [True, False])
+    def test_methods_step_limits(self, method: str, limit: int, delaunay: bool) -> None:
+        result = self.same(square(), MaxArea("1e-3"), max_steps=limit, method=method,
+                           delaunay=delaunay)
+        assert result.status == "step-limit" and len(result.trace) == limit
+
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    def test_methods_criteria(self, method: str) -> None:
+        """Criteria rated in Python, the average-area factor, off-grid and huge inputs."""
+        self.same(square(), MaxEdgeLength("0.05"), method=method)
+        self.same(square(), CallableCriterion(
+            lambda a, b, c: doubled_area(a, b, c) > mpq(1, 500),
+            priority=lambda a, b, c: (a.x + a.y, -doubled_area(a, b, c))),
+            method=method, constraint_midpoints=False)
+        for factor in ("1/2", "1/300", "7/12345"):
+            self.same(square(), AverageAreaFactor(factor), method=method)
+        self.same(square(), AverageAreaFactor("1/2000"), method=method, max_steps=150)
+        for delaunay in (True, False):
+            self.same(off_grid(), MaxArea("2e-3"), method=method, delaunay=delaunay)
+            self.same(off_grid(), AverageAreaFactor("1/50"), method=method, delaunay=delaunay)
+        self.same(off_grid(), MaxArea("2e-3"), region=Circle(mpq(1, 2), 0, mpq(1, 3)),
+                  max_steps=150, method=method, constraint_midpoints=False)
+        self.same(box(BIG), MaxArea(BIG * BIG / 100), method=method)
+        self.same(box(TINY), MaxArea(TINY * TINY / 50), method=method)
+
+    def test_methods_deep_refinement(self) -> None:
+        """Centroids far below the input's scale leave the integer grid (float filters and
+        exact fallbacks on the rounded centroids)."""
+        region = Rectangle(0, 0, mpq(1, 10**9), mpq(1, 10**9))  # at the corner (0, 0)
+        for method in ("centroid", "quasi"):
+            result = self.same(square(), MaxArea(mpq(1, 10**30)), method=method,
+                               region=region, max_steps=3000)
+            assert result.status == "step-limit"
+            mesh = result.mesh
+            assert max(mesh.point(v).x.denominator
+                       for v in range(4, mesh.vertex_count)) > 2**58
+
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    def test_methods_superior(self, method: str) -> None:
+        area = total_area(superior())
+        result = self.same(superior(), MaxArea(area / 2000), method=method)
+        assert result.status == "complete"
+        assert "insert_in_quadrilateral" in {step.op for step in result.trace.steps}
+        self.same(superior(), MaxArea(area / 500), method=method, delaunay=False)
+        self.same(superior(), MaxArea(area / 500), method=method, constraint_midpoints=False)
+        self.same(superior(), MaxEdgeLength(mpq(1, 20)), max_steps=300, method=method)
+        self.same(superior(), AverageAreaFactor("1/4"), method=method)
+        self.same(superior(), AverageAreaFactor("1/2"), region=Circle(-88, 47, 1),
+                  method=method)
+
+    # -- minimum angle and attributes (the kernel refuses them) ---------------------------
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    @pytest.mark.parametrize("degrees", [20, 30, 35])
+    def test_min_angle_superior(self, method: str, degrees: int) -> None:
+        result = self.same(superior(), MinAngle(degrees), method=method)
+        assert result.status == "complete"
+
+    def test_min_angle_bisection_with_step_limit(self) -> None:
+        self.same(off_grid(), MinAngle(30), max_steps=60)
+        self.same(superior(), MinAngle(30), max_steps=200, delaunay=False, method="centroid")
+
+    @every_engine
+    @given(st.sampled_from(["bisection", "centroid", "quasi"]), st.integers(3, 60))
+    def test_triangle_attributes(self, method: Any, pieces: int) -> None:
+        """Regional attributes (the attribute path of the batch store)."""
+        self.same(two_regions(), MaxArea(mpq(12, pieces)), method=method)
+        self.same(two_regions(), MinAngle(28), method=method, max_steps=500)
+
+    # -- random inputs --------------------------------------------------------------------
+    @every_engine
+    @given(
+        meshes_with_traces(max_steps=10),
+        st.sampled_from(["bisection", "centroid", "quasi"]),
+        st.booleans(),
+        st.sampled_from(["area", "area-exact", "vertices"]),
+        st.booleans(),
+        st.sampled_from(["max_area", "edge", "factor", "angle"]),
+        REGIONS,
+        st.sampled_from([None, 0, 3, 25]),
+    )
+    def test_random_meshes(
+        self, case: tuple[Mesh2, Mesh2, Any], method: Any, delaunay: bool, centroid: Any,
+        midpoints: bool, kind: str, region: Region, limit: int | None,
+    ) -> None:
+        """Random meshes (convex polygons after random steps), every option."""
+        _, start, _ = case
+        criterion: Criterion = {
+            "max_area": MaxArea(total_area(start) / 30),
+            "edge": MaxEdgeLength(mpq(1, 4) * 256),
+            "factor": AverageAreaFactor(mpq(1, 3)),
+            "angle": MinAngle(27),
+        }[kind]
+        if kind == "angle" or centroid == "area-exact":
+            # exact area centroids grow coordinates geometrically: keep those runs short;
+            # minimum-angle runs on random meshes need not terminate (input angles below
+            # 27° that the small-angle rules do not bound, specs/refine.md)
+            limit = 40 if limit is None else limit
+        self.same(start, criterion, method=method, delaunay=delaunay, centroid=centroid,
+                  constraint_midpoints=midpoints, region=region, max_steps=limit)
+
+    @every_engine
+    @given(meshes_with_traces(max_steps=10), st.booleans(), REGIONS,
+           st.sampled_from([None, 0, 3, 25]), st.sampled_from(["area", "edge"]))
+    def test_random_meshes_bisection(self, case: tuple[Mesh2, Mesh2, Any], delaunay: bool,
+                                     region: Region, limit: int | None, kind: str) -> None:
+        _, start, _ = case
+        criterion = (MaxArea(total_area(start) / 30) if kind == "area"
+                     else MaxEdgeLength(mpq(1, 4) * 256))
+        self.same(start, criterion, max_steps=limit, delaunay=delaunay, region=region)
+
+    @every_engine
+    @given(meshes_with_traces(max_steps=10), st.sampled_from(["centroid", "quasi"]),
+           st.booleans(), st.booleans(), REGIONS, st.sampled_from([None, 0, 3, 25]),
+           st.sampled_from(["area", "edge", "factor"]))
+    def test_random_meshes_area_centroids(
+        self, case: tuple[Mesh2, Mesh2, Any], method: str, delaunay: bool, midpoints: bool,
+        region: Region, limit: int | None, kind: str,
+    ) -> None:
+        """The rounded area centroid (the kernel's subset)."""
+        _, start, _ = case
+        criterion: Criterion = (
+            MaxArea(total_area(start) / 30) if kind == "area"
+            else MaxEdgeLength(mpq(1, 4) * 256) if kind == "edge"
+            else AverageAreaFactor("1/7")
+        )
+        self.same(start, criterion, max_steps=limit, delaunay=delaunay, region=region,
+                  method=method, constraint_midpoints=midpoints)
+
+    @every_engine
+    @given(meshes_with_traces(max_steps=10), st.sampled_from(["bisection", "centroid",
+                                                              "quasi"]),
+           st.booleans(), REGIONS, st.sampled_from([None, 0, 3, 25]),
+           st.sampled_from(["1/2", "1/7", "1/40", "2"]))
+    def test_random_meshes_average_area(
+        self, case: tuple[Mesh2, Mesh2, Any], method: str, delaunay: bool, region: Region,
+        limit: int | None, factor: str,
+    ) -> None:
+        _, start, _ = case
+        self.same(start, AverageAreaFactor(factor), max_steps=limit, delaunay=delaunay,
+                  region=region, method=method)
+
+    @every_engine
+    @given(pslgs(max_boundary=9, max_points=8), st.sampled_from(["centroid", "quasi"]),
+           st.integers(20, 34), st.booleans())
+    def test_random_pslgs_min_angle(self, pslg: PSLG, method: Any, degrees: int,
+                                    delaunay: bool) -> None:
+        """Constrained Delaunay triangulations (holes, small input angles); without flips
+        the run cannot finish, so it is cut at 150 steps."""
+        self.same(triangulate(pslg).mesh, MinAngle(degrees), method=method, delaunay=delaunay,
+                  max_steps=None if delaunay else 150)
+
+    @every_engine
+    @given(pslgs(max_boundary=9, max_points=8), st.booleans(), st.sampled_from([None, 40]))
+    def test_random_pslgs_bisection(self, pslg: PSLG, delaunay: bool,
+                                    limit: int | None) -> None:
+        start = triangulate(pslg).mesh
+        self.same(start, MaxArea(total_area(start) / 60), max_steps=limit, delaunay=delaunay)
+
+    @every_engine
+    @given(pslgs(max_boundary=9, max_points=8), st.sampled_from(["centroid", "quasi"]),
+           st.booleans(), st.booleans(), st.sampled_from([None, 40]))
+    def test_random_pslgs_area_centroids(self, pslg: PSLG, method: str, delaunay: bool,
+                                         midpoints: bool, limit: int | None) -> None:
+        start = triangulate(pslg).mesh
+        self.same(start, MaxArea(total_area(start) / 60), max_steps=limit, delaunay=delaunay,
+                  method=method, constraint_midpoints=midpoints)
+
+    @every_engine
+    @given(pslgs(max_boundary=9, max_points=8), st.booleans(), st.sampled_from([None, 40]),
+           st.sampled_from(["1/3", "1/25"]), REGIONS)
+    def test_random_pslgs_average_area(self, pslg: PSLG, delaunay: bool, limit: int | None,
+                                       factor: str, region: Region) -> None:
+        start = triangulate(pslg).mesh
+        self.same(start, AverageAreaFactor(factor), max_steps=limit, delaunay=delaunay,
+                  region=region)
+
+    @every_engine
+    @given(st.lists(st.tuples(st.integers(0, 64), st.integers(0, 64)), min_size=3,
+                    max_size=30, unique=True), st.sampled_from([1, 8, 3]))
+    def test_random_lattices_bisection(self, raw: list[tuple[int, int]],
+                                       denominator: int) -> None:
+        """Delaunay triangulations of lattice points: many cocircular quadruples, so the
+        legalization's exact incircle decides ties (the grid path for dyadic scales)."""
+        start = lattice_mesh(raw, denominator)
+        if start is not None and start.triangle_count:
+            self.same(start, MaxArea(total_area(start) / 40))
+
+    @every_engine
+    @given(st.lists(st.tuples(st.integers(0, 64), st.integers(0, 64)), min_size=3,
+                    max_size=30, unique=True), st.sampled_from([1, 8, 3]),
+           st.sampled_from(["centroid", "quasi"]))
+    def test_random_lattices_area_centroids(self, raw: list[tuple[int, int]],
+                                            denominator: int, method: str) -> None:
+        """Lattices: cocircular quadruples (quasi's incircle ties, legalization)."""
+        start = lattice_mesh(raw, denominator)
+        if start is not None and start.triangle_count:
+            self.same(start, MaxArea(total_area(start) / 40), method=method)
+
+
+def assert_same_run(run: Run, reference: Run) -> None:
+    """Op by op: steps, digests, progress reports; then the mesh, the stats."""
+    trace, expected = run.result.trace, reference.result.trace
+    divergence = first_divergence(trace, expected)
+    assert divergence is None, (
+        f"diverges at step {divergence}: "
+        f"{trace.steps[divergence:divergence + 1]} != {expected.steps[divergence:divergence + 1]}"
+    )
+    assert trace.steps == expected.steps
+    assert trace.digests == expected.digests
+    assert trace == expected  # parameters too: no engine among them
+    assert run.reports == reference.reports
+    assert_same_mesh(run.result.mesh, reference.result.mesh)
+    assert attrs.evolve(run.result.stats, seconds=0) == attrs.evolve(
+        reference.result.stats, seconds=0)
+
+
+class TestReferenceRefinement(RefinementSuite):
+    engine = "reference"
+
+
+class TestPythonRefinement(RefinementSuite):
+    engine = "python"
+
+
+@pytest.mark.skipif(not compiled_refinement.AVAILABLE,
+                    reason="the compiled Lepp kernel is not built")
+class TestCompiledRefinement(RefinementSuite):
+    engine = "compiled"
+
+
+# --- the Delaunay suite ------------------------------------------------------------------------
+def lattice(width: int, height: int, denominator: int = 1) -> list[Point2]:
+    return [point2(mpq(x, denominator), mpq(y, denominator))
+            for x in range(width) for y in range(height)]
+
+
+def random_doubles(count: int, seed: int) -> list[Point2]:
+    rng = random.Random(seed)
+    return [point2(mpq(rng.random()), mpq(rng.random())) for _ in range(count)]
+
+
+class DelaunaySuite:
+    """Every Delaunay workload, run by ``engine``: replayed through the reference ops, and
+    held against the Python engine's run."""
+
+    engine: ClassVar[str]
+
+    def same(self, points: PSLG | Sequence[Point2], seed: int = 0,
+             **options: Any) -> Construction | None:
+        """Triangulate with this suite's engine (duplicates merged); None when there is no
+        triangle (then every engine refuses)."""
+        try:
+            run = triangulate(points, merge_duplicates=True, seed=seed, engine=self.engine,
+                              **options)
+        except PreconditionError:
+            with pytest.raises(PreconditionError):
+                triangulate(points, merge_duplicates=True, seed=seed, engine="python",
+                            **options)
+            return None
+        assert_replays(run.start, run.trace, run.mesh)
+        if self.engine != "python":
+            python = triangulate(points, merge_duplicates=True, seed=seed, engine="python",
+                                 **options)
+            assert first_divergence(run.trace, python.trace) is None
+            assert run.trace == python.trace
+            assert_same_mesh(run.mesh, python.mesh)
+            assert type(run.mesh.halfedges) is type(python.mesh.halfedges)
+            assert run.start == python.start and run.duplicates == python.duplicates
+        return run
+
+    # -- random doubles (the benchmark's input) -------------------------------------------
+    @pytest.mark.parametrize("count", [3, 10, 64, 65, 500, 3000])
+    def test_random_doubles(self, count: int) -> None:
+        run = self.same(random_doubles(count, count))
+        assert run is not None and run.trace.steps[0].op == "make_triangle"
+
+    @pytest.mark.parametrize("seed", [0, 1, 5])
+    def test_seeds(self, seed: int) -> None:
+        rng = random.Random(99)
+        self.same([point2(mpq(rng.randrange(-10**6, 10**6), 7), mpq(rng.randrange(10**6), 3))
+                   for _ in range(300)], seed=seed)
+
+    # -- cocircular ties, collinear runs, hull growth -------------------------------------
+    @pytest.mark.parametrize(("width", "height", "denominator"),
+                             [(3, 3, 1), (10, 10, 1), (17, 5, 8), (12, 12, 3), (25, 25, 10),
+                              (40, 1, 1), (2, 30, 1)])
+    def test_lattices(self, width: int, height: int, denominator: int) -> None:
+        """Every lattice square is cocircular: the tie rule (no flip) decides."""
+        self.same(lattice(width, height, denominator))
+
+    def test_lattice_seeds(self) -> None:
+        for seed in range(5):
+            self.same(lattice(9, 7), seed=seed)
+
+    def test_circle_points(self) -> None:
+        """All points on one circle (exact rational points of the unit circle)."""
+        points = []
+        for s in range(-20, 21):
+            t = mpq(s, 7)
+            points.append(point2((1 - t * t) / (1 + t * t), 2 * t / (1 + t * t)))
+        points.append(point2(-1, 0))
+        self.same(points)
+
+    def test_collinear_prefixes(self) -> None:
+        """Many collinear points before the first non-collinear one; points on hull edges."""
+        line = [point2(i, 2 * i) for i in range(50)]
+        self.same([*line, point2(3, 1)])
+        self.same([*line, point2(3, 1), point2(-5, 40), point2(100, 1)])
+        self.same([point2(i, 0) for i in range(30)] + [point2(i, 1) for i in range(30)])
+        self.same([point2(i, 0) for i in range(20)] + [point2(0, i) for i in range(1, 20)])
+
+    def test_growing_hull(self) -> None:
+        """Points on a convex curve: each new point outside the hull sees many edges."""
+        self.same([point2(i, i * i) for i in range(-40, 41)])
+        self.same([point2(mpq(1, i), i) for i in range(1, 60)])
+
+    def test_all_collinear_and_too_few(self) -> None:
+        assert self.same([point2(i, i) for i in range(10)]) is None
+        assert self.same([point2(0, 0), point2(1, 1), point2(0, 0)]) is None
+
+    def test_random_doubles_with_duplicates(self) -> None:
+        points = random_doubles(500, 2)
+        run = self.same([*points, *points[:10]])
+        assert run is not None and len(run.duplicates) == 10
+
+    def test_duplicates_merged(self) -> None:
+        rng = random.Random(3)
+        base = [point2(mpq(rng.randrange(20), 4), mpq(rng.randrange(20), 4))
+                for _ in range(300)]
+        assert duplicate_points(base)  # many copies
+        run = self.same(base)
+        assert run is not None
+        isolated = {d for d, _ in duplicate_points(base)}
+        assert not any(u in isolated or v in isolated for u, v in run.mesh.halfedges)
+
+    # -- magnitudes -----------------------------------------------------------------------
+    @pytest.mark.parametrize("scale", [mpq(1), mpq(2) ** 70, mpq(2) ** -80, mpq(10) ** 300,
+                                       mpq(10) ** -300, mpq(10) ** 400, mpq(10) ** -400,
+                                       mpq(1, 3), mpq(2) ** 1000])
+    def test_scaled_inputs(self, scale: Rational) -> None:
+        """Huge and tiny coordinates, beyond the double range, non-dyadic scales."""
+        rng = random.Random(11)
+        self.same([point2(p.x * scale, p.y * scale) for p in lattice(6, 6)])
+        self.same([point2(mpq(rng.randrange(10**9), 10**9) * scale,
+                          mpq(rng.randrange(10**9), 10**9) * scale) for _ in range(200)])
+
+    def test_mixed_magnitudes(self) -> None:
+        """Grid and off-grid vertices in one run (some doubles far below 2**-F)."""
+        rng = random.Random(5)
+        points = random_doubles(200, 5)
+        points += [point2(mpq(rng.random()) * mpq(2) ** -70, mpq(rng.random()))
+                   for _ in range(50)]
+        points += [point2(mpq(1, 3) + mpq(k, 10**40), mpq(1, 7)) for k in range(20)]
+        self.same(points)
+
+    def test_non_dyadic_rationals(self) -> None:
+        rng = random.Random(8)
+        self.same([point2(mpq(rng.randrange(1, 1000), rng.randrange(1, 1000)),
+                          mpq(rng.randrange(1, 1000), rng.randrange(1, 1000)))
+                   for _ in range(300)])
+        self.same([point2(mpq(x, 10), mpq(y, 10)) for x in range(15) for y in range(15)])
+
+    # -- PSLGs (the engine runs step 1; segments, holes and regions follow as ops) ---------
+    def test_superior(self) -> None:
+        run = self.same(superior_pslg())
+        assert run is not None and run.mesh.segments
+
+    def test_split_segments(self) -> None:
+        """Crossing segments and a vertex on a segment, split at exact points."""
+        pslg = PSLG(vertices=(point2(0, 0), point2(4, 0), point2(4, 4), point2(0, 4),
+                              point2(2, 0), point2(1, 3)),
+                    segments=((0, 2, 1), (1, 3, 1), (0, 1, 2), (4, 5, 3)))
+        self.same(pslg, split_segments=True)
+        self.same(pslg, split_segments=True, keep_convex_hull=True)
+
+    @every_engine
+    @given(pslgs(max_boundary=10, max_points=10), st.booleans())
+    def test_random_pslgs(self, pslg: PSLG, keep_convex_hull: bool) -> None:
+        self.same(pslg, keep_convex_hull=keep_convex_hull)
+
+    # -- random point sets ----------------------------------------------------------------
+    @every_engine
+    @given(st.lists(points2(), min_size=3, max_size=30))
+    def test_random_points_any_magnitude(self, points: list[Point2]) -> None:
+        self.same(points)
+
+    @every_engine
+    @given(st.lists(points2(dyadic_rationals(max_exponent=8)), min_size=3, max_size=60),
+           st.integers(0, 3))
+    def test_random_dyadic_points(self, points: list[Point2], seed: int) -> None:
+        self.same(points, seed=seed)
+
+    @every_engine
+    @given(st.lists(st.tuples(st.integers(0, 12), st.integers(0, 12)), min_size=3,
+                    max_size=80), st.sampled_from([1, 4, 3]))
+    def test_random_lattice_subsets(self, raw: list[tuple[int, int]], denominator: int) -> None:
+        """Lattice subsets with repeats: ties, collinear runs and duplicates together."""
+        self.same([point2(mpq(x, denominator), mpq(y, denominator)) for x, y in raw])
+
+    @settings(every_engine, max_examples=20)
+    @given(st.lists(points2(coordinates(["ordinary", "decimal"])), min_size=3, max_size=120))
+    def test_random_ordinary_points(self, points: list[Point2]) -> None:
+        self.same(points)
+
+    # -- the real point sets --------------------------------------------------------------
+    @pytest.mark.parametrize("name", ["polylla-refinement/500poisson.off",
+                                      "polylla-refinement/1500random.off"])
+    def test_real_point_sets(self, shared_data: Path, name: str) -> None:
+        path = shared_data / name
+        if not path.exists():
+            pytest.skip(f"{path} not found")
+        mesh = io.read(path)
+        assert isinstance(mesh, Mesh2)
+        assert self.same([mesh.point(v) for v in range(mesh.vertex_count)]) is not None
+
+
+class TestPythonDelaunay(DelaunaySuite):
+    engine = "python"
+
+
+@pytest.mark.skipif(not compiled_delaunay.AVAILABLE,
+                    reason="the compiled Delaunay kernel is not built")
+class TestCompiledDelaunay(DelaunaySuite):
+    engine = "compiled"
+
+
+# --- the engine names ------------------------------------------------------------------------
+def test_old_names_are_the_new_ones() -> None:
+    """``fast`` is ``auto`` and ``transient`` is ``reference``: the same runs."""
+    start, criterion = square(), MinAngle(30)
+    auto = refine(start, criterion, method="centroid", engine="auto").trace
+    for engine in ("fast", "reference", "transient"):
+        assert refine(start, criterion, method="centroid", engine=engine).trace == auto
+    points = random_doubles(100, 1)
+    assert triangulate_points(points, engine="fast").trace == triangulate_points(
+        points, engine="auto").trace
+
+
+def test_auto_runs_the_kernel_only_where_it_applies(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``auto`` and ``compiled`` call the kernel; ``python`` and ``reference`` never do;
+    ``auto`` runs the Python engine where the kernel does not apply."""
+    calls: list[str] = []
+    module = sys.modules["geomexact.mesh2d.refinement.api"]
+    original: Callable[..., Any] = module.run_compiled  # type: ignore[attr-defined]
+
+    def spy(*args: Any, **kwargs: Any) -> Any:
+        calls.append("kernel")
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(module, "run_compiled", spy)
+    start = square()
+    for engine in ("python", "reference", "transient"):
+        refine(start, MaxArea("1/64"), engine=engine)
+    assert calls == []
+    refine(start, MaxArea("1/64"), engine="auto")
+    assert calls == ["kernel"]
+    if compiled_refinement.AVAILABLE:
+        refine(start, MaxArea("1/64"), engine="compiled")
+        assert calls == ["kernel", "kernel"]
+    auto = refine(start, MinAngle(30), method="centroid", engine="auto")  # not in the kernel
+    assert auto.trace == refine(start, MinAngle(30), method="centroid", engine="python").trace
+
+
+@pytest.mark.parametrize(("criterion", "options", "reason"), [
+    (MinAngle(30), {"method": "centroid"}, "no minimum-angle criterion"),
+    (MaxArea("0.1"), {"method": "centroid", "centroid": "vertices"}, "centroid 'area'"),
+    (MaxArea("0.1"), {"method": "quasi", "centroid": "area-exact"}, "centroid 'area'"),
+    (Wide("0.5"), {}, "region-wide criterion"),
+])
+def test_compiled_refuses_what_it_does_not_run(criterion: Criterion, options: dict[str, Any],
+                                               reason: str) -> None:
+    if not compiled_refinement.AVAILABLE:
+        reason = "not built"
+    with pytest.raises(PreconditionError, match=reason):
+        refine(square(), criterion, engine="compiled", **options)
+
+
+def test_compiled_refuses_triangle_attributes() -> None:
+    with pytest.raises(PreconditionError, match=r"triangle attributes|not built"):
+        refine(two_regions(), MaxArea("0.1"), engine="compiled")
+
+
+def test_compiled_refuses_when_not_built(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(compiled_refinement, "AVAILABLE", False)
+    with pytest.raises(PreconditionError, match="Lepp kernel is not built"):
+        refine(square(), MaxArea("0.1"), engine="compiled")
+    python = refine(square(), MaxArea("0.1"), engine="python")
+    assert refine(square(), MaxArea("0.1"), engine="auto").trace == python.trace
+    monkeypatch.setattr(compiled_delaunay, "AVAILABLE", False)
+    monkeypatch.setattr(compiled_delaunay, "_delaunay_kernel", None)
+    points = random_doubles(50, 2)
+    with pytest.raises(PreconditionError, match="Delaunay kernel is not built"):
+        triangulate_points(points, engine="compiled")
+    assert triangulate_points(points, engine="auto").trace == triangulate_points(
+        points, engine="python").trace
+
+
+def test_unknown_and_missing_engines() -> None:
+    with pytest.raises(PreconditionError, match=r"unknown engine 'turbo'.*'fast' for 'auto'"):
+        refine(square(), MaxArea("0.1"), engine="turbo")  # type: ignore[arg-type]
+    with pytest.raises(PreconditionError, match="no 'reference' engine for Delaunay"):
+        triangulate_points(random_doubles(10, 3), engine="reference")  # type: ignore[arg-type]
+    with pytest.raises(PreconditionError, match="no 'reference' engine for Delaunay"):
+        triangulate_points(random_doubles(10, 3), engine="transient")  # type: ignore[arg-type]
+
+
+def test_engines_are_no_trace_parameter() -> None:
+    for engine in ("auto", "python", "reference"):
+        parameters = dict(refine(square(), MaxArea("0.1"), engine=engine).trace.parameters)
+        assert "engine" not in parameters and "engine" not in repr(parameters)
+    for engine in ("auto", "python"):
+        parameters = dict(triangulate(superior_pslg(), engine=engine).trace.parameters)
+        assert "engine" not in parameters
