@@ -1,9 +1,13 @@
 # cython: language_level=3
 """Cython declarations of ``geomexact/kernel/ckernel.h`` (the C pieces shared by the
-compiled kernels) and the Python <-> 128-bit conversions they use.  ``cimport`` only: there
-is no module of this name at run time."""
+compiled kernels), and the Cython pieces they share: the Python <-> 128-bit conversions,
+growable arrays and the stack of half-edges to legalize, and the kernels' predicates (a
+vertex as a :class:`GridPoint`: exact on the grid, else the certified float filter, else
+the exact Python predicate).  ``cimport`` only: there is no module of this name at run
+time."""
 
 from libc.stdint cimport int64_t, int8_t, uint64_t
+from libc.stdlib cimport realloc
 
 cdef extern from "ckernel.h":
     # Cython sees the 128-bit types as 64-bit ones; they never cross into Python
@@ -16,6 +20,7 @@ cdef extern from "ckernel.h":
         uint64_t *keys
         int64_t *values
     uint64_t GX_EMPTY
+    uint64_t gx_edge(int64_t u, int64_t v) nogil
     int gx_map_alloc(gx_map *m, uint64_t slots)
     void gx_map_free(gx_map *m)
     uint64_t gx_map_slot(const gx_map *m, uint64_t key) nogil
@@ -70,6 +75,49 @@ cdef inline gx_i128 _to_i128(object value) except *:
     return <gx_i128>_to_u128(value)
 
 
+cdef inline int grow_array(void **array, Py_ssize_t *capacity, size_t item) except -1:
+    """Double the capacity of the malloc'ed ``array`` of items of ``item`` bytes."""
+    cdef Py_ssize_t wanted = 2 * capacity[0]
+    cdef void *grown = realloc(array[0], wanted * item)
+    if grown == NULL:
+        raise MemoryError
+    array[0] = grown
+    capacity[0] = wanted
+    return 0
+
+
+cdef struct Pair:
+    int64_t a
+    int64_t b
+
+
+cdef struct PairStack:
+    # the kernels' stacks of half-edges to legalize: ``count`` pairs in a malloc'ed array
+    # of ``capacity``
+    Pair *items
+    Py_ssize_t count
+    Py_ssize_t capacity
+
+
+cdef inline int push_pair(PairStack *stack, int64_t a, int64_t b) except -1:
+    if stack.count == stack.capacity:
+        grow_array(<void **>&stack.items, &stack.capacity, sizeof(Pair))
+    stack.items[stack.count].a = a
+    stack.items[stack.count].b = b
+    stack.count += 1
+    return 0
+
+
+cdef inline bint pop_pair(PairStack *stack, int64_t *a, int64_t *b) noexcept nogil:
+    """Take the last pair off ``stack`` into ``a``, ``b``; False when it is empty."""
+    if stack.count == 0:
+        return False
+    stack.count -= 1
+    a[0] = stack.items[stack.count].a
+    b[0] = stack.items[stack.count].b
+    return True
+
+
 cdef inline int _init_constants() except -1:
     """Fill the C constants (cell-hash multipliers, filter constants) of this module's
     copy of ckernel.h from geomexact.kernel.digest and geomexact.kernel.filter_bounds."""
@@ -114,3 +162,45 @@ cdef inline int filtered_incircle(GridPoint *a, GridPoint *b, GridPoint *c,
     if result == 2:
         result = gx_float_incircle(a.fx, a.fy, b.fx, b.fy, c.fx, c.fy, d.fx, d.fy)
     return result
+
+
+cdef inline int filtered_lengths(GridPoint *a, GridPoint *b, GridPoint *c,
+                                 GridPoint *d) noexcept nogil:
+    """The sign of |ab|² - |cd|², as :func:`filtered_orient`; 2 when undecided."""
+    if a.grid and b.grid and c.grid and d.grid:
+        return gx_grid_lengths(a.gx, a.gy, b.gx, b.gy, c.gx, c.gy, d.gx, d.gy)
+    return gx_float_lengths(a.fx, a.fy, b.fx, b.fy, c.fx, c.fy, d.fx, d.fy)
+
+
+cdef inline int filtered_dot(GridPoint *p, GridPoint *a, GridPoint *b) noexcept nogil:
+    """The sign of (a - p).(b - p), as :func:`filtered_orient`; 2 when undecided."""
+    if p.grid and a.grid and b.grid:
+        return gx_grid_dot(p.gx, p.gy, a.gx, a.gy, b.gx, b.gy)
+    return gx_float_dot(p.fx, p.fy, a.fx, a.fy, b.fx, b.fy)
+
+
+# The exact predicates both kernels decide with: the filter above, else the Python
+# predicate on the ``Point2`` objects ``points[ia], ...`` (imported on that rare path
+# only: a ``.pxd`` has no module globals).  ``a, b, ...`` are the GridPoints of those
+# same vertices.
+
+cdef inline int orient_sign(GridPoint *a, GridPoint *b, GridPoint *c, object points,
+                            Py_ssize_t ia, Py_ssize_t ib, Py_ssize_t ic) except -2:
+    """The sign of orient2d(points[ia], points[ib], points[ic])."""
+    cdef int result = filtered_orient(a, b, c)
+    if result != 2:
+        return result
+    from geomexact.kernel.predicates2d import orient2d_exact
+    return int(orient2d_exact(points[ia], points[ib], points[ic]))
+
+
+cdef inline int incircle_sign(GridPoint *a, GridPoint *b, GridPoint *c, GridPoint *d,
+                              object points, Py_ssize_t ia, Py_ssize_t ib, Py_ssize_t ic,
+                              Py_ssize_t id) except -2:
+    """The sign of incircle(points[ia], points[ib], points[ic], points[id])."""
+    cdef int result = filtered_incircle(a, b, c, d)
+    if result != 2:
+        return result
+    from geomexact.kernel.predicates2d import incircle_exact
+    return int(incircle_exact(points[ia], points[ib], points[ic], points[id]))
+

@@ -33,7 +33,7 @@ back to the exact Python predicate on the ``Point2`` objects.  The shared C piec
 """
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
-from libc.stdlib cimport malloc, realloc, free
+from libc.stdlib cimport malloc, free
 from cpython.exc cimport PyErr_CheckSignals
 from libc.string cimport memset
 from libc.math cimport frexp, ldexp, fabs, floor, isfinite
@@ -45,22 +45,18 @@ cdef extern from "Python.h":
 import immutables
 
 from geomexact.kernel import digest as _digest
-from geomexact.kernel import predicates2d as _predicates2d
 from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
     GridPoint,
-    filtered_incircle,
-    filtered_orient,
+    Pair,
+    PairStack,
     GX_EMPTY,
     _from_u128,
     _init_constants,
     _to_u128,
     gx_cell_hash,
-    gx_float_incircle,
-    gx_float_orient,
-    gx_grid_incircle,
-    gx_grid_orient,
+    gx_edge,
     gx_map,
     gx_map_alloc,
     gx_map_del,
@@ -69,6 +65,11 @@ from geomexact.kernel.ckernel cimport (
     gx_map_grow,
     gx_map_slot,
     gx_u128,
+    grow_array,
+    incircle_sign,
+    orient_sign,
+    pop_pair,
+    push_pair,
 )
 
 _init_constants()
@@ -85,10 +86,6 @@ cdef struct Record:
     int64_t c
     int64_t d
     int8_t op
-
-cdef struct Pair:
-    int64_t a
-    int64_t b
 
 cdef enum:
     OP_MAKE_TRIANGLE = 0
@@ -110,10 +107,6 @@ _OP_NAMES = ("make_triangle", "attach_in_triangle", "attach_in_edge", "attach_ou
              "flip")
 
 
-cdef inline uint64_t _edge(int64_t u, int64_t v) nogil:
-    return (<uint64_t>u << 32) | <uint64_t>v
-
-
 cdef class Builder:
     """One ``triangulate_points`` construction: ``run(a, b, c, rest)`` then
     ``finish(start)``."""
@@ -123,8 +116,7 @@ cdef class Builder:
     cdef gx_map apex
     cdef Record *records
     cdef Py_ssize_t nrec, cap_rec
-    cdef Pair *pending
-    cdef Py_ssize_t npending, cap_pending
+    cdef PairStack pending
     cdef Pair *visible
     cdef Py_ssize_t cap_visible
     cdef gx_u128 digest
@@ -134,18 +126,11 @@ cdef class Builder:
     cdef tuple points
     cdef public int64_t grid_vertices
 
-    def __cinit__(self):
-        self.vs = NULL
-        self.records = NULL
-        self.pending = NULL
-        self.visible = NULL
-        self.apex.keys = NULL
-        self.apex.values = NULL
-
     def __dealloc__(self):
+        # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
         free(self.vs)
         free(self.records)
-        free(self.pending)
+        free(self.pending.items)
         free(self.visible)
         gx_map_free(&self.apex)
 
@@ -162,10 +147,10 @@ cdef class Builder:
         self.vs = <Vertex *>malloc(max(1, count) * sizeof(Vertex))
         self.cap_rec = max(64, 5 * count)
         self.records = <Record *>malloc(self.cap_rec * sizeof(Record))
-        self.cap_pending = self.cap_visible = 64
-        self.pending = <Pair *>malloc(self.cap_pending * sizeof(Pair))
+        self.pending.capacity = self.cap_visible = 64
+        self.pending.items = <Pair *>malloc(self.pending.capacity * sizeof(Pair))
         self.visible = <Pair *>malloc(self.cap_visible * sizeof(Pair))
-        if not self.vs or not self.records or not self.pending or not self.visible:
+        if not self.vs or not self.records or not self.pending.items or not self.visible:
             raise MemoryError
         # at most 6n - 12 half-edges, at load <= 1/2: no growth on the way
         while slots < 12 * <uint64_t>count + 64:
@@ -206,7 +191,7 @@ cdef class Builder:
             self.grid_vertices += 1
         self.digest = _to_u128(start_digest)
         self.nrec = 0
-        self.npending = 0
+        self.pending.count = 0
         self.seq = 0
         self.last_a = self.last_b = -1
 
@@ -224,34 +209,24 @@ cdef class Builder:
         out[0] = scaled
         return True
 
-    # -- predicates (exact) -------------------------------------------------------------
+    # -- predicates (exact): ckernel.pxd's, on these vertices -----------------------------
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
-        """The sign of orient2d(points[a], points[b], points[c])."""
-        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at)
-        if result != 2:
-            return result
-        points = self.points
-        return int(_predicates2d.orient2d_exact(points[a], points[b], points[c]))
+        return orient_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, self.points, a, b, c)
 
     cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
-        """The sign of incircle(points[a], points[b], points[c], points[d])."""
-        cdef int result = filtered_incircle(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at,
-                                            &self.vs[d].at)
-        if result != 2:
-            return result
-        points = self.points
-        return int(_predicates2d.incircle_exact(points[a], points[b], points[c], points[d]))
+        return incircle_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, &self.vs[d].at,
+                             self.points, a, b, c, d)
 
     # -- the half-edge table --------------------------------------------------------------
     cdef inline int64_t _get(self, int64_t u, int64_t v) noexcept nogil:
         """apex(u, v), or -1."""
-        cdef int64_t value = gx_map_get(&self.apex, _edge(u, v), -1)
+        cdef int64_t value = gx_map_get(&self.apex, gx_edge(u, v), -1)
         return value if value < 0 else (value & APEX_MASK)
 
     cdef int _put(self, int64_t u, int64_t v, int64_t w) except -1:
         """apex[(u, v)] = w as a dict does it: an existing key keeps its place (its
         sequence number), a new one goes last."""
-        cdef uint64_t key = _edge(u, v)
+        cdef uint64_t key = gx_edge(u, v)
         cdef uint64_t i = gx_map_slot(&self.apex, key)
         if self.apex.keys[i] == key:
             self.apex.values[i] = (self.apex.values[i] & ~APEX_MASK) | w
@@ -284,16 +259,16 @@ cdef class Builder:
         return 0
 
     cdef void _remove(self, int64_t a, int64_t b, int64_t c) noexcept:
-        gx_map_del(&self.apex, _edge(a, b))
-        gx_map_del(&self.apex, _edge(b, c))
-        gx_map_del(&self.apex, _edge(c, a))
+        gx_map_del(&self.apex, gx_edge(a, b))
+        gx_map_del(&self.apex, gx_edge(b, c))
+        gx_map_del(&self.apex, gx_edge(c, a))
         self.digest -= self._hash(a, b, c)
 
     cdef int _record(self, int8_t op, int64_t a, int64_t b, int64_t c,
                      int64_t d) except -1:
         cdef Record *record
         if self.nrec == self.cap_rec:
-            self._grow(<void **>&self.records, &self.cap_rec, sizeof(Record))
+            grow_array(<void **>&self.records, &self.cap_rec, sizeof(Record))
         record = &self.records[self.nrec]
         record.op = op
         record.a = a
@@ -302,23 +277,6 @@ cdef class Builder:
         record.d = d
         record.digest = self.digest
         self.nrec += 1
-        return 0
-
-    cdef int _grow(self, void **array, Py_ssize_t *capacity, size_t item) except -1:
-        cdef Py_ssize_t wanted = 2 * capacity[0]
-        cdef void *grown = realloc(array[0], wanted * item)
-        if grown == NULL:
-            raise MemoryError
-        array[0] = grown
-        capacity[0] = wanted
-        return 0
-
-    cdef int _push(self, int64_t a, int64_t b) except -1:
-        if self.npending == self.cap_pending:
-            self._grow(<void **>&self.pending, &self.cap_pending, sizeof(Pair))
-        self.pending[self.npending].a = a
-        self.pending[self.npending].b = b
-        self.npending += 1
         return 0
 
     # -- the construction -----------------------------------------------------------------
@@ -386,16 +344,16 @@ cdef class Builder:
         cdef int64_t a, b, c, u, v, w, x
         cdef int where = self._locate(vertex, found)
         a, b, c = found[0], found[1], found[2]
-        self.npending = 0
+        self.pending.count = 0
         if where == WHERE_INSIDE:
             self._remove(a, b, c)
             self._add(a, b, vertex)
             self._add(b, c, vertex)
             self._add(c, a, vertex)
             self._record(OP_ATTACH_IN_TRIANGLE, vertex, a, b, c)
-            self._push(c, a)
-            self._push(b, c)
-            self._push(a, b)
+            push_pair(&self.pending, c, a)
+            push_pair(&self.pending, b, c)
+            push_pair(&self.pending, a, b)
         elif where == WHERE_EDGE:
             u, v = a, b
             w = self._get(u, v)
@@ -404,19 +362,19 @@ cdef class Builder:
                 self._remove(u, v, w)
                 self._add(u, vertex, w)
                 self._add(vertex, v, w)
-                self._push(v, w)
-                self._push(w, u)
+                push_pair(&self.pending, v, w)
+                push_pair(&self.pending, w, u)
             if x >= 0:
                 self._remove(v, u, x)
                 self._add(v, vertex, x)
                 self._add(vertex, u, x)
-                self._push(u, x)
-                self._push(x, v)
+                push_pair(&self.pending, u, x)
+                push_pair(&self.pending, x, v)
             self._record(OP_ATTACH_IN_EDGE, vertex, u, v, -1)
         else:
             self._attach_outside(vertex, a, b)
         self.last_a = vertex
-        self.last_b = self.pending[0].a
+        self.last_b = self.pending.items[0].a
         return self._legalize(vertex)
 
     cdef int _next_boundary(self, int64_t u, int64_t v, Pair *out) except -1:
@@ -443,7 +401,7 @@ cdef class Builder:
 
     cdef int _visible(self, Py_ssize_t index, Pair edge) except -1:
         if index >= self.cap_visible:
-            self._grow(<void **>&self.visible, &self.cap_visible, sizeof(Pair))
+            grow_array(<void **>&self.visible, &self.cap_visible, sizeof(Pair))
         self.visible[index] = edge
         return 0
 
@@ -475,25 +433,22 @@ cdef class Builder:
             self._add(self.visible[i].b, self.visible[i].a, vertex)
         self._record(OP_ATTACH_OUTSIDE, vertex, u, v, -1)
         for i in range(total):
-            self._push(self.visible[i].b, self.visible[i].a)
+            push_pair(&self.pending, self.visible[i].b, self.visible[i].a)
         return 0
 
     cdef int _legalize(self, int64_t vertex) except -1:
         """``BatchTriangulation.legalize_edges``: pop (a, b) with apex(a, b) == vertex; flip when
         the vertex is strictly inside the circle of (a, b, q) across it."""
         cdef int64_t a, b, q
-        while self.npending:
-            self.npending -= 1
-            a = self.pending[self.npending].a
-            b = self.pending[self.npending].b
+        while pop_pair(&self.pending, &a, &b):
             q = self._get(b, a)
             if q < 0 or self._get(a, b) != vertex:
                 continue
             if self._incircle(a, b, vertex, q) != 1:
                 continue
             # (a, b, vertex), (b, a, q) -> (q, vertex, a), (vertex, q, b)
-            gx_map_del(&self.apex, _edge(a, b))
-            gx_map_del(&self.apex, _edge(b, a))
+            gx_map_del(&self.apex, gx_edge(a, b))
+            gx_map_del(&self.apex, gx_edge(b, a))
             self._put(q, vertex, a)
             self._put(vertex, a, q)
             self._put(a, q, vertex)
@@ -503,8 +458,8 @@ cdef class Builder:
             self.digest += self._hash(q, vertex, a) + self._hash(vertex, q, b)
             self.digest -= self._hash(a, b, vertex) + self._hash(b, a, q)
             self._record(OP_FLIP, a, b, -1, -1)
-            self._push(q, b)
-            self._push(a, q)
+            push_pair(&self.pending, q, b)
+            push_pair(&self.pending, a, q)
         return 0
 
     def run(self, int64_t a, int64_t b, int64_t c, rest):

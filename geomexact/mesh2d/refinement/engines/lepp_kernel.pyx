@@ -33,7 +33,7 @@ Python predicate on the ``Point2`` objects.
 """
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
-from libc.stdlib cimport malloc, realloc, free
+from libc.stdlib cimport malloc, free
 from cpython.exc cimport PyErr_CheckSignals
 
 import hashlib
@@ -45,7 +45,6 @@ import immutables
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel import comparisons as _comparisons
-from geomexact.kernel import predicates2d as _predicates2d
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
 from geomexact.errors import PreconditionError
@@ -57,8 +56,10 @@ from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
     GridPoint,
-    filtered_incircle,
-    filtered_orient,
+    Pair,
+    PairStack,
+    filtered_dot,
+    filtered_lengths,
     GX_EMPTY,
     _from_i128,
     _from_u128,
@@ -66,14 +67,8 @@ from geomexact.kernel.ckernel cimport (
     _to_i128,
     _to_u128,
     gx_cell_hash,
-    gx_float_dot,
-    gx_float_incircle,
-    gx_float_lengths,
-    gx_float_orient,
+    gx_edge,
     gx_grid_area2,
-    gx_grid_dot,
-    gx_grid_incircle,
-    gx_grid_lengths,
     gx_grid_orient,
     gx_i128,
     gx_map,
@@ -83,10 +78,16 @@ from geomexact.kernel.ckernel cimport (
     gx_map_get,
     gx_map_set,
     gx_u128,
+    grow_array,
+    incircle_sign,
+    orient_sign,
+    pop_pair,
+    push_pair,
 )
 
-# the C pieces (hash tables, 128-bit digest, grid predicates, float filters) live in
-# geomexact/kernel/ckernel.h, shared with geomexact/mesh2d/delaunay/delaunay_kernel.pyx
+# the C pieces (hash tables, 128-bit digest, grid predicates, float filters, the predicates
+# with their exact fallback) live in geomexact/kernel/ckernel.h and ckernel.pxd, shared with
+# geomexact/mesh2d/delaunay/delaunay_kernel.pyx
 _init_constants()
 
 
@@ -118,15 +119,7 @@ cdef struct Record:
     int64_t extra      # insert_in_quadrilateral: index of (x, y) in Kernel.inserted
     int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral
 
-cdef struct Pair:
-    int64_t a
-    int64_t b
-
 cdef object GRID_LIMIT = 1 << 60
-
-
-cdef inline uint64_t _edge(int64_t u, int64_t v) nogil:
-    return (<uint64_t>u << 32) | <uint64_t>v
 
 
 cdef inline bint _pair_less(int64_t a, int64_t b, int64_t c, int64_t d) nogil:
@@ -182,8 +175,7 @@ cdef class Kernel:
     cdef Py_ssize_t nrec, cap_rec
     cdef int64_t *created
     cdef Py_ssize_t ncreated, cap_created
-    cdef Pair *pending
-    cdef Py_ssize_t npending, cap_pending
+    cdef PairStack pending
     cdef gx_u128 digest
     cdef int64_t limit
     cdef int64_t triangles
@@ -207,23 +199,13 @@ cdef class Kernel:
     cdef dict segments, new_markers
     cdef object rate, contains, on_step, progress, scale, centroid
 
-    def __cinit__(self):
-        self.vs = NULL
-        self.heap = NULL
-        self.records = NULL
-        self.created = NULL
-        self.pending = NULL
-        self.apex.keys = NULL
-        self.apex.values = NULL
-        self.segs.keys = NULL
-        self.segs.values = NULL
-
     def __dealloc__(self):
+        # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
         free(self.vs)
         free(self.heap)
         free(self.records)
         free(self.created)
-        free(self.pending)
+        free(self.pending.items)
         gx_map_free(&self.apex)
         gx_map_free(&self.segs)
 
@@ -246,13 +228,13 @@ cdef class Kernel:
         self.n0 = self.nv = count
         self.cap_v = max(16, 2 * count)
         self.vs = <Vertex *>malloc(self.cap_v * sizeof(Vertex))
-        self.cap_heap = self.cap_rec = self.cap_created = self.cap_pending = 64
+        self.cap_heap = self.cap_rec = self.cap_created = self.pending.capacity = 64
         self.heap = <Entry *>malloc(self.cap_heap * sizeof(Entry))
         self.records = <Record *>malloc(self.cap_rec * sizeof(Record))
         self.created = <int64_t *>malloc(3 * self.cap_created * sizeof(int64_t))
-        self.pending = <Pair *>malloc(self.cap_pending * sizeof(Pair))
+        self.pending.items = <Pair *>malloc(self.pending.capacity * sizeof(Pair))
         if (not self.vs or not self.heap or not self.records or not self.created
-                or not self.pending):
+                or not self.pending.items):
             raise MemoryError
         if gx_map_alloc(&self.apex, 64) < 0 or gx_map_alloc(&self.segs, 64) < 0:
             raise MemoryError
@@ -277,12 +259,12 @@ cdef class Kernel:
             vertex.hint = -1 if hint is None else hint
             vertex.inside = -1
         for key, w in start.halfedges.items():
-            if gx_map_set(&self.apex, _edge(key[0], key[1]), w) < 0:
+            if gx_map_set(&self.apex, gx_edge(key[0], key[1]), w) < 0:
                 raise MemoryError
         self.triangles = start.triangle_count
         self.segments = dict(start.segments.items())
         for key in self.segments:
-            if gx_map_set(&self.segs, _edge(key[0], key[1]), 0) < 0:
+            if gx_map_set(&self.segs, gx_edge(key[0], key[1]), 0) < 0:
                 raise MemoryError
         self.new_markers = {}
         self.digest = _to_u128(start.digest)
@@ -364,15 +346,10 @@ cdef class Kernel:
 
     cdef int64_t _add_midpoint(self, int64_t u, int64_t v) except -1:
         """The vertex at the exact midpoint of u and v (as ``BatchRefinement.bisect``)."""
-        cdef int64_t n = self.nv
-        cdef Vertex *vertex
-        cdef Vertex *vu
-        cdef Vertex *vv
-        cdef int64_t sx, sy
-        if n >= MAX_VERTICES:
-            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
-        if n == self.cap_v:
-            self._grow(<void **>&self.vs, &self.cap_v, sizeof(Vertex), 1)
+        cdef Vertex *vu = &self.vs[u]
+        cdef Vertex *vv = &self.vs[v]
+        cdef int64_t sx = 0, sy = 0
+        cdef int grid = -1
         pu = <tuple>self.points[u]
         pv = <tuple>self.points[v]
         mx = (pu[0] + pv[0]) / 2
@@ -382,53 +359,36 @@ cdef class Kernel:
             point = tuple.__new__(Point2, (mx, my, float(mx), float(my)))
         except OverflowError:
             point = point2(mx, my)
-        self.points.append(point)
-        vertex = &self.vs[n]
-        vu = &self.vs[u]
-        vv = &self.vs[v]
-        vertex.at.fx = point[2]
-        vertex.at.fy = point[3]
-        vertex.at.grid = False
         if vu.at.grid and vv.at.grid:
+            # the midpoint of two grid points is on the grid when both sums are even
             sx = vu.at.gx + vv.at.gx
             sy = vu.at.gy + vv.at.gy
-            if not (sx & 1) and not (sy & 1):
-                vertex.at.grid = True
-                vertex.at.gx = sx >> 1
-                vertex.at.gy = sy >> 1
-        else:
-            vertex.at.grid = self._on_grid(mx, &vertex.at.gx) and self._on_grid(my, &vertex.at.gy)
-        keys = _digest._VERTEX_KEYS
-        if n >= len(keys):
-            _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
-        vertex.key = keys[n]
-        vertex.hint = -1
-        vertex.inside = -1
-        self.nv = n + 1
-        self.digest += _to_u128(_vertex_hash(n, mx, my))
-        return n
+            grid = not (sx & 1) and not (sy & 1)
+        return self._add_point(point, grid, sx >> 1, sy >> 1)
 
-    cdef int64_t _add_point(self, point, bint known=False, int64_t gx=0,
+    cdef int64_t _add_point(self, point, int grid=-1, int64_t gx=0,
                             int64_t gy=0) except -1:
         """A new vertex at the ``Point2`` ``point`` (as ``BatchRefinement.add_vertex``,
-        no marker); ``known``: it is the grid point (gx, gy)."""
+        no marker).  ``grid``: 1 when it is the grid point (gx, gy), 0 when it is off the
+        grid, -1 when not known (then its coordinates are tested)."""
         cdef int64_t n = self.nv
         cdef Vertex *vertex
         if n >= MAX_VERTICES:
             raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
         if n == self.cap_v:
-            self._grow(<void **>&self.vs, &self.cap_v, sizeof(Vertex), 1)
+            grow_array(<void **>&self.vs, &self.cap_v, sizeof(Vertex))
         self.points.append(point)
         vertex = &self.vs[n]
         vertex.at.fx = point[2]
         vertex.at.fy = point[3]
-        if known:
-            vertex.at.grid = True
-            vertex.at.gx = gx
-            vertex.at.gy = gy
-        else:
+        if grid < 0:
             vertex.at.grid = self._on_grid(point[0], &vertex.at.gx) and self._on_grid(
                 point[1], &vertex.at.gy)
+        else:
+            vertex.at.grid = grid
+            if grid:
+                vertex.at.gx = gx
+                vertex.at.gy = gy
         keys = _digest._VERTEX_KEYS
         if n >= len(keys):
             _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
@@ -504,58 +464,27 @@ cdef class Kernel:
             and gx_grid_orient(pw.at.gx, pw.at.gy, pu.at.gx, pu.at.gy, cx, cy) == 1
         )
 
-    cdef int _grow(self, void **array, Py_ssize_t *capacity, size_t item,
-                   size_t width) except -1:
-        cdef Py_ssize_t wanted = 2 * capacity[0]
-        cdef void *grown = realloc(array[0], wanted * item * width)
-        if grown == NULL:
-            raise MemoryError
-        array[0] = grown
-        capacity[0] = wanted
-        return 0
+    # -- predicates (exact): ckernel.pxd's, on these vertices -----------------------------
+    cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
+        return orient_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, self.points, a, b, c)
 
-    # -- predicates (exact) -------------------------------------------------------------
+    cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
+        return incircle_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, &self.vs[d].at,
+                             self.points, a, b, c, d)
+
     cdef int _lengths(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
         """The sign of |ab|² - |cd|² (compare_squared_lengths)."""
-        cdef Vertex *va = &self.vs[a]
-        cdef Vertex *vb = &self.vs[b]
-        cdef Vertex *vc = &self.vs[c]
-        cdef Vertex *vd = &self.vs[d]
-        cdef int result
-        if va.at.grid and vb.at.grid and vc.at.grid and vd.at.grid:
-            return gx_grid_lengths(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy, vd.at.gx, vd.at.gy)
-        result = gx_float_lengths(va.at.fx, va.at.fy, vb.at.fx, vb.at.fy, vc.at.fx, vc.at.fy, vd.at.fx, vd.at.fy)
+        cdef int result = filtered_lengths(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at,
+                                           &self.vs[d].at)
         if result != 2:
             return result
         points = self.points
         return int(_comparisons.compare_squared_lengths(points[a], points[b], points[c],
                                                        points[d]))
 
-    cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
-        """The sign of orient2d(points[a], points[b], points[c])."""
-        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at)
-        if result != 2:
-            return result
-        points = self.points
-        return int(_predicates2d.orient2d_exact(points[a], points[b], points[c]))
-
-    cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
-        """The sign of incircle(points[a], points[b], points[c], points[d])."""
-        cdef int result = filtered_incircle(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at,
-                                            &self.vs[d].at)
-        if result != 2:
-            return result
-        points = self.points
-        return int(_predicates2d.incircle_exact(points[a], points[b], points[c], points[d]))
-
     cdef int _dot_sign(self, int64_t p, int64_t a, int64_t b) nogil:
         """The sign of (a - p).(b - p), or 2 when the float filter cannot tell."""
-        cdef Vertex *vp = &self.vs[p]
-        cdef Vertex *va = &self.vs[a]
-        cdef Vertex *vb = &self.vs[b]
-        if vp.at.grid and va.at.grid and vb.at.grid:
-            return gx_grid_dot(vp.at.gx, vp.at.gy, va.at.gx, va.at.gy, vb.at.gx, vb.at.gy)
-        return gx_float_dot(vp.at.fx, vp.at.fy, va.at.fx, va.at.fy, vb.at.fx, vb.at.fy)
+        return filtered_dot(&self.vs[p].at, &self.vs[a].at, &self.vs[b].at)
 
     # -- region, rating, queue ----------------------------------------------------------
     cdef bint _in_region(self, int64_t a, int64_t b, int64_t c) except -1:
@@ -687,7 +616,7 @@ cdef class Kernel:
     cdef int _push(self, Entry *entry) except -1:
         cdef Py_ssize_t i, parent
         if self.nheap == self.cap_heap:
-            self._grow(<void **>&self.heap, &self.cap_heap, sizeof(Entry), 1)
+            grow_array(<void **>&self.heap, &self.cap_heap, sizeof(Entry))
         i = self.nheap
         self.nheap += 1
         while i > 0:
@@ -731,7 +660,7 @@ cdef class Kernel:
             a = self.created[3 * i]
             b = self.created[3 * i + 1]
             c = self.created[3 * i + 2]
-            if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+            if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                 continue
             self._consider(a, b, c)
         self.ncreated = 0
@@ -739,14 +668,14 @@ cdef class Kernel:
 
     # -- mesh edits ---------------------------------------------------------------------
     cdef inline int _set(self, int64_t u, int64_t v, int64_t w) except -1:
-        if gx_map_set(&self.apex, _edge(u, v), w) < 0:
+        if gx_map_set(&self.apex, gx_edge(u, v), w) < 0:
             raise MemoryError
         return 0
 
     cdef int _created(self, int64_t a, int64_t b, int64_t c) except -1:
         """Note the canonical triangle (a, b, c) as created, and add its cell hash."""
         if self.ncreated == self.cap_created:
-            self._grow(<void **>&self.created, &self.cap_created, sizeof(int64_t), 3)
+            grow_array(<void **>&self.created, &self.cap_created, 3 * sizeof(int64_t))
         self.created[3 * self.ncreated] = a
         self.created[3 * self.ncreated + 1] = b
         self.created[3 * self.ncreated + 2] = c
@@ -779,7 +708,7 @@ cdef class Kernel:
     cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
         cdef Record *record
         if self.nrec == self.cap_rec:
-            self._grow(<void **>&self.records, &self.cap_rec, sizeof(Record), 1)
+            grow_array(<void **>&self.records, &self.cap_rec, sizeof(Record))
         record = &self.records[self.nrec]
         record.op = op
         record.u = u
@@ -802,9 +731,9 @@ cdef class Kernel:
         cdef uint64_t key
         if self.limit >= 0 and self.nrec >= self.limit:
             return -1
-        w = gx_map_get(&self.apex, _edge(u, v), -1)
-        x = gx_map_get(&self.apex, _edge(v, u), -1)
-        key = _edge(u, v) if u < v else _edge(v, u)
+        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
+        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+        key = gx_edge(u, v) if u < v else gx_edge(v, u)
         marker = None
         if gx_map_get(&self.segs, key, -1) >= 0:
             marker = self.segments[(u, v) if u < v else (v, u)]
@@ -819,28 +748,12 @@ cdef class Kernel:
                 p, q, r = v, u, x
             if r < 0:
                 continue
-            # (p, q, r) -> (p, n, r), (n, q, r); n is the largest id.  The half-edges
-            # (q, r) and (r, p) stay, with new apexes.
-            gx_map_del(&self.apex, _edge(p, q))
+            # (p, q, r) -> (p, n, r), (n, q, r).  The half-edges (q, r) and (r, p) stay,
+            # with new apexes.
+            gx_map_del(&self.apex, gx_edge(p, q))
             self._removed(p, q, r)
-            self._set(p, n, r)
-            self._set(n, r, p)
-            self._set(r, p, n)
-            self._set(n, q, r)
-            self._set(q, r, n)
-            self._set(r, n, q)
-            self.vs[p].hint = n
-            self.vs[n].hint = q
-            self.vs[q].hint = r
-            self.vs[r].hint = n
-            if p < r:
-                self._created(p, n, r)
-            else:
-                self._created(r, p, n)
-            if q < r:
-                self._created(q, r, n)
-            else:
-                self._created(r, n, q)
+            self._triangle(p, n, r)
+            self._triangle(n, q, r)
             self.triangles += 1
         if marker is not None:
             segments = self.segments
@@ -848,8 +761,8 @@ cdef class Kernel:
             segments[(u, n) if u < n else (n, u)] = marker
             segments[(n, v) if n < v else (v, n)] = marker
             gx_map_del(&self.segs, key)
-            if (gx_map_set(&self.segs, _edge(u, n) if u < n else _edge(n, u), 0) < 0
-                    or gx_map_set(&self.segs, _edge(n, v) if n < v else _edge(v, n), 0) < 0):
+            if (gx_map_set(&self.segs, gx_edge(u, n) if u < n else gx_edge(n, u), 0) < 0
+                    or gx_map_set(&self.segs, gx_edge(n, v) if n < v else gx_edge(v, n), 0) < 0):
                 raise MemoryError
             self.digest += (
                 _to_u128(_digest.segment_hash(min(u, n), max(u, n), marker))
@@ -864,13 +777,10 @@ cdef class Kernel:
         cdef int64_t w, x
         if self.limit >= 0 and self.nrec >= self.limit:
             return -1
-        w = gx_map_get(&self.apex, _edge(u, v), -1)
-        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
+        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
         # (u, v, w), (v, u, x) -> (x, w, u), (w, x, v)
-        self._removed(u, v, w)
-        self._removed(v, u, x)
-        gx_map_del(&self.apex, _edge(u, v))
-        gx_map_del(&self.apex, _edge(v, u))
+        self._remove_edge(u, v, w, x)
         self._triangle(x, w, u)
         self._triangle(w, x, v)
         self._record(1, u, v)
@@ -887,16 +797,13 @@ cdef class Kernel:
             qx = mpq(at[0], self.unit)
             qy = mpq(at[1], self.unit)
             point = tuple.__new__(Point2, (qx, qy, float(qx), float(qy)))
-            n = self._add_point(point, True, at[0], at[1])
+            n = self._add_point(point, 1, at[0], at[1])
         else:
             points = self.points
             point = self.centroid(points[u], points[v], points[w], points[x])
             n = self._add_point(point)
         # (u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n)
-        self._removed(u, v, w)
-        self._removed(v, u, x)
-        gx_map_del(&self.apex, _edge(u, v))
-        gx_map_del(&self.apex, _edge(v, u))
+        self._remove_edge(u, v, w, x)
         self._triangle(u, x, n)
         self._triangle(x, v, n)
         self._triangle(v, w, n)
@@ -905,6 +812,16 @@ cdef class Kernel:
         self.inserted.append((point[0], point[1]))
         self._record(2, u, v, len(self.inserted) - 1)
         return n
+
+    cdef int _remove_edge(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
+        """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
+        cell hashes and the edge's two half-edges (the caller gives the other four new
+        apexes)."""
+        self._removed(u, v, w)
+        self._removed(v, u, x)
+        gx_map_del(&self.apex, gx_edge(u, v))
+        gx_map_del(&self.apex, gx_edge(v, u))
+        return 0
 
     cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
         """``BatchRefinement.add`` (no attributes): the triangle (a, b, c), its hints,
@@ -925,19 +842,19 @@ cdef class Kernel:
 
     cdef bint _constraint(self, int64_t u, int64_t v) except -1:
         """``Refinement.constraint`` (no attributes): a boundary or segment edge."""
-        if gx_map_get(&self.apex, _edge(u, v), -1) < 0:
+        if gx_map_get(&self.apex, gx_edge(u, v), -1) < 0:
             return True
-        if gx_map_get(&self.apex, _edge(v, u), -1) < 0:
+        if gx_map_get(&self.apex, gx_edge(v, u), -1) < 0:
             return True
-        return gx_map_get(&self.segs, _edge(u, v) if u < v else _edge(v, u), -1) >= 0
+        return gx_map_get(&self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0
 
     cdef int _insert_midpoint(self, int64_t u, int64_t v) except -2:
         """``Refinement.insert_midpoint``: bisect (u, v), then legalize the midpoint's
         star (as ``snapshot.walk_star`` lists it); 0, or -1 at the step limit."""
         cdef int64_t w, x, n
         cdef Pair star[4]
-        w = gx_map_get(&self.apex, _edge(u, v), -1)
-        x = gx_map_get(&self.apex, _edge(v, u), -1)
+        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
+        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
         n = self._bisect(u, v)
         if n < 0:
             return -1
@@ -989,14 +906,6 @@ cdef class Kernel:
             return self._legalize(n, star, 4)
         return 0
 
-    cdef int _push_pending(self, int64_t a, int64_t b) except -1:
-        if self.npending == self.cap_pending:
-            self._grow(<void **>&self.pending, &self.cap_pending, sizeof(Pair), 1)
-        self.pending[self.npending].a = a
-        self.pending[self.npending].b = b
-        self.npending += 1
-        return 0
-
     cdef int _legalize(self, int64_t vertex, Pair *star, int size) except -2:
         """``BatchRefinement.legalize`` with its known star: 0, or -1 at the step limit.
 
@@ -1008,17 +917,14 @@ cdef class Kernel:
         for index in range(1, size):
             if star[index].a < star[start].a:
                 start = index
-        self.npending = 0
+        self.pending.count = 0
         for index in range(size - 1, -1, -1):  # popped in star order from ``start``
-            self._push_pending(star[(start + index) % size].a, star[(start + index) % size].b)
-        while self.npending:
-            self.npending -= 1
-            a = self.pending[self.npending].a
-            b = self.pending[self.npending].b
-            if gx_map_get(&self.apex, _edge(vertex, a), -1) != b:
+            push_pair(&self.pending, star[(start + index) % size].a, star[(start + index) % size].b)
+        while pop_pair(&self.pending, &a, &b):
+            if gx_map_get(&self.apex, gx_edge(vertex, a), -1) != b:
                 continue
-            q = gx_map_get(&self.apex, _edge(b, a), -1)
-            if q < 0 or gx_map_get(&self.segs, _edge(a, b) if a < b else _edge(b, a), -1) >= 0:
+            q = gx_map_get(&self.apex, gx_edge(b, a), -1)
+            if q < 0 or gx_map_get(&self.segs, gx_edge(a, b) if a < b else gx_edge(b, a), -1) >= 0:
                 continue
             first = self._dot_sign(vertex, a, b)
             if (first == 0 or first == 1) and 0 <= self._dot_sign(q, a, b) <= 1:
@@ -1029,8 +935,8 @@ cdef class Kernel:
                 continue
             if self._flip(a, b) < 0:
                 return -1
-            self._push_pending(q, b)
-            self._push_pending(a, q)
+            push_pair(&self.pending, q, b)
+            push_pair(&self.pending, a, q)
         return 0
 
     # -- the loop -----------------------------------------------------------------------
@@ -1046,7 +952,7 @@ cdef class Kernel:
             return "complete"
         while self._pop(&target):
             a, b, c = target.a, target.b, target.c
-            if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+            if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                 continue
             self.targets += 1
             while True:
@@ -1067,9 +973,9 @@ cdef class Kernel:
                 self.searches += 1
                 hops = 1
                 while True:
-                    x = gx_map_get(&self.apex, _edge(v, u), -1)
+                    x = gx_map_get(&self.apex, gx_edge(v, u), -1)
                     if x < 0 or gx_map_get(
-                        &self.segs, _edge(u, v) if u < v else _edge(v, u), -1
+                        &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1
                     ) >= 0:
                         constrained = True
                         break
@@ -1093,7 +999,7 @@ cdef class Kernel:
                     self._drain()
                     if self.tracking and self._mean_reached():
                         return "complete"
-                    if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                    if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                         break
                     continue
                 # bisect, then legalize around the midpoint
@@ -1117,7 +1023,7 @@ cdef class Kernel:
                 self._drain()
                 if self.tracking and self._mean_reached():
                     return "complete"  # the region-wide target is met (CriterionMet)
-                if gx_map_get(&self.apex, _edge(a, b), -1) != c:
+                if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                     break
         return "complete"
 
@@ -1134,8 +1040,8 @@ cdef class Kernel:
         halfedges = start.halfedges.mutate()
         old = start.halfedges
         for key, w in old.items():
-            if gx_map_get(&self.apex, _edge(key[0], key[1]), -1) != w:
-                if gx_map_get(&self.apex, _edge(key[0], key[1]), -1) < 0:
+            if gx_map_get(&self.apex, gx_edge(key[0], key[1]), -1) != w:
+                if gx_map_get(&self.apex, gx_edge(key[0], key[1]), -1) < 0:
                     del halfedges[key]
         for slot in range(self.apex.mask + 1):
             edge = self.apex.keys[slot]
