@@ -8,6 +8,9 @@ engine that chose a step knows its preconditions hold; it edits a
 :class:`BatchTriangulation` instead: a dict of half-edges (a tenth of the cost of a map
 mutation), the points as a list, the cell hash of each triangle it made (a triangle is
 hashed once, even when a later step removes it), sealed into a snapshot once at the end.
+The store offers the edits the ops' triangle edits need (:class:`geomexact.mesh2d.ops.
+TriangleEditor`), so ``ops.join_in_edge`` and the others apply to it unchanged; it makes
+the flip and Lawson legalization itself.
 Two engines build on it — the incremental Delaunay insertion
 (:class:`geomexact.mesh2d.delaunay.triangulation.BatchDelaunay`) and the Lepp refinement
 (:class:`geomexact.mesh2d.refinement.engines.batch.BatchRefinement`) — and their traces are
@@ -39,30 +42,36 @@ class BatchTriangulation:
     """A triangulation edited in batch by one run, started from a snapshot (its points,
     half-edges, segments, triangle attributes and digest).
 
-    ``apex`` maps each directed edge (u, v) of a counter-clockwise triangle (u, v, w) to w,
-    as :attr:`Mesh2.halfedges` does; ``points[i]`` is vertex i; ``grid[i]`` says whether it
+    ``halfedges`` maps each directed edge (u, v) of a counter-clockwise triangle (u, v, w)
+    to w, as :attr:`Mesh2.halfedges` does; ``points[i]`` is vertex i; ``grid[i]`` says whether it
     is on the dyadic grid of ``scale`` (:mod:`geomexact.kernel.dyadic_grid`); ``steps`` and
-    ``digests`` are the run's record.  Subclasses extend the bookkeeping of a triangle that
-    enters or leaves (:meth:`_enter`, :meth:`_leave`), the start of a step
-    (:meth:`begin_step`: a step limit) and the recording (:meth:`record`: progress)."""
+    ``digests`` are the run's record.  On request it keeps the outgoing hints (``hints``)
+    and the log of triangles added and removed (``created``, ``removed``).  Subclasses
+    extend the start of a step (:meth:`begin_step`: a step limit) and the recording
+    (:meth:`record`: progress reports)."""
 
     __slots__ = (
-        "apex",
         "attributed",
+        "created",
         "digest",
         "digests",
         "grid",
+        "halfedges",
         "hashes",
+        "hints",
+        "keeps_hints",
+        "logs",
         "points",
+        "removed",
         "scale",
         "segments",
         "steps",
         "triangle_attrs",
     )
 
-    def __init__(self, mesh: Mesh2) -> None:
+    def __init__(self, mesh: Mesh2, *, hints: bool = False, log: bool = False) -> None:
         self.points: list[Point2] = [mesh.vertices[i] for i in range(mesh.vertex_count)]
-        self.apex: dict[Edge, int] = dict(mesh.halfedges.items())
+        self.halfedges: dict[Edge, int] = dict(mesh.halfedges.items())
         self.hashes: dict[Triangle, int] = {}
         self.digest = mesh.digest
         self.steps: list[Step] = []
@@ -73,8 +82,26 @@ class BatchTriangulation:
         )
         self.attributed = bool(self.triangle_attrs)
         self.scale, self.grid = grid_flags(self.points)
+        # outgoing hints as Transient2 keeps them: each new triangle (a, b, c) sets
+        # a -> b, b -> c, c -> a
+        self.keeps_hints = hints
+        self.hints: list[int | None] = (
+            [mesh.outgoing.get(i) for i in range(mesh.vertex_count)] if hints else []
+        )
+        # the canonical triangles added and removed since the engine last cleared them
+        self.logs = log
+        self.created: list[Triangle] = []
+        self.removed: list[Triangle] = []
 
     # -- reads --------------------------------------------------------------------------
+    def apex(self, u: int, v: int) -> int | None:
+        """Third vertex of the triangle left of (u, v), or None."""
+        return self.halfedges.get((u, v))
+
+    def segment_marker(self, u: int, v: int) -> int | None:
+        """Marker of the constrained segment {u, v}, or None when it is not constrained."""
+        return self.segments.get((u, v) if u < v else (v, u))
+
     def is_segment(self, u: int, v: int) -> bool:
         return ((u, v) if u < v else (v, u)) in self.segments
 
@@ -95,9 +122,14 @@ class BatchTriangulation:
         self.digests.append(self.digest)
 
     # -- triangles ----------------------------------------------------------------------
-    def _enter(self, a: int, b: int, c: int, attributes: Attributes | None) -> Triangle:
-        """Account for the new triangle (a, b, c): its cell hash (cached), its attributes,
-        the digest; return its canonical form."""
+    def _enter(self, a: int, b: int, c: int, attributes: Attributes | None) -> None:
+        """Account for the new triangle (a, b, c): the hints, its cell hash (cached), its
+        attributes, the digest, the log."""
+        if self.keeps_hints:
+            hints = self.hints
+            hints[a] = b
+            hints[b] = c
+            hints[c] = a
         key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
         value = self.hashes[key] = _cell_hash(key)
         total = self.digest + value
@@ -105,7 +137,8 @@ class BatchTriangulation:
             self.triangle_attrs[key] = attributes
             total += _digest.attribute_hash("ta", key, attributes)
         self.digest = total & _MASK
-        return key
+        if self.logs:
+            self.created.append(key)
 
     def _leave(self, a: int, b: int, c: int) -> Attributes | None:
         """Account for the removed triangle (a, b, c); return its attributes."""
@@ -118,97 +151,68 @@ class BatchTriangulation:
             if attributes is not None:
                 total -= _digest.attribute_hash("ta", key, attributes)
         self.digest = total & _MASK
+        if self.logs:
+            self.removed.append(key)
         return attributes
 
-    def add(self, a: int, b: int, c: int, attributes: Attributes | None = None) -> None:
+    def add_triangle(
+        self, a: int, b: int, c: int, attributes: Attributes | None = None
+    ) -> None:
         """Add the counter-clockwise triangle (a, b, c) (its half-edges are free)."""
-        apex = self.apex
-        apex[(a, b)] = c
-        apex[(b, c)] = a
-        apex[(c, a)] = b
+        halfedges = self.halfedges
+        halfedges[(a, b)] = c
+        halfedges[(b, c)] = a
+        halfedges[(c, a)] = b
         self._enter(a, b, c, attributes)
 
-    def remove(self, a: int, b: int, c: int) -> Attributes | None:
+    def remove_triangle(self, a: int, b: int, c: int) -> Attributes | None:
         """Remove the triangle (a, b, c); return its attributes."""
-        apex = self.apex
-        del apex[(a, b)]
-        del apex[(b, c)]
-        del apex[(c, a)]
+        halfedges = self.halfedges
+        del halfedges[(a, b)]
+        del halfedges[(b, c)]
+        del halfedges[(c, a)]
         return self._leave(a, b, c)
 
-    # -- the triangle edits of the ops ----------------------------------------------------
+    # -- segments -----------------------------------------------------------------------
+    def set_segment(self, u: int, v: int, marker: int = 0) -> None:
+        """Mark the unconstrained edge {u, v} as a segment with ``marker``."""
+        key = (u, v) if u < v else (v, u)
+        self.segments[key] = marker
+        self.digest = (self.digest + _digest.segment_hash(key[0], key[1], marker)) & _MASK
+
+    def remove_segment(self, u: int, v: int) -> int:
+        """Unconstrain {u, v}; return its marker."""
+        key = (u, v) if u < v else (v, u)
+        marker = self.segments.pop(key)
+        self.digest = (self.digest - _digest.segment_hash(key[0], key[1], marker)) & _MASK
+        return marker
+
+    # -- the steps the store makes itself ------------------------------------------------
+    # (the other triangle edits are the ops' own: ops.join_in_edge, join_in_triangle and
+    # join_in_quadrilateral take this store as they take a transient)
     def flip(self, u: int, v: int) -> None:
         """The step :func:`geomexact.mesh2d.ops.flip_in`: the triangles (u, v, w) and
         (v, u, x) of an unconstrained interior edge with a strictly convex quadrilateral
         become (x, w, u) and (w, x, v)."""
         self.begin_step()
-        apex = self.apex
-        w, x = apex[(u, v)], apex[(v, u)]
-        # the four outer half-edges keep their dict entries, with a new apex: the Delaunay
-        # builder's outgoing hints come from the dict's insertion order
-        del apex[(u, v)]
-        del apex[(v, u)]
-        apex[(x, w)] = u
-        apex[(w, u)] = x
-        apex[(u, x)] = w
-        apex[(w, x)] = v
-        apex[(x, v)] = w
-        apex[(v, w)] = x
+        halfedges = self.halfedges
+        w, x = halfedges[(u, v)], halfedges[(v, u)]
+        # not flip_in's remove and add: the four outer half-edges keep their dict entries,
+        # with a new apex, because the Delaunay engine's outgoing hints come from the
+        # dict's insertion order (and the compiled kernel keeps that order)
+        del halfedges[(u, v)]
+        del halfedges[(v, u)]
+        halfedges[(x, w)] = u
+        halfedges[(w, u)] = x
+        halfedges[(u, x)] = w
+        halfedges[(w, x)] = v
+        halfedges[(x, v)] = w
+        halfedges[(v, w)] = x
         attributes = self._leave(u, v, w)
         self._leave(v, u, x)
         self._enter(x, w, u, attributes)
         self._enter(w, x, v, attributes)
         self.record("flip", (u, v))
-
-    def split_edge(self, u: int, v: int, n: int) -> None:
-        """The triangles and segments of ``ops._split_edge``: the vertex n, strictly inside
-        edge {u, v}, joined to the apex of each triangle of the edge (each keeps its
-        attributes); a constrained edge becomes its two halves, with its marker."""
-        apex = self.apex
-        w, x = apex.get((u, v)), apex.get((v, u))
-        if w is not None:
-            attributes = self.remove(u, v, w)
-            self.add(u, n, w, attributes)
-            self.add(n, v, w, attributes)
-        if x is not None:
-            attributes = self.remove(v, u, x)
-            self.add(v, n, x, attributes)
-            self.add(n, u, x, attributes)
-        key = (u, v) if u < v else (v, u)
-        marker = self.segments.pop(key, None)
-        if marker is not None:
-            first = (u, n) if u < n else (n, u)
-            second = (n, v) if n < v else (v, n)
-            self.segments[first] = marker
-            self.segments[second] = marker
-            segment_hash = _digest.segment_hash
-            self.digest = (
-                self.digest
-                - segment_hash(key[0], key[1], marker)
-                + segment_hash(first[0], first[1], marker)
-                + segment_hash(second[0], second[1], marker)
-            ) & _MASK
-
-    def split_triangle(self, a: int, b: int, c: int, n: int) -> None:
-        """The triangles of ``ops._split_triangle``: the vertex n, strictly inside the
-        triangle (a, b, c), joined to its corners."""
-        attributes = self.remove(a, b, c)
-        self.add(a, b, n, attributes)
-        self.add(b, c, n, attributes)
-        self.add(c, a, n, attributes)
-
-    def split_quadrilateral(self, u: int, v: int, n: int) -> None:
-        """The triangles of ``ops._insert_in_quadrilateral``: (u, v, w) and (v, u, x)
-        become (u, x, n), (x, v, n), (v, w, n), (w, u, n) for the vertex n strictly inside
-        each."""
-        apex = self.apex
-        w, x = apex[(u, v)], apex[(v, u)]
-        attributes = self.remove(u, v, w)
-        self.remove(v, u, x)
-        self.add(u, x, n, attributes)
-        self.add(x, v, n, attributes)
-        self.add(v, w, n, attributes)
-        self.add(w, u, n, attributes)
 
     def legalize_edges(self, vertex: int, pending: list[Edge]) -> None:
         """Lawson flips around ``vertex``, as :func:`geomexact.mesh2d.ops.legalize_in`
@@ -218,7 +222,7 @@ class BatchTriangulation:
         through vertex, a, b, the quadrilateral is strictly convex and both triangles carry
         the same attributes, flip it and push (q, b) then (a, q).  Cocircular points never
         cause a flip."""
-        get = self.apex.get
+        get = self.halfedges.get
         points, grid, segments = self.points, self.grid, self.segments
         attributed = self.attributed
         p = points[vertex]
@@ -261,12 +265,12 @@ class BatchTriangulation:
         vertex tables and ``outgoing``, which the engines keep in their own ways)."""
         return attrs.evolve(
             start,
-            halfedges=immutables.Map(self.apex),
+            halfedges=immutables.Map(self.halfedges),
             segments=immutables.Map(self.segments),
             triangle_attributes=immutables.Map(self.triangle_attrs)
             if self.attributed
             else start.triangle_attributes,
-            triangle_count=len(self.apex) // 3,
+            triangle_count=len(self.halfedges) // 3,
             digest=self.digest,
             **tables,
         )

@@ -9,13 +9,15 @@
 
 All record the same trace; the engine is never a parameter of it.  ``"fast"`` and
 ``"transient"`` are the old names of ``"auto"`` and ``"reference"``, still accepted.
+:func:`compiled_kernel` says whether a ``"compiled"`` engine is there.
 """
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Mapping
 from types import MappingProxyType
-from typing import Literal, TypeAlias
+from typing import Any, Literal, TypeAlias
 
 from geomexact.errors import PreconditionError
 
@@ -43,3 +45,12 @@ def engine_named(op: str, engine: str, engines: tuple[str, ...] = ENGINES) -> st
             op, f"unknown engine {engine!r}; choose from {choices} (old names: {old})"
         )
     return name
+
+
+def compiled_kernel(module: str) -> Any:
+    """The compiled kernel ``module`` (an optional Cython extension), or None when it is
+    not built: then engine ``"auto"`` runs the Python engine and ``"compiled"`` refuses."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        return None

@@ -13,12 +13,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from types import MappingProxyType
+from typing import Protocol
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point2, point2
 from geomexact.kernel.predicate_results import CircleLocation, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.snapshot import (
+    Attributes,
     Edge,
     Mesh2,
     Triangle,
@@ -83,6 +85,68 @@ def _interior_edge(t: Transient2, op: str, u: int, v: int) -> tuple[int, int]:
 
 
 # ---------------------------------------------------------------------------------------
+# the triangle edits of the ops (on a transient, or on the batch engines' store)
+# ---------------------------------------------------------------------------------------
+class TriangleEditor(Protocol):
+    """What the ops' triangle edits need of a mesh editor: a
+    :class:`~geomexact.mesh2d.transient.Transient2`, or the batch engines' store
+    :class:`~geomexact.mesh2d.batch_store.BatchTriangulation`."""
+
+    def apex(self, u: int, v: int, /) -> int | None: ...
+
+    def add_triangle(
+        self, a: int, b: int, c: int, attributes: Attributes | None = None, /
+    ) -> None: ...
+
+    def remove_triangle(self, a: int, b: int, c: int, /) -> Attributes | None: ...
+
+    def segment_marker(self, u: int, v: int, /) -> int | None: ...
+
+    def set_segment(self, u: int, v: int, marker: int = 0, /) -> None: ...
+
+    def remove_segment(self, u: int, v: int, /) -> int: ...
+
+
+def join_in_edge(t: TriangleEditor, u: int, v: int, n: int) -> None:
+    """Join the vertex n, strictly inside edge {u, v}, to the apex of each triangle of the
+    edge (each half keeps the triangle's attributes); a constrained edge becomes its two
+    halves, with its marker."""
+    w, x = t.apex(u, v), t.apex(v, u)
+    if w is not None:
+        attributes = t.remove_triangle(u, v, w)
+        t.add_triangle(u, n, w, attributes)
+        t.add_triangle(n, v, w, attributes)
+    if x is not None:
+        attributes = t.remove_triangle(v, u, x)
+        t.add_triangle(v, n, x, attributes)
+        t.add_triangle(n, u, x, attributes)
+    marker = t.segment_marker(u, v)
+    if marker is not None:
+        t.remove_segment(u, v)
+        t.set_segment(u, n, marker)
+        t.set_segment(n, v, marker)
+
+
+def join_in_triangle(t: TriangleEditor, a: int, b: int, c: int, n: int) -> None:
+    """Join the vertex n, strictly inside the triangle (a, b, c), to its corners."""
+    attributes = t.remove_triangle(a, b, c)
+    t.add_triangle(a, b, n, attributes)
+    t.add_triangle(b, c, n, attributes)
+    t.add_triangle(c, a, n, attributes)
+
+
+def join_in_quadrilateral(t: TriangleEditor, u: int, v: int, w: int, x: int, n: int) -> None:
+    """Replace the triangles (u, v, w) and (v, u, x) by (u, x, n), (x, v, n), (v, w, n),
+    (w, u, n), for the vertex n strictly inside each."""
+    attributes = t.remove_triangle(u, v, w)
+    t.remove_triangle(v, u, x)
+    t.add_triangle(u, x, n, attributes)
+    t.add_triangle(x, v, n, attributes)
+    t.add_triangle(v, w, n, attributes)
+    t.add_triangle(w, u, n, attributes)
+
+
+# ---------------------------------------------------------------------------------------
 # ops on a transient
 # ---------------------------------------------------------------------------------------
 def flip_in(t: Transient2, u: int, v: int) -> Edge:
@@ -132,18 +196,7 @@ def _split_edge(
         )
     marker = t.segment_marker(u, v)
     n = t.add_vertex(point, marker or 0) if vertex is None else vertex
-    if w is not None:
-        attributes = t.remove_triangle(u, v, w)
-        t.add_triangle(u, n, w, attributes)
-        t.add_triangle(n, v, w, attributes)
-    if x is not None:
-        attributes = t.remove_triangle(v, u, x)
-        t.add_triangle(v, n, x, attributes)
-        t.add_triangle(n, u, x, attributes)
-    if marker is not None:
-        t.remove_segment(u, v)
-        t.set_segment(u, n, marker)
-        t.set_segment(n, v, marker)
+    join_in_edge(t, u, v, n)
     return n
 
 
@@ -187,10 +240,7 @@ def _split_triangle(
             triangle=triangle,
         )
     n = t.add_vertex(point) if vertex is None else vertex
-    attributes = t.remove_triangle(a, b, c)
-    t.add_triangle(a, b, n, attributes)
-    t.add_triangle(b, c, n, attributes)
-    t.add_triangle(c, a, n, attributes)
+    join_in_triangle(t, a, b, c, n)
     return n
 
 
@@ -284,8 +334,7 @@ def _insert_in_quadrilateral(
     w, x = _interior_edge(t, op, u, v)
     pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
     point = place(pu, pv, pw, px)
-    corners = ((u, x, pu, px), (x, v, px, pv), (v, w, pv, pw), (w, u, pw, pu))
-    for _, _, p, q in corners:
+    for p, q in ((pu, px), (px, pv), (pv, pw), (pw, pu)):
         if orient2d(p, q, point) != CCW:
             raise PreconditionError(
                 op,
@@ -294,10 +343,7 @@ def _insert_in_quadrilateral(
                 edge=(u, v),
             )
     n = t.add_vertex(point)
-    attributes = t.remove_triangle(u, v, w)
-    t.remove_triangle(v, u, x)
-    for i, j, _, _ in corners:
-        t.add_triangle(i, j, n, attributes)
+    join_in_quadrilateral(t, u, v, w, x, n)
     return n
 
 

@@ -14,27 +14,20 @@ compare them).
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Sequence
 from typing import Any
 
 import attrs
 
 from geomexact.kernel.points import Point2
+from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.trace.step import Step
 
 __all__ = ["AVAILABLE", "CompiledConstruction", "run_compiled"]
 
 
-def _load_kernel() -> Any:
-    try:
-        return importlib.import_module("geomexact.mesh2d.delaunay.delaunay_kernel")
-    except ImportError:  # not built: engine "auto" runs the Python engine instead
-        return None
-
-
-_delaunay_kernel: Any = _load_kernel()
+_delaunay_kernel: Any = compiled_kernel("geomexact.mesh2d.delaunay.delaunay_kernel")
 
 AVAILABLE: bool = _delaunay_kernel is not None
 """True when the extension is built and importable."""

@@ -34,6 +34,8 @@ from geomexact.mesh2d.ops import (
     exterior_triangles,
     flip_in,
     insert_in_edge_in,
+    join_in_edge,
+    join_in_triangle,
     set_region_in,
 )
 from geomexact.mesh2d.pslg import PSLG
@@ -211,16 +213,16 @@ class BatchDelaunay(BatchTriangulation):
     def make_triangle(self, a: int, b: int, c: int) -> None:
         pa, pb, pc = self.points[a], self.points[b], self.points[c]
         if orient2d(pa, pb, pc) == CCW:
-            self.add(a, b, c)
+            self.add_triangle(a, b, c)
         else:
-            self.add(a, c, b)
+            self.add_triangle(a, c, b)
         self.record("make_triangle", (a, b, c))
-        self.last = (a, b) if (a, b) in self.apex else (a, c)
+        self.last = (a, b) if (a, b) in self.halfedges else (a, c)
 
     def locate(self, p: Point2) -> tuple[str, tuple[int, int, int]]:
         """Walk from the last triangle to ``p``: ("inside", (a, b, c)), ("edge", (u, v, _))
         or ("outside", (u, v, _)) for a boundary half-edge (u, v) with p strictly right."""
-        apex, points = self.apex, self.points
+        apex, points = self.halfedges, self.points
         a, b = self.last
         c = apex[(a, b)]
         if orient2d(points[a], points[b], p) == CW:
@@ -264,13 +266,13 @@ class BatchDelaunay(BatchTriangulation):
         where, (a, b, c) = self.locate(self.points[vertex])
         pending: list[tuple[int, int]]
         if where == "inside":
-            self.split_triangle(a, b, c, vertex)
+            join_in_triangle(self, a, b, c, vertex)
             self.record("attach_in_triangle", (vertex, a, b, c))
             pending = [(c, a), (b, c), (a, b)]
         elif where == "edge":
             u, v = a, b
-            w, x = self.apex.get((u, v)), self.apex.get((v, u))
-            self.split_edge(u, v, vertex)
+            w, x = self.apex(u, v), self.apex(v, u)
+            join_in_edge(self, u, v, vertex)
             self.record("attach_in_edge", (vertex, u, v))
             pending = []
             if w is not None:
@@ -283,30 +285,26 @@ class BatchDelaunay(BatchTriangulation):
         self.legalize_edges(vertex, pending)
 
     def _attach_outside(self, vertex: int, u: int, v: int) -> list[tuple[int, int]]:
-        apex, points = self.apex, self.points
+        points = self.points
         p = points[vertex]
         visible = [(u, v)]
-
-        def find(a: int, b: int) -> int | None:
-            return apex.get((a, b))
-
-        edge = next_boundary_edge(find, u, v)
+        edge = next_boundary_edge(self.apex, u, v)
         while orient2d(points[edge[0]], points[edge[1]], p) == CW:
             visible.append(edge)
-            edge = next_boundary_edge(find, *edge)
-        edge = previous_boundary_edge(find, u, v)
+            edge = next_boundary_edge(self.apex, *edge)
+        edge = previous_boundary_edge(self.apex, u, v)
         while orient2d(points[edge[0]], points[edge[1]], p) == CW:
             visible.insert(0, edge)
-            edge = previous_boundary_edge(find, *edge)
+            edge = previous_boundary_edge(self.apex, *edge)
         for a, b in visible:
-            self.add(b, a, vertex)
+            self.add_triangle(b, a, vertex)
         self.record("attach_outside", (vertex, u, v))
         return [(b, a) for a, b in visible]
 
     def seal(self, start: Mesh2) -> Mesh2:
         # the outgoing hint of a vertex: its last inserted live half-edge (the compiled
         # kernel keeps insertion numbers to give the same hints)
-        return self.sealed(start, outgoing=immutables.Map({u: v for u, v in self.apex}))
+        return self.sealed(start, outgoing=immutables.Map({u: v for u, v in self.halfedges}))
 
 
 def _delaunay_engine(engine: str) -> str:

@@ -138,7 +138,7 @@ class Refinement:
     def consider(self, a: int, b: int, c: int) -> None:
         """Queue the canonical triangle (a, b, c) when it is in the region and bad (or
         note it as left when it is bad only at input angles)."""
-        if not self.in_region(a, b, c):
+        if not self.whole and not self.in_region(a, b, c):
             return
         key = self.rating(a, b, c)
         if key is None:

@@ -20,6 +20,8 @@ from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.batch_store import BatchTriangulation
 from geomexact.mesh2d.longest_edge import comes_first, longest_first
 from geomexact.mesh2d.ops import (
+    join_in_edge,
+    join_in_quadrilateral,
     legalization_stack,
     quadrilateral_area_centroid,
     quadrilateral_vertex_centroid,
@@ -29,11 +31,8 @@ from geomexact.mesh2d.refinement.criteria import MaxArea
 from geomexact.mesh2d.refinement.driver import Progress, Refinement, StepLimit
 from geomexact.mesh2d.snapshot import (
     MAX_VERTICES,
-    Attributes,
     Edge,
     Mesh2,
-    Triangle,
-    canonical_triangle,
     walk_star,
 )
 from geomexact.trace.step import Step
@@ -60,21 +59,19 @@ def _exact_point(x: Rational, y: Rational) -> Point2:
 
 
 class BatchRefinement(BatchTriangulation, Refinement):
-    """The refinement loop on a batch triangulation: the store's steps, plus the vertex
-    tables, the outgoing hints (each new triangle (a, b, c) sets a -> b, b -> c, c -> a),
-    the triangles each action adds and removes (for the queue), the step limit and the
-    progress reports.  Its trace is tested equal to the reference engine's, step by
-    step."""
+    """The refinement loop on a batch triangulation with its outgoing hints and its log
+    of the triangles each action adds and removes (for the queue), plus the vertex tables,
+    the step limit and the progress reports.  Its trace is tested equal to the reference
+    engine's, step by step."""
 
     def __init__(self, mesh: Mesh2, max_steps: int | None, **options: Any) -> None:
         Refinement.__init__(self, mesh, **options)
-        BatchTriangulation.__init__(self, mesh)
+        BatchTriangulation.__init__(self, mesh, hints=True, log=True)
         # the snapshot's vertex map, opened for edits (sealing it is O(1))
         self.vertex_table = mesh.vertices.mutate()
-        self.hints: list[int | None] = [mesh.outgoing.get(i) for i in range(mesh.vertex_count)]
         self.new_markers: dict[int, int] = {}
         self.limit = max_steps
-        self.get = self.apex.get
+        self.get = self.halfedges.get
         self.point = self.points.__getitem__
         criterion = self.criterion
         # MaxArea.rate on grid triangles, exact in floats (a float key orders, hashes and
@@ -95,23 +92,10 @@ class BatchRefinement(BatchTriangulation, Refinement):
         if self.on_step is not None:
             self.on_step(
                 Progress(
-                    len(self.steps), self.steps[-1], len(self.apex) // 3, len(self.points),
+                    len(self.steps), self.steps[-1], len(self.halfedges) // 3, len(self.points),
                     self.queue.size,
                 )
             )
-
-    def _enter(self, a: int, b: int, c: int, attributes: Attributes | None) -> Triangle:
-        hints = self.hints
-        hints[a] = b
-        hints[b] = c
-        hints[c] = a
-        key = super()._enter(a, b, c, attributes)
-        self.created.append(key)
-        return key
-
-    def _leave(self, a: int, b: int, c: int) -> Attributes | None:
-        self.removed.append(canonical_triangle(a, b, c))
-        return super()._leave(a, b, c)
 
     def add_vertex(self, point: Point2, marker: int, on_grid: bool) -> int:
         """Append a vertex at ``point`` (in no triangle yet) and return its id."""
@@ -143,7 +127,7 @@ class BatchRefinement(BatchTriangulation, Refinement):
             marker or 0,
             scale is not None and grid[u] and grid[v] and midpoint_on_grid(pu, pv, scale),
         )
-        self.split_edge(u, v, n)
+        join_in_edge(self, u, v, n)
         self.record("bisect", (u, v))
         return n
 
@@ -151,8 +135,8 @@ class BatchRefinement(BatchTriangulation, Refinement):
         """:func:`geomexact.mesh2d.ops.insert_centroid_in` or
         :func:`geomexact.mesh2d.ops.insert_in_quadrilateral_in`."""
         self.begin_step()
-        apex, points = self.apex, self.points
-        w, x = apex[(u, v)], apex[(v, u)]
+        halfedges, points = self.halfedges, self.points
+        w, x = halfedges[(u, v)], halfedges[(v, u)]
         pu, pv, pw, px = points[u], points[v], points[w], points[x]
         args: tuple[int | Rational, ...] = (u, v)
         if self.centroid_kind == "area":
@@ -166,7 +150,7 @@ class BatchRefinement(BatchTriangulation, Refinement):
             if orient2d(p, q, point) != _CCW:  # pragma: no cover - terminal pairs are convex
                 raise PreconditionError(op, f"centroid of ({u}, {v}) outside its quadrilateral")
         n = self.add_vertex(point, 0, False)
-        self.split_quadrilateral(u, v, n)
+        join_in_quadrilateral(self, u, v, w, x, n)
         self.record(op, args)
         return n
 
@@ -175,15 +159,14 @@ class BatchRefinement(BatchTriangulation, Refinement):
         ``vertex`` as (w, x) pairs of its triangles (vertex, w, x), counter-clockwise
         (any rotation for an interior vertex), when the caller knows it."""
         if star is None:
-            get = self.apex.get
-            triangles = walk_star(lambda a, b: get((a, b)), vertex, self.hints[vertex])
+            triangles = walk_star(self.apex, vertex, self.hints[vertex])
             star = [(w, x) for _, w, x in triangles]
         self.legalize_edges(vertex, legalization_stack(star))
 
     def insert_midpoint(self, u: int, v: int) -> None:
         """:meth:`Refinement.insert_midpoint`, with the star of the midpoint known: the
         edge (u, v) has the triangle (u, v, w) on its left (every caller's edge does)."""
-        w, x = self.apex[(u, v)], self.apex.get((v, u))
+        w, x = self.halfedges[(u, v)], self.halfedges.get((v, u))
         vertex = self.bisect(u, v)
         if self.legalize_insertions:
             # counter-clockwise, starting after the boundary gap (as walk_star lists it)

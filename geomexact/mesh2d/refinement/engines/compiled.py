@@ -26,13 +26,13 @@ uses it (``tests/engines`` compares them all with the reference engine).
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable
 from typing import Any, Literal
 
 import attrs
 
 from geomexact.kernel.numbers import mpq
+from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, MaxArea
 from geomexact.mesh2d.refinement.driver import Progress
@@ -40,15 +40,7 @@ from geomexact.mesh2d.refinement.regions import Whole
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.step import Step
 
-
-def _load_kernel() -> Any:
-    try:
-        return importlib.import_module("geomexact.mesh2d.refinement.engines.lepp_kernel")
-    except ImportError:  # not built: engine "auto" runs the Python engine instead
-        return None
-
-
-_lepp_kernel: Any = _load_kernel()
+_lepp_kernel: Any = compiled_kernel("geomexact.mesh2d.refinement.engines.lepp_kernel")
 
 __all__ = ["AVAILABLE", "CompiledRun", "run_compiled", "supports", "unsupported"]
 
