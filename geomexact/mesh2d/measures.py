@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from geomexact.kernel.numbers import ZERO, Rational
+from geomexact.kernel.numbers import ZERO, Rational, format_rational, to_float
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 
@@ -52,3 +52,23 @@ def triangle_angles_degrees(a: Point2, b: Point2, c: Point2) -> tuple[float, flo
         return math.degrees(math.atan2(abs(ux * vy - uy * vx), ux * vx + uy * vy))
 
     return angle(a, b, c), angle(b, c, a), angle(c, a, b)
+
+
+def angle_and_area_report(
+    angles: tuple[float | None, float | None],
+    smallest: Rational | None,
+    largest: Rational | None,
+    total: Rational,
+    count: int,
+) -> dict[str, object]:
+    """The angle and area entries of a mesh report (``info``, the summaries): the smallest
+    and largest angle in degrees, the smallest, largest and mean cell area as the nearest
+    doubles (None for no cells), and the exact total area as text."""
+    return {
+        "min_angle_deg": angles[0],
+        "max_angle_deg": angles[1],
+        "min_area": None if smallest is None else to_float(smallest),
+        "max_area": None if largest is None else to_float(largest),
+        "mean_area": to_float(total / count) if count else None,
+        "total_area": format_rational(total),
+    }

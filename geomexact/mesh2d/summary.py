@@ -5,9 +5,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from geomexact.kernel.numbers import ZERO, format_rational, to_float
+from geomexact.kernel.numbers import ZERO
 from geomexact.mesh2d.delaunay.triangulation import is_delaunay
-from geomexact.mesh2d.measures import signed_area, triangle_angles_degrees
+from geomexact.mesh2d.measures import (
+    angle_and_area_report,
+    signed_area,
+    triangle_angles_degrees,
+)
 from geomexact.mesh2d.snapshot import Mesh2
 
 
@@ -44,12 +48,7 @@ def mesh_summary(mesh: Mesh2) -> dict[str, Any]:
         "edges": (edges + boundary) // 2,
         "boundary_edges": boundary,
         "constrained_edges": len(mesh.segments),
-        "min_angle_deg": min_angle,
-        "max_angle_deg": max_angle,
-        "min_area": None if min_area is None else to_float(min_area),
-        "max_area": None if max_area is None else to_float(max_area),
-        "mean_area": to_float(total / count) if count else None,
-        "total_area": format_rational(total),
+        **angle_and_area_report((min_angle, max_angle), min_area, max_area, total, count),
         "is_delaunay": is_delaunay(mesh),
         "digest": mesh.digest_text,
     }

@@ -23,6 +23,7 @@ from geomexact.kernel.numbers import ZERO, Rational, format_rational, to_float
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
+from geomexact.mesh2d.measures import angle_and_area_report
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.mesh2d.validation import Violation
@@ -600,11 +601,6 @@ def mesh_stats(mesh: PolygonMesh, *, inserted_edges: int | None = None) -> dict[
         "min_polygon_size": min(sizes, default=None),
         "max_polygon_size": max(sizes, default=None),
         "mean_polygon_size": sum(sizes) / count if count else None,
-        "min_angle_deg": min_angle,
-        "max_angle_deg": max_angle,
-        "min_area": None if min_area is None else to_float(min_area),
-        "max_area": None if max_area is None else to_float(max_area),
-        "mean_area": to_float(total / count) if count else None,
-        "total_area": format_rational(total),
+        **angle_and_area_report((min_angle, max_angle), min_area, max_area, total, count),
         "inserted_edges": inserted_edges,
     }
