@@ -213,29 +213,29 @@ def walk_star(
     return result
 
 
+def _last_neighbour(apex: Callable[[int, int], int | None], u: int, v: int, around: int) -> int:
+    """Turn around ``around`` (v or u) from the boundary half-edge (u, v) through the
+    triangles there, and return the last neighbour reached before the boundary."""
+    x = apex(u, v)
+    while x is not None:
+        y = apex(x, v) if around == v else apex(u, x)
+        if y is None:
+            return x
+        x = y
+    raise ValueError(f"({u}, {v}) is not a boundary half-edge")
+
+
 def next_boundary_edge(apex: Callable[[int, int], int | None], u: int, v: int) -> Edge:
     """The boundary half-edge (v, z) that follows the boundary half-edge (u, v) (a
     half-edge with a triangle on its left and none on its right), found by turning around
     v.  O(degree of v)."""
-    x = apex(u, v)
-    while x is not None:
-        y = apex(x, v)
-        if y is None:
-            return v, x
-        x = y
-    raise ValueError(f"({u}, {v}) is not a boundary half-edge")
+    return v, _last_neighbour(apex, u, v, around=v)
 
 
 def previous_boundary_edge(apex: Callable[[int, int], int | None], u: int, v: int) -> Edge:
     """The boundary half-edge (z, u) that precedes the boundary half-edge (u, v).
     O(degree of u)."""
-    x = apex(u, v)
-    while x is not None:
-        y = apex(u, x)
-        if y is None:
-            return x, u
-        x = y
-    raise ValueError(f"({u}, {v}) is not a boundary half-edge")
+    return _last_neighbour(apex, u, v, around=u), u
 
 
 def _same_triangles(a: Mapping[Edge, int], b: Mapping[Edge, int]) -> bool:
