@@ -124,23 +124,22 @@ class AngleThreshold:
         return cls(value, cos2, cos_sign, exact, cos2_float)
 
 
-def _compare_angle_exact(a: PointT, b: PointT, c: PointT, threshold: AngleThreshold) -> Comparison:
+def _arm_products(a: PointT, b: PointT, c: PointT) -> tuple[Rational, Rational, Rational]:
+    """``(u.v, |u|^2, |v|^2)`` for the arms u = a - b and v = c - b of the angle at b, exact."""
+    ux = a[0] - b[0]
+    uy = a[1] - b[1]
+    vx = c[0] - b[0]
+    vy = c[1] - b[1]
     if len(a) == 4:
-        ux = a[0] - b[0]
-        uy = a[1] - b[1]
-        vx = c[0] - b[0]
-        vy = c[1] - b[1]
-        dot = ux * vx + uy * vy
-        lengths = (ux * ux + uy * uy) * (vx * vx + vy * vy)
-    else:
-        ux = a[0] - b[0]
-        uy = a[1] - b[1]
-        uz = a[2] - b[2]
-        vx = c[0] - b[0]
-        vy = c[1] - b[1]
-        vz = c[2] - b[2]
-        dot = ux * vx + uy * vy + uz * vz
-        lengths = (ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz)
+        return ux * vx + uy * vy, ux * ux + uy * uy, vx * vx + vy * vy
+    uz = a[2] - b[2]
+    vz = c[2] - b[2]
+    return ux * vx + uy * vy + uz * vz, ux * ux + uy * uy + uz * uz, vx * vx + vy * vy + vz * vz
+
+
+def _compare_angle_exact(a: PointT, b: PointT, c: PointT, threshold: AngleThreshold) -> Comparison:
+    dot, uu, vv = _arm_products(a, b, c)
+    lengths = uu * vv
     if lengths == 0:
         raise PreconditionError(
             "compare_angle", "the angle at b is undefined: a or c coincides with b", a=a, b=b, c=c
@@ -201,21 +200,17 @@ def compare_angle(a: PointT, b: PointT, c: PointT, threshold: AngleThreshold) ->
     else:
         _ANG[1] += 1
         return _compare_angle_exact(a, b, c, threshold)
-    if cos_sign == 0:
-        _ANG[0] += 1
-        return _LESS if dot_sign > 0 else _GREATER
     if dot_sign != cos_sign:
+        # θ = 90°, or the angle is on the other side of 90° from θ: greater when obtuse
         _ANG[0] += 1
-        return _GREATER if cos_sign > 0 else _LESS
+        return COMPARISONS[-dot_sign]
     difference = threshold.cos2_float * lu * lv - dot * dot
     t += ANGLE_K
     bound = t * t * t * (mt + ANGLE_K) * ANGLE_C  # t and m + t, each grown by ANGLE_K
-    if difference > bound:
+    if difference > bound or -difference > bound:
+        # difference > 0: |cos angle| < |cos θ|, the angle is nearer to 90° than θ
         _ANG[0] += 1
-        return _GREATER if cos_sign > 0 else _LESS
-    if -difference > bound:
-        _ANG[0] += 1
-        return _LESS if cos_sign > 0 else _GREATER
+        return COMPARISONS[cos_sign if difference > 0.0 else -cos_sign]
     _ANG[1] += 1
     return _compare_angle_exact(a, b, c, threshold)
 
@@ -223,31 +218,16 @@ def compare_angle(a: PointT, b: PointT, c: PointT, threshold: AngleThreshold) ->
 def angle_degrees(a: PointT, b: PointT, c: PointT) -> float:
     """The angle ∠abc at b in degrees, as a float (for reports only, never for decisions).
 
-    Computed from the exact dot and cross products with ``atan2`` in 64-bit MPFR, so it is
-    accurate for any magnitude.  Raises ``PreconditionError`` when a or c coincides with b.
+    Computed from the exact dot product and squared cross product with ``atan2`` in 64-bit
+    MPFR, so it is accurate for any magnitude.  Raises ``PreconditionError`` when a or c
+    coincides with b.
     """
-    if len(a) == 4:
-        ux = a[0] - b[0]
-        uy = a[1] - b[1]
-        vx = c[0] - b[0]
-        vy = c[1] - b[1]
-        dot = ux * vx + uy * vy
-        cross2 = (ux * vy - uy * vx) ** 2
-        degenerate = (ux == 0 and uy == 0) or (vx == 0 and vy == 0)
-    else:
-        ux = a[0] - b[0]
-        uy = a[1] - b[1]
-        uz = a[2] - b[2]
-        vx = c[0] - b[0]
-        vy = c[1] - b[1]
-        vz = c[2] - b[2]
-        dot = ux * vx + uy * vy + uz * vz
-        cross2 = (uy * vz - uz * vy) ** 2 + (uz * vx - ux * vz) ** 2 + (ux * vy - uy * vx) ** 2
-        degenerate = (ux == 0 and uy == 0 and uz == 0) or (vx == 0 and vy == 0 and vz == 0)
-    if degenerate:
+    dot, uu, vv = _arm_products(a, b, c)
+    if uu == 0 or vv == 0:
         raise PreconditionError(
             "angle_degrees", "the angle at b is undefined: a or c coincides with b", a=a, b=b, c=c
         )
+    cross2 = uu * vv - dot * dot  # |u x v|^2, by Lagrange's identity (2D: (ux vy - uy vx)^2)
     with gmpy2.context(precision=64):
         radians = gmpy2.atan2(gmpy2.sqrt(gmpy2.mpfr(cross2)), gmpy2.mpfr(dot))
     return math.degrees(float(radians))

@@ -38,6 +38,12 @@ def point_doubles(points: Sequence[Point2]) -> tuple[FloatArray, FloatArray]:
     return fx, fy
 
 
+def _doubles(fx: FloatArray, fy: FloatArray, index: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """The doubles of the points ``index`` names (an array of point ids)."""
+    ids = np.asarray(index, dtype=np.intp)
+    return fx[ids], fy[ids]
+
+
 def _signs(positive: BoolArray, negative: BoolArray) -> SignArray:
     return positive.astype(np.int8) - negative.astype(np.int8)
 
@@ -48,15 +54,13 @@ def orient2d_signs(
 ) -> SignArray:
     """``orient2d(p[a[i]], p[b[i]], p[c[i]])`` for every i as 1 (counterclockwise) or -1
     (clockwise) where its float filter certifies it, else 0 (undecided).  O(n)."""
-    ia = np.asarray(a, dtype=np.intp)
-    ib = np.asarray(b, dtype=np.intp)
-    ic = np.asarray(c, dtype=np.intp)
-    cx = fx[ic]
-    cy = fy[ic]
-    acx = fx[ia] - cx
-    acy = fy[ia] - cy
-    bcx = fx[ib] - cx
-    bcy = fy[ib] - cy
+    ax, ay = _doubles(fx, fy, a)
+    bx, by = _doubles(fx, fy, b)
+    cx, cy = _doubles(fx, fy, c)
+    acx = ax - cx
+    acy = ay - cy
+    bcx = bx - cx
+    bcy = by - cy
     left = acx * bcy
     right = acy * bcx
     det = left - right
@@ -80,18 +84,14 @@ def squared_length_signs(
     """``compare_squared_lengths(p[a[i]], p[b[i]], p[c[i]], p[d[i]])`` (the sign of
     ``|ab|^2 - |cd|^2``) for every i where its float filter certifies it, else 0
     (undecided).  O(n)."""
-    ia = np.asarray(a, dtype=np.intp)
-    ib = np.asarray(b, dtype=np.intp)
-    ic = np.asarray(c, dtype=np.intp)
-    i_d = np.asarray(d, dtype=np.intp)
-    ax = fx[ia]
-    ay = fy[ia]
-    cx = fx[ic]
-    cy = fy[ic]
-    ux = fx[ib] - ax
-    uy = fy[ib] - ay
-    vx = fx[i_d] - cx
-    vy = fy[i_d] - cy
+    ax, ay = _doubles(fx, fy, a)
+    bx, by = _doubles(fx, fy, b)
+    cx, cy = _doubles(fx, fy, c)
+    dx, dy = _doubles(fx, fy, d)
+    ux = bx - ax
+    uy = by - ay
+    vx = dx - cx
+    vy = dy - cy
     diff = (ux * ux + uy * uy) - (vx * vx + vy * vy)
     t = np.abs(ux) + np.abs(uy) + np.abs(vx) + np.abs(vy) + LENGTHS_K
     m = np.abs(ax) + np.abs(ay) + np.abs(cx) + np.abs(cy)

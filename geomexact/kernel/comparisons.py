@@ -11,17 +11,12 @@ from __future__ import annotations
 from typing import Final
 
 from geomexact.kernel.filter_bounds import AREAS_COUNTS as _AREA
-from geomexact.kernel.filter_bounds import (
-    LENGTHS_C,
-    LENGTHS_K,
-    ORIENT2D_C,
-    ORIENT2D_K,
-    SUM_MARGIN,
-)
+from geomexact.kernel.filter_bounds import LENGTHS_C, LENGTHS_K, SUM_MARGIN
 from geomexact.kernel.filter_bounds import LENGTHS_COUNTS as _LEN
 from geomexact.kernel.numbers import Rational, sign
 from geomexact.kernel.points import Point2, PointT
 from geomexact.kernel.predicate_results import COMPARISONS, Comparison
+from geomexact.kernel.predicates2d import _orient2d_float
 
 __all__ = ["compare_areas", "compare_squared_lengths"]
 
@@ -30,12 +25,10 @@ _GREATER: Final = Comparison.GREATER
 
 
 def _squared_length_exact(p: PointT, q: PointT) -> Rational:
-    if len(p) == 4:
-        dx = q[0] - p[0]
-        dy = q[1] - p[1]
-        return dx * dx + dy * dy
     dx = q[0] - p[0]
     dy = q[1] - p[1]
+    if len(p) == 4:
+        return dx * dx + dy * dy
     dz = q[2] - p[2]
     return dx * dx + dy * dy + dz * dz
 
@@ -66,12 +59,9 @@ def compare_squared_lengths(a: PointT, b: PointT, c: PointT, d: PointT) -> Compa
         m = abs(a[3]) + abs(a[4]) + abs(a[5]) + abs(c[3]) + abs(c[4]) + abs(c[5])
     # 2t (exact doubling): the squared lengths reach T^2, so B must overflow with them
     bound = t * (m + (t + t)) * LENGTHS_C
-    if diff > bound:
+    if diff > bound or -diff > bound:
         _LEN[0] += 1
-        return _GREATER
-    if -diff > bound:
-        _LEN[0] += 1
-        return _LESS
+        return _GREATER if diff > 0.0 else _LESS
     _LEN[1] += 1
     return COMPARISONS[sign(_squared_length_exact(a, b) - _squared_length_exact(c, d))]
 
@@ -88,35 +78,16 @@ def compare_areas(a: Point2, b: Point2, c: Point2, d: Point2, e: Point2, f: Poin
 
     Degenerate triangles have area zero.  Exact; float filter first.
     """
-    cx = c[2]
-    cy = c[3]
-    acx = a[2] - cx
-    acy = a[3] - cy
-    bcx = b[2] - cx
-    bcy = b[3] - cy
-    det1 = acx * bcy - acy * bcx
-    t = abs(acx) + abs(acy) + abs(bcx) + abs(bcy) + ORIENT2D_K
-    bound1 = t * (abs(cx) + abs(cy) + t) * ORIENT2D_C
-    fx = f[2]
-    fy = f[3]
-    dfx = d[2] - fx
-    dfy = d[3] - fy
-    efx = e[2] - fx
-    efy = e[3] - fy
-    det2 = dfx * efy - dfy * efx
-    t = abs(dfx) + abs(dfy) + abs(efx) + abs(efy) + ORIENT2D_K
-    bound2 = t * (abs(fx) + abs(fy) + t) * ORIENT2D_C
+    det1, bound1 = _orient2d_float(a, b, c)
+    det2, bound2 = _orient2d_float(d, e, f)
     area1 = abs(det1)
     area2 = abs(det2)
     # Each |det| is certified only when it exceeds its own bound (see the spec).
     if area1 > bound1 and area2 > bound2:
         diff = area1 - area2
         bound = (bound1 + bound2) * SUM_MARGIN
-        if diff > bound:
+        if diff > bound or -diff > bound:
             _AREA[0] += 1
-            return _GREATER
-        if -diff > bound:
-            _AREA[0] += 1
-            return _LESS
+            return _GREATER if diff > 0.0 else _LESS
     _AREA[1] += 1
     return COMPARISONS[sign(_doubled_area_exact(a, b, c) - _doubled_area_exact(d, e, f))]

@@ -9,7 +9,7 @@ for a predicate to turn a sign into its answer.
 from __future__ import annotations
 
 from enum import IntEnum
-from typing import Final
+from typing import Final, TypeVar
 
 __all__ = [
     "CIRCLE_LOCATIONS",
@@ -55,15 +55,15 @@ class Comparison(IntEnum):
     GREATER = 1
 
 
-ORIENTATIONS: Final = (Orientation.COLLINEAR, Orientation.COUNTERCLOCKWISE, Orientation.CLOCKWISE)
-CIRCLE_LOCATIONS: Final = (
-    CircleLocation.COCIRCULAR,
-    CircleLocation.INSIDE,
-    CircleLocation.OUTSIDE,
-)
-SPHERE_LOCATIONS: Final = (
-    SphereLocation.COSPHERICAL,
-    SphereLocation.INSIDE,
-    SphereLocation.OUTSIDE,
-)
-COMPARISONS: Final = (Comparison.EQUAL, Comparison.GREATER, Comparison.LESS)
+_Result = TypeVar("_Result", bound=IntEnum)
+
+
+def _by_sign(kind: type[_Result]) -> tuple[_Result, _Result, _Result]:
+    """The members of ``kind`` for the signs 0, 1, -1: item ``s`` is the member of value s."""
+    return kind(0), kind(1), kind(-1)
+
+
+ORIENTATIONS: Final = _by_sign(Orientation)
+CIRCLE_LOCATIONS: Final = _by_sign(CircleLocation)
+SPHERE_LOCATIONS: Final = _by_sign(SphereLocation)
+COMPARISONS: Final = _by_sign(Comparison)

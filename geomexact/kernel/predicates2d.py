@@ -72,7 +72,24 @@ def incircle_exact(a: Point2, b: Point2, c: Point2, d: Point2) -> CircleLocation
 
 
 # The fast path is written out in full in each function (no helper calls, tuple indexing,
-# locals) because these run millions of times.
+# locals) because these run millions of times.  Each ends the same way, Shewchuk's: the
+# float value is certified when it is farther from zero than the bound, then its sign is
+# the answer (one hit counted); otherwise one miss is counted and the exact version runs.
+
+
+def _orient2d_float(a: Point2, b: Point2, c: Point2) -> tuple[float, float]:
+    """orient2d's float determinant of abc and its certified bound (decided when
+    ``abs(det) > bound``), for the filters built on it (``comparisons.compare_areas``).
+    :func:`orient2d` computes the same, written out."""
+    cx = c[2]
+    cy = c[3]
+    acx = a[2] - cx
+    acy = a[3] - cy
+    bcx = b[2] - cx
+    bcy = b[3] - cy
+    det = acx * bcy - acy * bcx
+    t = abs(acx) + abs(acy) + abs(bcx) + abs(bcy) + ORIENT2D_K
+    return det, t * (abs(cx) + abs(cy) + t) * ORIENT2D_C
 
 
 def orient2d(a: Point2, b: Point2, c: Point2) -> Orientation:
@@ -102,12 +119,9 @@ def orient2d(a: Point2, b: Point2, c: Point2) -> Orientation:
     det = left - right
     t = abs(acx) + abs(acy) + abs(bcx) + abs(bcy) + ORIENT2D_K
     bound = t * (abs(cx) + abs(cy) + t) * ORIENT2D_C
-    if det > bound:
+    if det > bound or -det > bound:
         _O2D[0] += 1
-        return _CCW
-    if -det > bound:
-        _O2D[0] += 1
-        return _CW
+        return _CCW if det > 0.0 else _CW
     _O2D[1] += 1
     return orient2d_exact(a, b, c)
 
@@ -136,11 +150,8 @@ def incircle(a: Point2, b: Point2, c: Point2, d: Point2) -> CircleLocation:
     )
     t = abs(adx) + abs(ady) + abs(bdx) + abs(bdy) + abs(cdx) + abs(cdy) + INCIRCLE_K
     bound = t * t * t * (abs(dx) + abs(dy) + t) * INCIRCLE_C
-    if det > bound:
+    if det > bound or -det > bound:
         _ICC[0] += 1
-        return _INSIDE
-    if -det > bound:
-        _ICC[0] += 1
-        return _OUTSIDE
+        return _INSIDE if det > 0.0 else _OUTSIDE
     _ICC[1] += 1
     return incircle_exact(a, b, c, d)

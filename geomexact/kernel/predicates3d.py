@@ -98,7 +98,7 @@ def insphere_exact(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sph
 
 
 # The fast path is written out in full in each function (no helper calls, tuple indexing,
-# locals) because these run millions of times.
+# locals) because these run millions of times; each ends as those of predicates2d.
 
 
 def orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Orientation:
@@ -131,12 +131,9 @@ def orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Orientation:
         + abs(cdx) + abs(cdy) + abs(cdz) + ORIENT3D_K
     )  # fmt: skip
     bound = t * t * (abs(dx) + abs(dy) + abs(dz) + t) * ORIENT3D_C
-    if det > bound:
+    if det > bound or -det > bound:
         _O3D[0] += 1
-        return _CCW
-    if -det > bound:
-        _O3D[0] += 1
-        return _CW
+        return _CCW if det > 0.0 else _CW
     _O3D[1] += 1
     return orient3d_exact(a, b, c, d)
 
@@ -183,11 +180,8 @@ def insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> SphereLoc
     )  # fmt: skip
     t2 = t * t
     bound = t2 * t2 * (abs(ex) + abs(ey) + abs(ez) + t) * INSPHERE_C
-    if det > bound:
+    if det > bound or -det > bound:
         _ISP[0] += 1
-        return _INSIDE
-    if -det > bound:
-        _ISP[0] += 1
-        return _OUTSIDE
+        return _INSIDE if det > 0.0 else _OUTSIDE
     _ISP[1] += 1
     return insphere_exact(a, b, c, d, e)
