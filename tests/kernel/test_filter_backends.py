@@ -42,7 +42,13 @@ from geomexact.kernel.comparisons import compare_areas, compare_squared_lengths
 from geomexact.kernel.filter_bounds import filter_counters, reset_filter_counters
 from geomexact.kernel.numbers import Rational, mpq, scaled_to_integers, sign
 from geomexact.kernel.points import Point2, Point3, point2, point3
-from geomexact.kernel.predicates2d import incircle, incircle_exact, orient2d, orient2d_exact
+from geomexact.kernel.predicates2d import (
+    _orient2d_float,
+    incircle,
+    incircle_exact,
+    orient2d,
+    orient2d_exact,
+)
 from geomexact.kernel.predicates3d import insphere, insphere_exact, orient3d, orient3d_exact
 from geomexact.strategies import (
     Magnitude,
@@ -254,6 +260,16 @@ def _python_angle(queries: Sequence[Query]) -> Decisions:
             for a, b, c, threshold in queries]
 
 
+def _orient2d_float_decide(queries: Sequence[Query]) -> Decisions:
+    """``predicates2d._orient2d_float`` (orient2d's filter as a function, for compare_areas):
+    the sign of its value when that exceeds its bound."""
+    decisions: Decisions = []
+    for query in queries:
+        det, bound = _orient2d_float(*query)
+        decisions.append((1 if det > 0 else -1) if det > bound or -det > bound else None)
+    return decisions
+
+
 def _numpy(signs: Callable[..., Any]) -> Callable[[Sequence[Query]], Decisions]:
     """A vectorised filter over all queries at once (one point array, one index array per
     argument position)."""
@@ -324,6 +340,7 @@ def _angle_points() -> st.SearchStrategy[tuple[Any, ...]]:
 
 PYTHON = [
     Case("python", "orient2d", TRIPLES2, 3, _python("orient2d", orient2d), orient2d_exact),
+    Case("python", "orient2d-float", TRIPLES2, 3, _orient2d_float_decide, orient2d_exact),
     Case("python", "incircle", QUADRUPLES2, 4, _python("incircle", incircle), incircle_exact),
     Case("python", "lengths2d", LENGTHS2, 4,
          _python("compare_squared_lengths", compare_squared_lengths), exact_lengths),
@@ -488,3 +505,35 @@ def test_every_backend_decides_ordinary_inputs(case: Case) -> None:
         decided += sum(d is not None for d in decisions)
         total += len(decisions)
     assert decided >= 0.9 * total, (case.id, decided, total)
+
+
+def _orient2d_shortcut(a: Point2, b: Point2, c: Point2) -> bool:
+    """orient2d decides by the signs of its two products alone (before its bound)."""
+    left = (a.fx - c.fx) * (b.fy - c.fy)
+    right = (a.fy - c.fy) * (b.fx - c.fx)
+    return (left > 0.0 > right) or (left < 0.0 < right)
+
+
+def test_orient2d_float_is_orient2d_s_bound() -> None:
+    """``_orient2d_float`` (compare_areas' copy of orient2d's filter) decides exactly where
+    orient2d's bound does, random and right at the bound (orient2d also has its sign
+    shortcut, which ``_orient2d_float`` lacks)."""
+    case = PYTHON_BY_PREDICATE["orient2d-float"]
+    python = PYTHON_BY_PREDICATE["orient2d"].decide
+
+    def same(queries: Sequence[Query]) -> None:
+        for query, expected, decision in zip(
+            queries, python(queries), case.decide(queries), strict=True
+        ):
+            assert decision == expected or _orient2d_shortcut(*query), query
+
+    def check(case: Case, drawn: tuple[Any, ...]) -> None:
+        query, index, axis, direction = drawn
+        same(_permutations(query, 3))
+        pair = _boundary(python, query, index % 3, axis, direction)
+        if pair is not None:
+            same(pair)
+
+    strategy = st.tuples(st.one_of(DEGENERATE["orient2d"], TRIPLES2), st.integers(0, 5),
+                         st.integers(0, 1), st.sampled_from((-1, 1)))
+    _run(attrs.evolve(case, points=strategy, max_examples=100), check)
