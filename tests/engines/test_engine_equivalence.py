@@ -547,10 +547,13 @@ class RefinementSuite:
            st.integers(20, 34), st.booleans())
     def test_random_pslgs_min_angle(self, pslg: PSLG, method: Any, degrees: int,
                                     delaunay: bool) -> None:
-        """Constrained Delaunay triangulations (holes, small input angles); without flips
-        the run cannot finish, so it is cut at 150 steps."""
+        """Constrained Delaunay triangulations (holes, small input angles).  Minimum-angle
+        refinement need not terminate on every such input (the small-angle rules of
+        specs/refine.md bound sharp input corners only; a CI run found a PSLG that refines
+        for minutes), and without flips it cannot finish: every run is cut, at 400 steps
+        with flips and 150 without, which is enough to compare the engines."""
         self.same(triangulate(pslg).mesh, MinAngle(degrees), method=method, delaunay=delaunay,
-                  max_steps=None if delaunay else 150)
+                  max_steps=400 if delaunay else 150)
 
     @every_engine
     @given(pslgs(max_boundary=9, max_points=8), st.booleans(), st.sampled_from([None, 40]))
