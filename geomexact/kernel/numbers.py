@@ -160,6 +160,18 @@ def to_float(value: Rational) -> float:
         raise OverflowError(f"{value} is beyond the range of a double") from error
 
 
+def floor_log2(value: Rational) -> int:
+    """floor(log2(value)) of a rational value > 0, exactly."""
+    numerator, denominator = int(value.numerator), int(value.denominator)
+    k = numerator.bit_length() - denominator.bit_length()
+    if k >= 0:
+        if numerator < denominator << k:
+            k -= 1
+    elif numerator << -k < denominator:
+        k -= 1
+    return k
+
+
 def sign(value: Rational) -> int:
     """-1, 0 or 1 (of a rational or an integer)."""
     # two comparisons: about 4x faster than gmpy2.sign on an mpq (the predicates' exact path)

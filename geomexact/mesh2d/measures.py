@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from geomexact.kernel.numbers import ZERO, Rational, format_rational, to_float
+from geomexact.kernel.numbers import ZERO, Rational, floor_log2, format_rational, mpq, to_float
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 
@@ -43,12 +43,33 @@ def boundary_enclosed_area(mesh: Mesh2) -> Rational:
     return twice / 2
 
 
+_BAND = (2.0**-500, 2.0**500)
+"""Arm components whose largest magnitude lies here multiply without overflow or
+underflow; outside it an arm is first scaled exactly by a power of two."""
+
+
+def _arm(p: Point2, q: Point2) -> tuple[float, float]:
+    """The vector p -> q as doubles, scaled by an exact power of two when its size is
+    outside :data:`_BAND` (angles do not change under scaling)."""
+    dx, dy = q.x - p.x, q.y - p.y
+    try:
+        fx, fy = float(dx), float(dy)
+    except OverflowError:
+        fx = fy = math.inf
+    size = max(abs(fx), abs(fy))
+    if _BAND[0] <= size <= _BAND[1] or (dx == 0 and dy == 0):
+        return fx, fy
+    scale = mpq(2) ** -floor_log2(max(abs(dx), abs(dy)))
+    return float(dx * scale), float(dy * scale)
+
+
 def triangle_angles_degrees(a: Point2, b: Point2, c: Point2) -> tuple[float, float, float]:
-    """The angles at a, b and c in degrees (floating point, for reports)."""
+    """The angles at a, b and c in degrees (floating point, for reports), at any
+    magnitude: tiny or huge triangles are scaled exactly before the float arithmetic."""
 
     def angle(p: Point2, q: Point2, r: Point2) -> float:
-        ux, uy = float(q.x - p.x), float(q.y - p.y)
-        vx, vy = float(r.x - p.x), float(r.y - p.y)
+        ux, uy = _arm(p, q)
+        vx, vy = _arm(p, r)
         return math.degrees(math.atan2(abs(ux * vy - uy * vx), ux * vx + uy * vy))
 
     return angle(a, b, c), angle(b, c, a), angle(c, a, b)
@@ -63,12 +84,21 @@ def angle_and_area_report(
 ) -> dict[str, object]:
     """The angle and area entries of a mesh report (``info``, the summaries): the smallest
     and largest angle in degrees, the smallest, largest and mean cell area as the nearest
-    doubles (None for no cells), and the exact total area as text."""
+    doubles (None for no cells; the exact text for an area beyond the range of a double,
+    never a wrong number), and the exact total area as text."""
     return {
         "min_angle_deg": angles[0],
         "max_angle_deg": angles[1],
-        "min_area": None if smallest is None else to_float(smallest),
-        "max_area": None if largest is None else to_float(largest),
-        "mean_area": to_float(total / count) if count else None,
+        "min_area": None if smallest is None else _reported(smallest),
+        "max_area": None if largest is None else _reported(largest),
+        "mean_area": _reported(total / count) if count else None,
         "total_area": format_rational(total),
     }
+
+
+def _reported(value: Rational) -> float | str:
+    """The nearest double, or the exact text when ``value`` is beyond the doubles."""
+    try:
+        return to_float(value)
+    except OverflowError:
+        return format_rational(value)

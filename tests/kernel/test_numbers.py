@@ -282,3 +282,13 @@ def test_sign() -> None:
     assert sign(mpq(-1, 3)) == -1
     assert sign(mpq(0)) == 0
     assert sign(mpq(10) ** 400) == 1
+
+
+@given(st.fractions(min_value=Fraction(1, 10**30), max_value=Fraction(10**30)))
+def test_floor_log2_brackets_the_value(value: Fraction) -> None:
+    """2^k <= value < 2^(k+1) for k = floor_log2(value), exactly."""
+    from geomexact.kernel.numbers import floor_log2
+
+    exact = mpq(value.numerator, value.denominator)
+    k = floor_log2(exact)
+    assert mpq(2) ** k <= exact < mpq(2) ** (k + 1)

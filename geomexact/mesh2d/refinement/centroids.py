@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import gmpy2
 
-from geomexact.kernel.numbers import Rational, mpq
+from geomexact.kernel.numbers import Rational, floor_log2, mpq
 from geomexact.kernel.points import Point2, point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
@@ -33,16 +33,6 @@ _CCW = Orientation.COUNTERCLOCKWISE
 _ATTEMPTS = 8
 
 
-def _floor_log2(value: Rational) -> int:
-    """floor(log2(value)) for a rational value > 0, exactly."""
-    numerator, denominator = int(value.numerator), int(value.denominator)
-    k = numerator.bit_length() - denominator.bit_length()
-    if k >= 0:
-        if numerator < denominator << k:
-            k -= 1
-    elif numerator << -k < denominator:
-        k -= 1
-    return k
 
 
 def _round_to(value: Rational, exponent: int) -> Rational:
@@ -79,7 +69,7 @@ def rounded_area_centroid(
         (q.x - p.x) ** 2 + (q.y - p.y) ** 2
         for p, q in ((pu, px), (px, pv), (pv, pw), (pw, pu))
     )
-    exponent = _floor_log2(shortest) // 2 - bits
+    exponent = floor_log2(shortest) // 2 - bits
     for _ in range(_ATTEMPTS):
         candidate = point2(_round_to(exact.x, exponent), _round_to(exact.y, exponent))
         if _strictly_inside(corners, candidate):
