@@ -254,7 +254,8 @@ class Transient2:
         return marker
 
     def record(self, step: Step) -> None:
-        """Append ``step`` (just completed) and the digest after it to the run's record."""
+        """Append ``step`` (just completed) and the digest after it to the run's record; a
+        sealed transient refuses it, also for a step that edited nothing."""
         self._check_open()
         self.steps.append(step)
         self.step_digests.append(self._digest)
@@ -289,7 +290,6 @@ class Transient2:
         # imported here: the ops are written against this class
         from geomexact.mesh2d.ops import apply_in
 
-        self._check_open()  # a step that edits nothing must be refused too
         apply_in(self, step)
 
     def seal(self) -> Mesh2:
