@@ -70,11 +70,13 @@ def run(value: Any, kind: str) -> tuple[Any, Any, Any]:
 
 
 def trace_sha(trace: Any) -> str:
-    lines = getattr(sys.modules.get("geomexact.io.trace_file"), "trace_lines", None)
-    if lines is None:  # the layout before the re-layout kept the file format in trace.py
-        lines = sys.modules["geomexact.trace"].trace_lines
+    """sha256 of the trace file's text."""
+    try:
+        from geomexact.io.trace_file import trace_lines
+    except ImportError:  # the layout before the re-layout kept the file format in trace.py
+        from geomexact.trace import trace_lines  # type: ignore[attr-defined,no-redef]
     digest = hashlib.sha256()
-    for line in lines(trace):
+    for line in trace_lines(trace):
         digest.update(line.encode() + b"\n")
     return digest.hexdigest()
 
@@ -113,13 +115,6 @@ def demo_result() -> dict[str, str]:
 
 
 def main() -> None:
-    import importlib
-
-    for name in ("geomexact.io.trace_file", "geomexact.trace"):
-        try:
-            importlib.import_module(name)
-        except ImportError:
-            pass
     results = {name: case_result(spec, kind) for name, spec, kind in CASES
                if source(spec).exists()}
     results["demo"] = {"files": demo_result()}
