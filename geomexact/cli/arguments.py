@@ -40,10 +40,21 @@ def add_verbose_flag(sub: argparse.ArgumentParser) -> None:
     )
 
 
-def add_exact_flag(sub: argparse.ArgumentParser) -> None:
-    """``--exact``: write exact coordinates even in formats that default to doubles."""
-    sub.add_argument("--exact", action="store_true",
-                     help="write exact coordinates (p/q) instead of the nearest doubles")
+def add_number_flags(sub: argparse.ArgumentParser) -> None:
+    """``--exact`` / ``--float``: how numbers are written (``args.numbers``, a
+    :data:`~geomexact.io.registry.NumberStyle`; the default ``"decimal"`` is lossless for
+    every number with a finite decimal expansion)."""
+    group = sub.add_mutually_exclusive_group()
+    group.add_argument(
+        "--exact", dest="numbers", action="store_const", const="exact", default="decimal",
+        help="write numbers without a finite decimal expansion exactly as p/q (by default "
+        "every other number is written as its exact decimal, and those are rounded to the "
+        "nearest double with a warning)",
+    )
+    group.add_argument(
+        "--float", dest="numbers", action="store_const", const="float",
+        help="write every number as the nearest double (warns how many were rounded)",
+    )
 
 
 def add_force_flag(sub: argparse.ArgumentParser, what: str = "existing files") -> None:
@@ -73,11 +84,12 @@ def add_to_option(sub: argparse.ArgumentParser) -> None:
 
 def add_writing_options(sub: argparse.ArgumentParser, *, formats: bool = True) -> None:
     """The options of a command that reads a file and writes others: ``--format F`` and
-    ``--to F`` (with ``formats``), ``--exact``, ``--force``, ``--json`` and ``-v``."""
+    ``--to F`` (with ``formats``), ``--exact`` / ``--float``, ``--force``, ``--json`` and
+    ``-v``."""
     if formats:
         add_format_option(sub)
         add_to_option(sub)
-    add_exact_flag(sub)
+    add_number_flags(sub)
     add_force_flag(sub)
     add_json_flag(sub)
     add_verbose_flag(sub)

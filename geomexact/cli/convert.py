@@ -20,7 +20,7 @@ def command_convert(args: argparse.Namespace) -> int:
     """Read a file in one format and write it in another."""
     loaded = load(args.input, args.source_format, args.verbose)
     written = write(
-        args.output, loaded.value, args.target_format, overwrite=args.force, exact=args.exact
+        args.output, loaded.value, args.target_format, overwrite=args.force, numbers=args.numbers
     )
     if args.json:
         print_json(

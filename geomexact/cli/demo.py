@@ -48,7 +48,7 @@ class DemoRun:
     def write(self, name: str, value: Value, format: str) -> None:
         """Write ``value`` exactly to ``directory/name``."""
         self.written.extend(
-            write(self.directory / name, value, format, overwrite=self.force, exact=True)
+            write(self.directory / name, value, format, overwrite=self.force, numbers="exact")
         )
 
 

@@ -16,7 +16,7 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.cli.writing import write
+from geomexact.cli.writing import distinct_outputs, write
 from geomexact.errors import OverwriteError
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.pslg import PSLG
@@ -39,6 +39,7 @@ def command_polylla(args: argparse.Namespace) -> int:
         raise UsageProblem(f"{args.input}: is already a polygon mesh; polylla needs a "
                            "triangle mesh (or a PSLG, which is triangulated first)")
     convex = args.convex or args.no_opt
+    distinct_outputs([("-o", args.output, args.to), ("--picture", args.picture, "file")])
     for path in (args.output, args.picture):
         if path and Path(path).exists() and not args.force:
             raise OverwriteError(str(path))
@@ -53,7 +54,7 @@ def command_polylla(args: argparse.Namespace) -> int:
     violations = result.validate(mesh) if args.check else []
     written: list[Path] = []
     if args.output:
-        written += write(args.output, result, args.to, overwrite=args.force, exact=args.exact)
+        written += write(args.output, result, args.to, overwrite=args.force, numbers=args.numbers)
     if args.picture:
         from geomexact.viz import pictures
 

@@ -20,7 +20,7 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.cli.writing import write
+from geomexact.cli.writing import distinct_outputs, write
 from geomexact.errors import OverwriteError
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine, triangulate
@@ -155,6 +155,8 @@ def command_refine(args: argparse.Namespace) -> int:
     else:
         raise UsageProblem(f"{args.input}: a polygon mesh cannot be refined; give a triangle "
                            "mesh or a PSLG")
+    distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file"),
+                      ("--polylla", args.polylla, None)])
     outputs = [args.output, args.trace, args.polylla]
     for path in outputs:
         if path and Path(path).exists() and not args.force:
@@ -181,7 +183,7 @@ def command_refine(args: argparse.Namespace) -> int:
     written: list[Path] = []
     if args.output:
         written += write(args.output, result.mesh, args.to, overwrite=args.force,
-                          exact=args.exact)
+                          numbers=args.numbers)
     if args.trace:
         write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
@@ -189,7 +191,7 @@ def command_refine(args: argparse.Namespace) -> int:
         from geomexact.mesh2d.polygonal.polylla_meshing import polylla
 
         written += write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
-                          exact=args.exact)
+                          numbers=args.numbers)
     if args.print_iter:
         from geomexact.trace.playback import replay_iter
 
@@ -199,7 +201,7 @@ def command_refine(args: argparse.Namespace) -> int:
         snapshots = [result.start, *replay_iter(result.start, result.trace)]
         for index, snapshot in enumerate(snapshots):
             written += write(directory / f"step-{index:0{width}d}.off", snapshot, "off",
-                              overwrite=args.force, exact=True)
+                              overwrite=args.force, numbers="exact")
     violations = validate(result.mesh) if args.check else []
     summary = mesh_summary(result.mesh)
     stats = result.stats

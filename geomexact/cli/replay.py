@@ -50,7 +50,7 @@ def command_replay(args: argparse.Namespace) -> int:
             )
         return EXIT_FAILED
     applied = len(trace) if args.until is None else args.until
-    written = write(args.output, result, args.to, overwrite=args.force, exact=args.exact)
+    written = write(args.output, result, args.to, overwrite=args.force, numbers=args.numbers)
     if args.json:
         print_json(
             {

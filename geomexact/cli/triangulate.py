@@ -16,7 +16,7 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table
-from geomexact.cli.writing import write
+from geomexact.cli.writing import distinct_outputs, write
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import is_delaunay, make_delaunay, triangulate
 from geomexact.mesh2d.pslg import PSLG
@@ -29,6 +29,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
     """(Constrained) Delaunay triangulation of a point set or PSLG, or Lawson flips of a
     triangle mesh into a Delaunay one; writes the mesh and optionally the trace."""
     loaded = load(args.input, args.format, args.verbose)
+    distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file")])
     started = time.perf_counter()
     if isinstance(loaded.value, Mesh2):
         mesh, trace = make_delaunay(loaded.value)
@@ -48,7 +49,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
     seconds = time.perf_counter() - started
     written: list[Path] = []
     if args.output:
-        written += write(args.output, mesh, args.to, overwrite=args.force, exact=args.exact)
+        written += write(args.output, mesh, args.to, overwrite=args.force, numbers=args.numbers)
     if args.trace:
         trace_path = Path(args.trace)
         write_trace(trace_path, trace, overwrite=args.force)

@@ -1,22 +1,106 @@
-"""Writing a command's output files."""
+"""Writing a command's output files: refusing what cannot be written before anything is,
+and saying what a format rounded or dropped."""
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from geomexact import io
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.kinds import Value, kind_name
+from geomexact.cli.summaries import summary_of
+from geomexact.errors import FormatError
+from geomexact.io.registry import NumberStyle, WriteReport
+
+# the exact properties a command reports that rounding can break
+_RECHECKED = ("vertices", "triangles", "is_delaunay", "polygons", "nonconvex")
+
+
+def warn(message: str) -> None:
+    """Print ``geomexact: warning: message`` on stderr."""
+    print(f"geomexact: warning: {message}", file=sys.stderr)
 
 
 def write(
-    path: str | Path, value: Value, format: str | None, *, overwrite: bool, exact: bool
+    path: str | Path,
+    value: Value,
+    format: str | None,
+    *,
+    overwrite: bool,
+    numbers: NumberStyle = "decimal",
 ) -> list[Path]:
-    """:func:`io.write`, refusing first (exit 2) a format that cannot hold ``value``."""
+    """:func:`io.write`, refusing first (exit 2) a format that cannot hold ``value``; then
+    a warning on stderr for what the format dropped, for every rounded number, and for
+    each reported property that no longer holds on the file as written."""
     name = format or io.detect_format(path)
     kinds = io.FORMATS[name].kinds
     if not isinstance(value, kinds):
         held = " or ".join(kind_name(kind).replace("_", " ") for kind in kinds)
         kind = kind_name(type(value)).replace("_", " ")
         raise UsageProblem(f"{path}: the {name} format holds a {held}, not a {kind}")
-    return io.write(path, value, format=name, overwrite=overwrite, exact=exact)
+    report = io.write_with_report(path, value, format=name, overwrite=overwrite,
+                                  numbers=numbers)
+    if report.dropped:
+        warn(f"{path}: the {name} format cannot hold {_listed(report.dropped)}; "
+             "they were not written")
+    if report.rounded:
+        warn(f"{path}: {_rounding(report, name, numbers)}")
+        for problem in recheck(value, report, name):
+            warn(f"{path}: {problem}")
+    return list(report.paths)
+
+
+def _listed(parts: Sequence[str]) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+def _rounding(report: WriteReport, name: str, numbers: NumberStyle) -> str:
+    count = f"{report.rounded} number{'s' if report.rounded != 1 else ''}"
+    if name == "meshio":
+        return f"the format stores doubles: {count} rounded to the nearest double"
+    if numbers == "float":
+        return f"{count} rounded to the nearest double (--float)"
+    return (f"{count} with no finite decimal expansion rounded to the nearest double "
+            "(--exact writes them exactly as p/q)")
+
+
+def recheck(value: Value, report: WriteReport, name: str) -> list[str]:
+    """The reported properties of ``value`` that the file as written (rounded) no longer
+    has, one sentence each; the file is read back to find out."""
+    try:
+        written = io.read(report.paths[0], format=name)
+    except FormatError as error:
+        return [f"the rounded file does not read back: {error}"]
+    before, after = summary_of(value), summary_of(written)
+    return [
+        f"{key} is {_shown(before[key])} in the mesh but {_shown(after.get(key))} in the "
+        "rounded file"
+        for key in _RECHECKED
+        if key in before and before[key] != after.get(key)
+    ]
+
+
+def _shown(value: object) -> str:
+    return "true" if value is True else "false" if value is False else str(value)
+
+
+def distinct_outputs(outputs: Sequence[tuple[str, str | None, str | None]]) -> None:
+    """Refuse (exit 2, before anything is written) two outputs that would be the same
+    file: ``outputs`` are (option, path or None, format) triples, the format a mesh format
+    name, None (by the extension) or ``"file"`` (one plain file: a trace, a picture); a
+    multi-file format's companions count (``x.ele`` also writes ``x.node``)."""
+    claimed: dict[Path, str] = {}
+    for option, path, format in outputs:
+        if not path:
+            continue
+        files = io.output_paths(path, format) if format != "file" else (Path(path),)
+        for file in files:
+            resolved = file.resolve()
+            if resolved in claimed and claimed[resolved] != option:
+                raise UsageProblem(
+                    f"{path}: {claimed[resolved]} and {option} would both write {file}; "
+                    "give them different paths"
+                )
+            claimed.setdefault(resolved, option)

@@ -10,8 +10,13 @@ registry.  Spec: ``specs/formats/registry.md`` (and one spec per format beside i
 ``read`` parses numbers exactly (decimal text is a rational, never a double) and reports
 every problem of the input as a :class:`~geomexact.errors.FormatError` naming the file,
 the line and the problem.  ``write`` refuses to replace an existing file unless
-``overwrite=True`` and writes atomically; ``exact=False`` writes the nearest doubles,
-``exact=True`` exact text that reads back to the same value.
+``overwrite=True`` and writes atomically.  It is lossless by default: every number with a
+finite decimal expansion (integers, decimals, dyadic midpoints, grid centroids) is written
+as that exact decimal, and only the others are rounded to the nearest double, counted in
+the :class:`WriteReport` of :func:`write_with_report`; ``numbers="exact"`` (or
+``exact=True``) writes those as ``p/q`` instead, ``numbers="float"`` rounds every number
+to the nearest double.  What a format cannot hold (the markers in an OFF file, …) is
+listed in the report.
 """
 
 from __future__ import annotations
@@ -25,11 +30,12 @@ from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
 from geomexact.io.pslg_text import read_pslg_text, write_pslg_text
-from geomexact.io.registry import Format, Value
+from geomexact.io.registry import NUMBER_STYLES, Format, NumberStyle, Value, WriteReport
 from geomexact.io.triangle import (
     read_node,
     read_poly,
     read_triangle,
+    triangle_output_paths,
     write_node,
     write_poly,
     write_triangle,
@@ -49,6 +55,7 @@ _FORMATS = (
         read_triangle,
         write_triangle,
         (Mesh2,),
+        triangle_output_paths,
     ),
     Format(
         "node",
@@ -133,6 +140,13 @@ def _format(path: str | Path, format: str | None) -> Format:
         ) from None
 
 
+def output_paths(path: str | Path, format: str | None = None) -> tuple[Path, ...]:
+    """The files a write to ``path`` (format from its extension unless ``format`` names
+    one) may create: ``path`` itself, or a multi-file format's set (``x.1.ele`` also
+    writes ``x.1.node``, ``x.1.neigh`` and maybe ``x.1.poly``)."""
+    return _format(path, format).outputs(Path(path))
+
+
 def read_with_notes(path: str | Path, *, format: str | None = None) -> tuple[Value, list[str]]:
     """Read ``path`` (format from its extension unless ``format`` names one); return the
     value and the reader's notes (what it fixed or ignored, for verbose output)."""
@@ -148,16 +162,19 @@ def read(path: str | Path, *, format: str | None = None) -> Value:
     return value
 
 
-def write(
+def write_with_report(
     path: str | Path,
     value: Value,
     *,
     format: str | None = None,
     overwrite: bool = False,
+    numbers: NumberStyle = "decimal",
     exact: bool = False,
-) -> list[Path]:
+) -> WriteReport:
     """Write ``value`` to ``path`` (and the other files of a multi-file format); return
-    the paths written.  ``UnsupportedValueError`` (a ``TypeError``) when the format
+    the paths written, how many numbers were rounded and what the format dropped.
+    ``numbers`` is a :data:`~geomexact.io.registry.NumberStyle`; ``exact=True`` is
+    ``numbers="exact"``.  ``UnsupportedValueError`` (a ``TypeError``) when the format
     cannot hold this kind of value."""
     chosen = _format(path, format)
     if not isinstance(value, chosen.kinds):
@@ -165,7 +182,41 @@ def write(
         raise UnsupportedValueError(
             f"the {chosen.name} format writes a {kinds}, not a {type(value).__name__}"
         )
-    return chosen.write(Path(path), value, overwrite=overwrite, exact=exact)
+    if exact:
+        numbers = "exact"
+    if numbers not in NUMBER_STYLES:
+        raise ValueError(f"numbers must be one of {', '.join(NUMBER_STYLES)}, not {numbers!r}")
+    return chosen.write(Path(path), value, overwrite=overwrite, numbers=numbers)
 
 
-__all__ = ["FORMATS", "Format", "Value", "detect_format", "read", "read_with_notes", "write"]
+def write(
+    path: str | Path,
+    value: Value,
+    *,
+    format: str | None = None,
+    overwrite: bool = False,
+    numbers: NumberStyle = "decimal",
+    exact: bool = False,
+) -> list[Path]:
+    """Write ``value`` to ``path``; return the paths written (see
+    :func:`write_with_report`)."""
+    report = write_with_report(
+        path, value, format=format, overwrite=overwrite, numbers=numbers, exact=exact
+    )
+    return list(report.paths)
+
+
+__all__ = [
+    "FORMATS",
+    "NUMBER_STYLES",
+    "Format",
+    "NumberStyle",
+    "Value",
+    "WriteReport",
+    "detect_format",
+    "output_paths",
+    "read",
+    "read_with_notes",
+    "write",
+    "write_with_report",
+]

@@ -17,6 +17,8 @@ from io import StringIO
 from pathlib import Path
 from typing import Any
 
+import gmpy2
+
 from geomexact.errors import (
     FormatError,
     MissingDependencyError,
@@ -25,7 +27,14 @@ from geomexact.errors import (
     UnsupportedValueError,
 )
 from geomexact.io.files import write_bytes_atomic
-from geomexact.io.registry import TriangleTable, Value, build_mesh
+from geomexact.io.registry import (
+    NumberStyle,
+    TriangleTable,
+    Value,
+    WriteReport,
+    build_mesh,
+    dropped_parts,
+)
 from geomexact.kernel.numbers import to_float, to_rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.snapshot import Mesh2
@@ -145,25 +154,49 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     return mesh, notes
 
 
-def write_meshio(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
-    """A Mesh2 through meshio, floats (the format is chosen by the extension)."""
-    del exact  # meshio formats store doubles
+def _doubles(path: Path, mesh: Mesh2) -> tuple[list[tuple[float, float, float]], int]:
+    """The vertices as doubles (z = 0) and how many coordinates that rounds; a
+    FormatError naming the first vertex beyond the range of a double."""
+    rows: list[tuple[float, float, float]] = []
+    rounded = 0
+    for index in range(mesh.vertex_count):
+        point = mesh.vertices[index]
+        try:
+            x, y = to_float(point.x), to_float(point.y)
+        except OverflowError:
+            raise FormatError(
+                str(path), None,
+                f"vertex {index} has a coordinate beyond the range of a double, which these "
+                "formats store; write an exact text format (.off, .ele, .pslg) instead",
+            ) from None
+        rounded += (gmpy2.mpq(x) != point.x) + (gmpy2.mpq(y) != point.y)
+        rows.append((x, y, 0.0))
+    return rows, rounded
+
+
+def write_meshio(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
+    """A Mesh2 through meshio as doubles (the format is chosen by the extension); every
+    coordinate that is not a double is rounded and counted, markers, attributes and
+    segments are dropped and reported; numbers ``"exact"`` is refused (FormatError)."""
     if not isinstance(value, Mesh2):
         raise UnsupportedValueError(
             f"the meshio format writes a Mesh2, not a {type(value).__name__}"
+        )
+    if numbers == "exact":
+        raise FormatError(
+            str(path), None,
+            "the meshio formats store doubles and cannot hold exact numbers; write an exact "
+            "text format (.off, .ele, .pslg) for exact output",
         )
     meshio = _meshio()
     import numpy
 
     if path.exists() and not overwrite:
         raise OverwriteError(str(path))
-    points = numpy.array(
-        [
-            (to_float(value.vertices[index].x), to_float(value.vertices[index].y), 0.0)
-            for index in range(value.vertex_count)
-        ],
-        dtype=float,
-    ).reshape(-1, 3)
+    rows, rounded = _doubles(path, value)
+    points = numpy.array(rows, dtype=float).reshape(-1, 3)
     # 32-bit indices where they fit: some writers (PLY) warn on 64-bit ones
     index_type = numpy.int32 if value.vertex_count < 2**31 else numpy.int64
     triangles = numpy.array(value.triangles(), dtype=index_type).reshape(-1, 3)
@@ -184,4 +217,4 @@ def write_meshio(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -
             raise FormatError(str(path), None, f"meshio cannot write it: {error}") from error
         data = temporary.read_bytes()
     write_bytes_atomic(path, data, overwrite=overwrite)
-    return [path]
+    return WriteReport((path,), rounded, dropped_parts(value, ()))

@@ -16,15 +16,18 @@ from geomexact.io.files import read_text
 from geomexact.io.registry import (
     Lines,
     NumberedLine,
+    NumberStyle,
+    NumberText,
     TriangleTable,
     Value,
+    WriteReport,
     all_clockwise_note,
     build_mesh,
     counted,
+    dropped_parts,
     expect_field_range,
     expect_fields,
     note_duplicate_points,
-    number_formatter,
     parse_count,
     parse_int,
     parse_number,
@@ -300,9 +303,12 @@ def _orient_polygons(
 # -----------------------------------------------------------------------------------------
 # writing
 # -----------------------------------------------------------------------------------------
-def write_off(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
-    """A Mesh2 (triangles in canonical order) or a PolygonMesh as an OFF file, z = 0."""
-    number = number_formatter(exact)
+def write_off(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
+    """A Mesh2 (triangles in canonical order) or a PolygonMesh as an OFF file, z = 0; a
+    mesh's markers, attributes and segments are dropped (and reported)."""
+    number = NumberText(numbers)
     if isinstance(value, Mesh2):
         points = [value.vertices[index] for index in range(value.vertex_count)]
         faces: list[tuple[int, ...]] = list(value.triangles())
@@ -316,4 +322,9 @@ def write_off(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> l
     out = ["OFF", f"{len(points)} {len(faces)} 0"]
     out.extend(f"{number(point.x)} {number(point.y)} 0" for point in points)
     out.extend(f"{len(face)} {' '.join(map(str, face))}" for face in faces)
-    return write_files([(path, "\n".join(out) + "\n")], overwrite=overwrite)
+    return write_files(
+        [(path, "\n".join(out) + "\n")],
+        overwrite=overwrite,
+        numbers=number,
+        dropped=dropped_parts(value, ()),
+    )

@@ -28,8 +28,11 @@ import attrs
 from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.files import read_text
 from geomexact.io.registry import (
+    NumberStyle,
+    NumberText,
     TriangleTable,
     Value,
+    WriteReport,
     build_mesh,
     check_index,
     data_lines,
@@ -38,7 +41,6 @@ from geomexact.io.registry import (
     expect_fields,
     expected_neighbours,
     note_duplicate_points,
-    number_formatter,
     parse_int,
     parse_number,
     uniform_attributes,
@@ -265,9 +267,12 @@ def _check_neighbours(
                 )
 
 
-def write_pslg_text(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
-    """A PSLG (v, s, h, r records) or a Mesh2 (v, t, n, s records) as a ``.pslg`` file."""
-    number = number_formatter(exact)
+def write_pslg_text(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
+    """A PSLG (v, s, h, r records) or a Mesh2 (v, t, n, s records) as a ``.pslg`` file
+    (nothing dropped)."""
+    number = NumberText(numbers)
     out: list[str] = []
     if isinstance(value, PSLG):
         markers = value.vertex_markers or (0,) * len(value.vertices)
@@ -293,7 +298,9 @@ def write_pslg_text(path: Path, value: Value, /, *, overwrite: bool, exact: bool
         raise UnsupportedValueError(
             f"the pslg format writes a PSLG or a Mesh2, not a {type(value).__name__}"
         )
-    return write_files([(path, "".join(line + "\n" for line in out))], overwrite=overwrite)
+    return write_files(
+        [(path, "".join(line + "\n" for line in out))], overwrite=overwrite, numbers=number
+    )
 
 
 def _mesh_records(mesh: Mesh2, number: Callable[[Rational], str], out: list[str]) -> None:

@@ -14,21 +14,25 @@ written once (``specs/formats/registry.md``):
 - :func:`build_mesh`: vertex and triangle tables to a :class:`Mesh2`, checking indices,
   duplicate vertices, degenerate triangles, orientation (all clockwise is reversed and
   noted; mixed is an error naming one triangle of each) and overlaps;
-- :func:`number_formatter` and :func:`write_files`: number text (nearest double or exact)
-  and the all-or-nothing, never-overwrite-by-default atomic writing of one or more files.
+- :class:`NumberText`, :func:`dropped_parts` and :func:`write_files`: number text
+  (exact decimal, ``p/q`` or nearest double, counting what is rounded), what a format
+  cannot hold, and the all-or-nothing, never-overwrite-by-default atomic writing of one
+  or more files, reported as a :class:`WriteReport`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import math
+from collections.abc import Callable, Collection, Sequence
 from pathlib import Path
-from typing import Protocol, TypeAlias
+from typing import Any, Literal, Protocol, TypeAlias
 
 import attrs
+import gmpy2
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
 from geomexact.io.files import write_text_atomic
-from geomexact.kernel.numbers import ZERO, Rational, format_float, format_rational, parse_rational
+from geomexact.kernel.numbers import ZERO, Rational, floor_log2, parse_rational, to_float
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
@@ -51,11 +55,17 @@ class Reader(Protocol):
 
 
 class Writer(Protocol):
-    """``write(path, value, overwrite=..., exact=...)`` -> the files written."""
+    """``write(path, value, overwrite=..., numbers=...)`` -> what was written
+    (:class:`WriteReport`)."""
 
     def __call__(
-        self, path: Path, value: Value, /, *, overwrite: bool, exact: bool
-    ) -> list[Path]: ...
+        self, path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+    ) -> WriteReport: ...
+
+
+def single_output(path: Path) -> tuple[Path, ...]:
+    """The files a one-file format writes for ``path``: ``path`` itself."""
+    return (path,)
 
 
 @attrs.frozen(slots=True)
@@ -63,7 +73,8 @@ class Format:
     """A registered file format.
 
     ``extensions`` are lower-case with the dot (``".ele"``); ``kinds`` are the value types
-    ``write`` accepts (and ``read`` may return).
+    ``write`` accepts (and ``read`` may return); ``outputs(path)`` are the files a write
+    to ``path`` may create.
     """
 
     name: str
@@ -72,6 +83,7 @@ class Format:
     read: Reader
     write: Writer
     kinds: tuple[type, ...]
+    outputs: Callable[[Path], tuple[Path, ...]] = attrs.field(default=single_output)
 
 
 # -----------------------------------------------------------------------------------------
@@ -487,27 +499,186 @@ def expected_neighbours(
 # -----------------------------------------------------------------------------------------
 # writing
 # -----------------------------------------------------------------------------------------
+NumberStyle: TypeAlias = Literal["decimal", "exact", "float"]
+"""How a writer writes numbers: ``"decimal"`` (the default) writes every number with a
+finite decimal expansion as that exact decimal and rounds only the others to the nearest
+double; ``"exact"`` writes those others as ``p/q``; ``"float"`` writes the nearest double
+of every number.  Every rounded number is counted (:class:`WriteReport`)."""
+
+NUMBER_STYLES: tuple[NumberStyle, ...] = ("decimal", "exact", "float")
+
 _EXACT_INTEGER_LIMIT = 1 << 53
+_SMALLEST_NORMAL = 2.0**-1022
+_ZEROS_WORTH_AN_EXPONENT = 8
+_ROUNDED_DIGITS = 17  # significant digits of a rounded number outside the normal doubles
 
 
-def number_formatter(exact: bool) -> Callable[[Rational], str]:
-    """The text of a coordinate: exact (shortest decimal, else ``p/q``) when ``exact``,
-    else the nearest double (an integer that is a double exactly is written without
-    ``.0``)."""
-    if exact:
-        return format_rational
+@attrs.frozen(slots=True)
+class WriteReport:
+    """What a writer wrote: the ``paths``, how many numbers it ``rounded`` (written as a
+    nearby value, not exactly), and what the format could not hold (``dropped``: one
+    phrase per part, such as ``"12 segments"``)."""
 
-    def nearest_double(value: Rational) -> str:
-        if value.denominator == 1 and abs(value.numerator) <= _EXACT_INTEGER_LIMIT:
-            return str(int(value.numerator))
-        return format_float(value)
-
-    return nearest_double
+    paths: tuple[Path, ...]
+    rounded: int = 0
+    dropped: tuple[str, ...] = ()
 
 
-def write_files(files: Sequence[tuple[Path, str]], *, overwrite: bool) -> list[Path]:
+class NumberText:
+    """The text of each number of one write, in one :data:`NumberStyle`, counting the
+    numbers it rounds.  A transient: one per write call."""
+
+    __slots__ = ("rounded", "style")
+
+    def __init__(self, style: NumberStyle) -> None:
+        if style not in NUMBER_STYLES:
+            raise ValueError(f"unknown number style {style!r} (known: {NUMBER_STYLES})")
+        self.style = style
+        self.rounded = 0
+
+    def __call__(self, value: Rational) -> str:
+        if self.style == "float":
+            if value.denominator == 1 and abs(value.numerator) <= _EXACT_INTEGER_LIMIT:
+                return mpz_text(value.numerator)
+        else:
+            text = exact_decimal_text(value)
+            if text is not None:
+                return text
+            if self.style == "exact":
+                return f"{mpz_text(value.numerator)}/{mpz_text(value.denominator)}"
+        text, exact = nearest_double_text(value)
+        if not exact:
+            self.rounded += 1
+        return text
+
+
+def mpz_text(value: Any) -> str:
+    """Decimal digits of an integer of any size (gmpy2 has no int-to-str digit limit)."""
+    return str(gmpy2.mpz(value).digits(10))
+
+
+def exact_decimal_text(value: Rational) -> str | None:
+    """The exact decimal text of ``value`` (``"0.125"``, ``"-3"``, ``"1.5e-30"`` when the
+    exponent form is shorter), or None when its decimal expansion does not terminate.
+    Linear in the size of the number: the denominator 2^a 5^b is made 10^max(a, b) in one
+    multiplication."""
+    numerator = gmpy2.mpz(value.numerator)
+    denominator = gmpy2.mpz(value.denominator)
+    if denominator == 1:
+        digits = mpz_text(abs(numerator))
+        stripped = digits.rstrip("0") or "0"
+        return _decimal_text(numerator < 0, stripped, len(stripped) - len(digits))
+    rest, twos = gmpy2.remove(denominator, 2)
+    rest, fives = gmpy2.remove(rest, 5)
+    if rest != 1:
+        return None
+    scale = max(twos, fives)
+    digits_value = abs(numerator) * gmpy2.mpz(2) ** (scale - twos) * gmpy2.mpz(5) ** (
+        scale - fives
+    )
+    return _decimal_text(numerator < 0, mpz_text(digits_value), scale)
+
+
+def _decimal_text(negative: bool, digits: str, scale: int) -> str:
+    """``± digits * 10^-scale`` (digits without leading zeros, the last one nonzero) as
+    the shorter of the plain and the exponent form."""
+    sign = "-" if negative else ""
+    if scale <= 0:
+        plain = digits + "0" * -scale
+    elif len(digits) > scale:
+        plain = f"{digits[:-scale]}.{digits[-scale:]}"
+    else:
+        plain = "0." + "0" * (scale - len(digits)) + digits
+    significant = digits.rstrip("0") or "0"
+    exponent = len(digits) - 1 - scale
+    mantissa = significant[0] + ("." + significant[1:] if len(significant) > 1 else "")
+    scientific = f"{mantissa}e{exponent}"
+    # the plain form reads best; the exponent form only where it saves a run of zeros
+    return sign + (scientific if len(scientific) + _ZEROS_WORTH_AN_EXPONENT < len(plain) else plain)
+
+
+def nearest_double_text(value: Rational) -> tuple[str, bool]:
+    """(text, exact): the shortest text of the double nearest to ``value``; for a value
+    beyond the normal doubles (overflow, or a nonzero value below 2^-1022, where a double
+    keeps fewer digits or none) the value rounded to 17 significant digits instead.
+    ``exact`` tells whether the text is ``value`` exactly."""
+    try:
+        double = to_float(value)
+    except OverflowError:
+        double = math.inf
+    if value == 0 or _SMALLEST_NORMAL <= abs(double) < math.inf:
+        if double.is_integer() and abs(double) <= _EXACT_INTEGER_LIMIT:
+            text = str(int(double))
+        else:
+            text = repr(double)
+        # exact when the text itself is the value (``1.5e-30`` is, its double is not)
+        return text, parse_rational(text) == value
+    return _significant_digits_text(value)
+
+
+def _significant_digits_text(value: Rational) -> tuple[str, bool]:
+    """``value`` rounded half-even to 17 significant digits, as decimal text."""
+    magnitude = abs(gmpy2.mpq(value))
+    # 10^power <= magnitude < 10^(power + 1); log10(2) < 0.30103 makes the start a lower bound
+    power = (floor_log2(magnitude) * 30103) // 100000 - 1
+    while gmpy2.mpq(10) ** (power + 1) <= magnitude:
+        power += 1
+    scale = _ROUNDED_DIGITS - 1 - power
+    scaled = magnitude * gmpy2.mpq(10) ** scale
+    floor = scaled.numerator // scaled.denominator
+    remainder = scaled - floor
+    digits_value = floor + 1 if remainder * 2 > 1 or (remainder * 2 == 1 and floor % 2) else floor
+    digits = mpz_text(digits_value)
+    stripped = digits.rstrip("0")
+    return _decimal_text(value < 0, stripped, scale - (len(digits) - len(stripped))), (
+        remainder == 0
+    )
+
+
+_PART_NOUNS = {
+    "vertex markers": ("nonzero vertex marker", "nonzero vertex markers"),
+    "vertex attributes": ("vertex with attributes", "vertices with attributes"),
+    "triangle attributes": ("triangle with attributes (regions)",
+                            "triangles with attributes (regions)"),
+    "segments": ("segment", "segments"),
+    "holes": ("hole", "holes"),
+    "regions": ("region", "regions"),
+}
+
+
+def dropped_parts(value: Value, holds: Collection[str]) -> tuple[str, ...]:
+    """What of ``value`` a format that holds only the parts named in ``holds`` cannot
+    write: one phrase per nonempty part (``"12 segments"``, ``"3 nonzero vertex
+    markers"``).  The parts are the keys of ``_PART_NOUNS``."""
+    counts: dict[str, int] = {}
+    if isinstance(value, Mesh2):
+        counts["vertex markers"] = sum(1 for marker in value.vertex_markers.values() if marker)
+        counts["vertex attributes"] = len(value.vertex_attributes)
+        counts["triangle attributes"] = len(value.triangle_attributes)
+        counts["segments"] = len(value.segments)
+    elif isinstance(value, PSLG):
+        counts["vertex markers"] = sum(1 for marker in value.vertex_markers if marker)
+        counts["vertex attributes"] = sum(1 for row in value.vertex_attributes if row)
+        counts["segments"] = len(value.segments)
+        counts["holes"] = len(value.holes)
+        counts["regions"] = len(value.regions)
+    return tuple(
+        f"{count} {_PART_NOUNS[part][count != 1]}"
+        for part, count in counts.items()
+        if count and part not in holds
+    )
+
+
+def write_files(
+    files: Sequence[tuple[Path, str]],
+    *,
+    overwrite: bool,
+    numbers: NumberText | None = None,
+    dropped: tuple[str, ...] = (),
+) -> WriteReport:
     """Write each (path, text) atomically; when not ``overwrite``, refuse (OverwriteError)
-    before writing anything if any target exists."""
+    before writing anything if any target exists.  The report counts what ``numbers``
+    rounded and lists what was ``dropped``."""
     if not overwrite:
         for path, _ in files:
             if path.exists():
@@ -516,7 +687,9 @@ def write_files(files: Sequence[tuple[Path, str]], *, overwrite: bool) -> list[P
     for path, text in files:
         write_text_atomic(path, text, overwrite=overwrite)
         written.append(path)
-    return written
+    return WriteReport(
+        tuple(written), numbers.rounded if numbers is not None else 0, dropped
+    )
 
 
 def uniform_attributes(

@@ -24,19 +24,22 @@ from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.files import read_text
 from geomexact.io.registry import (
     Lines,
+    NumberStyle,
+    NumberText,
     TriangleTable,
     Value,
+    WriteReport,
     build_mesh,
     check_index,
     check_numbering,
     counted,
     data_lines,
+    dropped_parts,
     expect_exact_fields,
     expect_fields,
     expected_neighbours,
     file_stem,
     note_duplicate_points,
-    number_formatter,
     parse_count,
     parse_int,
     parse_number,
@@ -169,9 +172,8 @@ def _node_text(
     points: Sequence[Point2],
     markers: Sequence[int] | None,
     attributes: Sequence[Attributes | None],
-    exact: bool,
+    number: NumberText,
 ) -> str:
-    number = number_formatter(exact)
     count, rows = uniform_attributes(attributes, "vertex")
     out = [f"{len(points)} 2 {count} {1 if markers is not None else 0}"]
     for index, point in enumerate(points):
@@ -183,22 +185,31 @@ def _node_text(
     return "\n".join(out) + "\n"
 
 
-def _pslg_node_text(pslg: PSLG, exact: bool) -> str:
+def _pslg_node_text(pslg: PSLG, number: NumberText) -> str:
     attributes: Sequence[Attributes | None] = (
         pslg.vertex_attributes if pslg.vertex_attributes else [None] * len(pslg.vertices)
     )
     markers = pslg.vertex_markers if pslg.vertex_markers else None
-    return _node_text(pslg.vertices, markers, attributes, exact)
+    return _node_text(pslg.vertices, markers, attributes, number)
 
 
-def write_node(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+def write_node(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
     """The vertices of a PSLG (markers, attributes) as a ``.node`` file; its segments,
-    holes and regions are not part of a ``.node`` (write a ``.poly`` for them)."""
+    holes and regions are not part of a ``.node`` (write a ``.poly`` for them): they are
+    dropped and reported."""
     if not isinstance(value, PSLG):
         raise UnsupportedValueError(
             f"the node format writes a PSLG, not a {type(value).__name__}"
         )
-    return write_files([(path, _pslg_node_text(value, exact))], overwrite=overwrite)
+    number = NumberText(numbers)
+    return write_files(
+        [(path, _pslg_node_text(value, number))],
+        overwrite=overwrite,
+        numbers=number,
+        dropped=dropped_parts(value, ("vertex markers", "vertex attributes")),
+    )
 
 
 # -----------------------------------------------------------------------------------------
@@ -332,9 +343,8 @@ def _poly_sections_text(
     segments: Sequence[tuple[int, int, int]],
     holes: Sequence[Point2],
     regions: Sequence[RegionSeed],
-    exact: bool,
+    number: NumberText,
 ) -> list[str]:
-    number = number_formatter(exact)
     out = [f"{len(segments)} 1"]
     out.extend(f"{index} {u} {v} {marker}" for index, (u, v, marker) in enumerate(segments))
     out.append(str(len(holes)))
@@ -351,16 +361,19 @@ def _poly_sections_text(
     return out
 
 
-def write_poly(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+def write_poly(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
     """A PSLG as one self-contained ``.poly`` file (vertices inline, 0-based)."""
     if not isinstance(value, PSLG):
         raise UnsupportedValueError(
             f"the poly format writes a PSLG, not a {type(value).__name__}"
         )
-    text = _pslg_node_text(value, exact) + "\n".join(
-        _poly_sections_text(value.segments, value.holes, value.regions, exact)
+    number = NumberText(numbers)
+    text = _pslg_node_text(value, number) + "\n".join(
+        _poly_sections_text(value.segments, value.holes, value.regions, number)
     ) + "\n"
-    return write_files([(path, text)], overwrite=overwrite)
+    return write_files([(path, text)], overwrite=overwrite, numbers=number)
 
 
 # -----------------------------------------------------------------------------------------
@@ -584,7 +597,15 @@ def read_triangle(path: Path) -> tuple[Value, list[str]]:
     return mesh, notes
 
 
-def write_triangle(path: Path, value: Value, /, *, overwrite: bool, exact: bool) -> list[Path]:
+def triangle_output_paths(path: Path) -> tuple[Path, ...]:
+    """The files :func:`write_triangle` may write for ``path``."""
+    stem = _mesh_stem(path)
+    return tuple(with_extension(stem, extension) for extension in (NODE, ELE, NEIGH, POLY))
+
+
+def write_triangle(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
     """A mesh as ``stem.node``, ``stem.ele`` and ``stem.neigh`` (0-based, triangles in
     canonical order), plus ``stem.poly`` (vertex count 0) when it has segments."""
     if not isinstance(value, Mesh2):
@@ -593,11 +614,11 @@ def write_triangle(path: Path, value: Value, /, *, overwrite: bool, exact: bool)
         )
     mesh = value
     stem = _mesh_stem(path)
-    number = number_formatter(exact)
+    number = NumberText(numbers)
     points = [mesh.vertices[index] for index in range(mesh.vertex_count)]
     markers = [mesh.vertex_markers.get(index, 0) for index in range(mesh.vertex_count)]
     vertex_attributes = [mesh.vertex_attributes.get(index) for index in range(len(points))]
-    node_text = _node_text(points, markers, vertex_attributes, exact)
+    node_text = _node_text(points, markers, vertex_attributes, number)
     triangles = mesh.triangles()
     count, rows = uniform_attributes(
         [mesh.triangle_attributes.get(triangle) for triangle in triangles], "triangle"
@@ -617,7 +638,7 @@ def write_triangle(path: Path, value: Value, /, *, overwrite: bool, exact: bool)
     ]
     segments = mesh.segment_list()
     if segments:
-        poly = ["0 2 0 1", *_poly_sections_text(segments, (), (), exact)]
+        poly = ["0 2 0 1", *_poly_sections_text(segments, (), (), number)]
         files.append((with_extension(stem, POLY), "\n".join(poly) + "\n"))
-    return write_files(files, overwrite=overwrite)
+    return write_files(files, overwrite=overwrite, numbers=number)
 

@@ -14,11 +14,14 @@ from pathlib import Path
 from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.files import read_text
 from geomexact.io.registry import (
+    NumberStyle,
+    NumberText,
     TriangleTable,
     Value,
+    WriteReport,
     build_mesh,
     data_lines,
-    number_formatter,
+    dropped_parts,
     parse_number,
     write_files,
 )
@@ -70,14 +73,26 @@ def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
 
 
 def write_triangle_list(
-    path: Path, value: Value, /, *, overwrite: bool, exact: bool
-) -> list[Path]:
-    """A Mesh2's triangles, one ``x1 y1 x2 y2 x3 y3`` line each (canonical order)."""
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
+    """A Mesh2's triangles, one ``x1 y1 x2 y2 x3 y3`` line each (canonical order); its
+    markers, attributes, segments and unused vertices are dropped (and reported)."""
     if not isinstance(value, Mesh2):
         raise UnsupportedValueError(
             f"the trilist format writes a Mesh2, not a {type(value).__name__}"
         )
-    number = number_formatter(exact)
+    number = NumberText(numbers)
     text = {index: f"{number(p.x)} {number(p.y)}" for index, p in value.vertices.items()}
-    out = [f"{text[a]} {text[b]} {text[c]}" for a, b, c in value.triangles()]
-    return write_files([(path, "".join(line + "\n" for line in out))], overwrite=overwrite)
+    triangles = value.triangles()
+    out = [f"{text[a]} {text[b]} {text[c]}" for a, b, c in triangles]
+    dropped = dropped_parts(value, ())
+    unused = value.vertex_count - len({vertex for triangle in triangles for vertex in triangle})
+    if unused:
+        dropped += (f"{unused} vertex in no triangle" if unused == 1
+                    else f"{unused} vertices in no triangle",)
+    return write_files(
+        [(path, "".join(line + "\n" for line in out))],
+        overwrite=overwrite,
+        numbers=number,
+        dropped=dropped,
+    )
