@@ -30,6 +30,7 @@ from geomexact.mesh2d.snapshot import (
     walk_star,
 )
 from geomexact.mesh2d.transient import Transient2
+from geomexact.mesh2d.vertex_interpolation import interpolated_in_triangle, interpolated_on_edge
 from geomexact.trace.step import Step
 
 CCW = Orientation.COUNTERCLOCKWISE
@@ -195,9 +196,13 @@ def _split_edge(
             edge=(u, v),
         )
     marker = t.segment_marker(u, v)
-    n = t.add_vertex(point, marker or 0) if vertex is None else vertex
-    join_in_edge(t, u, v, n)
-    return n
+    if vertex is None:
+        attributes = interpolated_on_edge(
+            pu, t.vertex_attributes(u), pv, t.vertex_attributes(v), point
+        )
+        vertex = t.add_vertex(point, marker or 0, attributes)
+    join_in_edge(t, u, v, vertex)
+    return vertex
 
 
 def bisect_in(t: Transient2, u: int, v: int) -> int:
@@ -239,9 +244,12 @@ def _split_triangle(
             f"point ({point.x}, {point.y}) is not strictly inside triangle {triangle}",
             triangle=triangle,
         )
-    n = t.add_vertex(point) if vertex is None else vertex
-    join_in_triangle(t, a, b, c, n)
-    return n
+    if vertex is None:
+        corners = ((pa, t.vertex_attributes(a)), (pb, t.vertex_attributes(b)),
+                   (pc, t.vertex_attributes(c)))
+        vertex = t.add_vertex(point, 0, interpolated_in_triangle(corners, point))
+    join_in_triangle(t, a, b, c, vertex)
+    return vertex
 
 
 def insert_in_triangle_in(t: Transient2, triangle: Triangle, point: Point2) -> int:
@@ -342,7 +350,15 @@ def _insert_in_quadrilateral(
                 f"of the quadrilateral of edge ({u}, {v})",
                 edge=(u, v),
             )
-    n = t.add_vertex(point)
+    attributes: Attributes = ()
+    if t.vertex_attributes(u):  # interpolated in the one of the two triangles holding it
+        au, av = t.vertex_attributes(u), t.vertex_attributes(v)
+        if orient2d(pu, pv, point) != Orientation.CLOCKWISE:
+            corners = ((pu, au), (pv, av), (pw, t.vertex_attributes(w)))
+        else:
+            corners = ((pv, av), (pu, au), (px, t.vertex_attributes(x)))
+        attributes = interpolated_in_triangle(corners, point)
+    n = t.add_vertex(point, 0, attributes)
     join_in_quadrilateral(t, u, v, w, x, n)
     return n
 

@@ -92,6 +92,12 @@ class Transient2:
     def vertex_marker(self, vertex: int) -> int:
         return self._vertex_markers.get(vertex, 0)
 
+    def vertex_attributes(self, vertex: int) -> Attributes:
+        """The attributes of ``vertex`` (``()`` when it has none)."""
+        if not len(self._vertex_attributes):
+            return ()
+        return self._vertex_attributes.get(vertex, ())
+
     def triangle_attributes(self, triangle: Triangle) -> Attributes | None:
         if not len(self._triangle_attributes):
             return None

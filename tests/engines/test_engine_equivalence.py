@@ -137,6 +137,17 @@ def two_regions() -> Mesh2:
     )
 
 
+def vertex_attributed() -> Mesh2:
+    """Two vertex attributes (one linear, one not) and a marked boundary."""
+    points = [(0, 0), (4, 0), (4, 3), (0, 3), (mpq(5, 3), 1)]
+    return mesh_from_triangles(
+        points,
+        [(0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
+        [(0, 1, 1), (1, 2, 2)],
+        vertex_attributes=[(mpq(x) + 2 * mpq(y), mpq(x) * mpq(y) + 1) for x, y in points],
+    )
+
+
 @functools.lru_cache(maxsize=1)
 def superior_pslg() -> PSLG:
     source = importlib.resources.files("geomexact") / "data" / "superior.poly"
@@ -468,6 +479,13 @@ class RefinementSuite:
         """Regional attributes (the attribute path of the batch store)."""
         self.same(two_regions(), MaxArea(mpq(12, pieces)), method=method)
         self.same(two_regions(), MinAngle(28), method=method, max_steps=500)
+
+    @every_engine
+    @given(st.sampled_from(["bisection", "centroid", "quasi"]), st.integers(3, 60))
+    def test_vertex_attributes(self, method: Any, pieces: int) -> None:
+        """Vertex attributes: every new vertex gets them interpolated, in every engine."""
+        self.same(vertex_attributed(), MaxArea(mpq(12, pieces)), method=method)
+        self.same(vertex_attributed(), MinAngle(28), method=method, max_steps=300)
 
     # -- random inputs --------------------------------------------------------------------
     @every_engine
@@ -884,6 +902,11 @@ def test_compiled_refuses_what_it_does_not_run(criterion: Criterion, options: di
 def test_compiled_refuses_triangle_attributes() -> None:
     with pytest.raises(PreconditionError, match=r"triangle attributes|not built"):
         refine(two_regions(), MaxArea("0.1"), engine="compiled")
+
+
+def test_compiled_refuses_vertex_attributes() -> None:
+    with pytest.raises(PreconditionError, match=r"vertex attributes|not built"):
+        refine(vertex_attributed(), MaxArea("0.1"), engine="compiled")
 
 
 def test_compiled_refuses_when_not_built(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -31,10 +31,12 @@ from geomexact.mesh2d.refinement.criteria import MaxArea
 from geomexact.mesh2d.refinement.driver import Progress, Refinement, StepLimit
 from geomexact.mesh2d.snapshot import (
     MAX_VERTICES,
+    Attributes,
     Edge,
     Mesh2,
     walk_star,
 )
+from geomexact.mesh2d.vertex_interpolation import interpolated_in_triangle, interpolated_on_edge
 from geomexact.trace.step import Step
 
 _CCW = Orientation.COUNTERCLOCKWISE
@@ -70,6 +72,9 @@ class BatchRefinement(BatchTriangulation, Refinement):
         # the snapshot's vertex map, opened for edits (sealing it is O(1))
         self.vertex_table = mesh.vertices.mutate()
         self.new_markers: dict[int, int] = {}
+        # vertex attributes, opened only for a mesh that has them (new vertices get them
+        # interpolated, as in the reference ops)
+        self.vertex_attrs = mesh.vertex_attributes.mutate() if len(mesh.vertex_attributes) else None
         self.limit = max_steps
         self.get = self.halfedges.get
         self.point = self.points.__getitem__
@@ -97,7 +102,14 @@ class BatchRefinement(BatchTriangulation, Refinement):
                 )
             )
 
-    def add_vertex(self, point: Point2, marker: int, on_grid: bool) -> int:
+    def vertex_attributes(self, vertex: int) -> Attributes:
+        """The attributes of ``vertex`` (``()`` when it has none)."""
+        table = self.vertex_attrs
+        return table.get(vertex, ()) if table is not None else ()
+
+    def add_vertex(
+        self, point: Point2, marker: int, on_grid: bool, attributes: Attributes = ()
+    ) -> int:
         """Append a vertex at ``point`` (in no triangle yet) and return its id."""
         vertex = len(self.points)
         if vertex >= MAX_VERTICES:
@@ -112,6 +124,9 @@ class BatchRefinement(BatchTriangulation, Refinement):
         if marker:
             self.new_markers[vertex] = marker
             total += _digest.attribute_hash("vm", (vertex,), (marker,))
+        if attributes and self.vertex_attrs is not None:
+            self.vertex_attrs[vertex] = attributes
+            total += _digest.attribute_hash("va", (vertex,), attributes)
         self.digest = total & _MASK
         return vertex
 
@@ -122,10 +137,14 @@ class BatchRefinement(BatchTriangulation, Refinement):
         pu, pv = self.points[u], self.points[v]
         scale, grid = self.scale, self.grid
         marker = self.segments.get((u, v) if u < v else (v, u))
+        midpoint = _exact_point((pu[0] + pv[0]) / 2, (pu[1] + pv[1]) / 2)
         n = self.add_vertex(
-            _exact_point((pu[0] + pv[0]) / 2, (pu[1] + pv[1]) / 2),
+            midpoint,
             marker or 0,
             scale is not None and grid[u] and grid[v] and midpoint_on_grid(pu, pv, scale),
+            interpolated_on_edge(
+                pu, self.vertex_attributes(u), pv, self.vertex_attributes(v), midpoint
+            ) if self.vertex_attrs is not None else (),
         )
         join_in_edge(self, u, v, n)
         self.record("bisect", (u, v))
@@ -149,7 +168,15 @@ class BatchRefinement(BatchTriangulation, Refinement):
         for p, q in ((pu, px), (px, pv), (pv, pw), (pw, pu)):
             if orient2d(p, q, point) != _CCW:  # pragma: no cover - terminal pairs are convex
                 raise PreconditionError(op, f"centroid of ({u}, {v}) outside its quadrilateral")
-        n = self.add_vertex(point, 0, False)
+        attributes: Attributes = ()
+        if self.vertex_attrs is not None:  # as in the reference op
+            au, av = self.vertex_attributes(u), self.vertex_attributes(v)
+            if orient2d(pu, pv, point) != Orientation.CLOCKWISE:
+                corners = ((pu, au), (pv, av), (pw, self.vertex_attributes(w)))
+            else:
+                corners = ((pv, av), (pu, au), (px, self.vertex_attributes(x)))
+            attributes = interpolated_in_triangle(corners, point)
+        n = self.add_vertex(point, 0, False, attributes)
         join_in_quadrilateral(self, u, v, w, x, n)
         self.record(op, args)
         return n
@@ -229,5 +256,9 @@ class BatchRefinement(BatchTriangulation, Refinement):
             vertices=self.vertex_table.finish(),
             vertex_markers=markers.finish(),
             outgoing=outgoing,
+            **(
+                {"vertex_attributes": self.vertex_attrs.finish()}
+                if self.vertex_attrs is not None else {}
+            ),
         )
         return mesh, self.steps, self.digests

@@ -86,6 +86,8 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
         return "the only region-wide criterion it runs is AverageAreaFactor"
     if len(mesh.triangle_attributes):
         return "it runs no mesh with triangle attributes"
+    if len(mesh.vertex_attributes):
+        return "it runs no mesh with vertex attributes (new vertices get them interpolated)"
     return None
 
 
