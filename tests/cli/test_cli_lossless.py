@@ -128,3 +128,22 @@ def test_exact_is_refused_for_a_float_only_format(
 def test_exact_and_float_exclude_each_other(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["convert", "a.off", "b.off", "--exact", "--float"]) == 2
     assert "not allowed with argument" in capsys.readouterr().err
+
+
+def test_rounding_that_merges_two_vertices_is_reported(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Before: a rounded file held two vertices at the same coordinates, which geomexact
+    itself then refused to read; now the default keeps them apart, and --float says."""
+    source = tmp_path / "close.off"
+    source.write_text(
+        "OFF\n4 2 0\n0 0 0\n1 0 0\n0.33333333333333333333 1 0\n0.33333333333333333334 1 0\n"
+        "3 0 1 2\n3 0 3 2\n".replace("3 0 3 2", "3 1 3 2"),
+        encoding="utf-8",
+    )
+    code, _, err = _run(capsys, "convert", source, tmp_path / "a.off")
+    assert code == 0 and err == ""
+    assert io.read(tmp_path / "a.off").digest == io.read(source).digest
+    code, _, err = _run(capsys, "convert", source, tmp_path / "b.off", "--float")
+    assert code == 0
+    assert "the rounded file does not read back" in err and "Traceback" not in err
