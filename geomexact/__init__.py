@@ -33,6 +33,7 @@ if TYPE_CHECKING:
         SegmentError,
         TraceError,
         TransientSealedError,
+        Violation,
     )
     from geomexact.io.trace_file import read_trace, write_trace
     from geomexact.kernel.numbers import format_rational, mpq, parse_rational, to_rational
@@ -64,7 +65,6 @@ if TYPE_CHECKING:
         RefineStats,
         Result,
         Transient2,
-        Violation,
         apply,
         bisect,
         canonical_triangle,
@@ -118,6 +118,7 @@ _HOMES: dict[str, str] = {
     "SegmentError": "geomexact.errors",
     "TraceError": "geomexact.errors",
     "TransientSealedError": "geomexact.errors",
+    "Violation": "geomexact.errors",
     "format_rational": "geomexact.kernel.numbers",
     "mpq": "geomexact.kernel.numbers",
     "parse_rational": "geomexact.kernel.numbers",

@@ -10,6 +10,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+import attrs
+
 
 class GeomexactError(Exception):
     """Base class of every error geomexact raises on purpose."""
@@ -55,6 +57,19 @@ class PreconditionError(GeomexactError, ValueError):
         self.op = op
         self.problem = problem
         self.details = details
+
+
+@attrs.frozen(slots=True)
+class Violation:
+    """One broken invariant of a mesh (2D or 3D): ``kind`` (a stable identifier), a
+    readable ``message`` and the ids of the elements involved."""
+
+    kind: str
+    message: str
+    elements: tuple[int, ...] = ()
+
+    def __str__(self) -> str:
+        return f"{self.kind}: {self.message}"
 
 
 class InvalidMeshError(GeomexactError, ValueError):

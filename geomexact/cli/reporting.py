@@ -6,7 +6,7 @@ import json
 from collections.abc import Iterable
 from typing import Any
 
-from geomexact.mesh2d.validation import Violation
+from geomexact.errors import Violation
 
 
 def print_json(report: dict[str, Any]) -> None:

@@ -160,9 +160,6 @@ if TYPE_CHECKING:
         mesh_from_triangles as mesh_from_triangles,
     )
     from geomexact.mesh2d.validation import (
-        Violation as Violation,
-    )
-    from geomexact.mesh2d.validation import (
         check as check,
     )
     from geomexact.mesh2d.validation import (
@@ -219,7 +216,6 @@ _HOMES: dict[str, str] = {
     "mesh_summary": "geomexact.mesh2d.summary",
     "Transient2": "geomexact.mesh2d.transient",
     "mesh_from_triangles": "geomexact.mesh2d.transient",
-    "Violation": "geomexact.mesh2d.validation",
     "check": "geomexact.mesh2d.validation",
     "validate": "geomexact.mesh2d.validation",
 }

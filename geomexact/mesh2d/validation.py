@@ -8,26 +8,11 @@ from __future__ import annotations
 import itertools
 from collections import Counter
 
-import attrs
-
-from geomexact.errors import InvalidMeshError
+from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle, full_digest
-
-
-@attrs.frozen(slots=True)
-class Violation:
-    """One broken invariant: ``kind`` (a stable identifier), a readable ``message`` and the
-    ids of the elements involved."""
-
-    kind: str
-    message: str
-    elements: tuple[int, ...] = ()
-
-    def __str__(self) -> str:
-        return f"{self.kind}: {self.message}"
 
 
 def validate(

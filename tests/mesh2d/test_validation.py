@@ -11,12 +11,12 @@ import immutables
 import pytest
 from hypothesis import given, settings
 
-from geomexact.errors import InvalidMeshError
+from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import point2
 from geomexact.mesh2d.snapshot import Mesh2, full_digest
 from geomexact.mesh2d.transient import mesh_from_triangles
-from geomexact.mesh2d.validation import Violation, check, validate
+from geomexact.mesh2d.validation import check, validate
 from geomexact.strategies import triangulations
 
 FEW = settings(max_examples=min(settings().max_examples, 40))

@@ -17,7 +17,7 @@ from typing import Any
 import attrs
 import numpy as np
 
-from geomexact.errors import InvalidMeshError, PreconditionError
+from geomexact.errors import InvalidMeshError, PreconditionError, Violation
 from geomexact.kernel.array_filters import orient2d_signs, point_doubles
 from geomexact.kernel.numbers import ZERO, Rational, format_rational, to_float
 from geomexact.kernel.points import Point2
@@ -26,7 +26,6 @@ from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.measures import angle_and_area_report
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
-from geomexact.mesh2d.validation import Violation
 from geomexact.mesh2d.validation import validate as validate_triangulation
 
 __all__ = [

@@ -1,0 +1,211 @@
+"""Persistent tetrahedral meshes: the :class:`Mesh3` snapshot value and its queries.
+
+A :class:`Mesh3` is immutable; its tables are persistent hash maps (``immutables.Map``), so
+a step that changes k tetrahedra builds the next snapshot in O(k log n) and shares the
+rest.  Vertices are numbered by insertion order.  Adjacency is a *half-face* map, the 3D
+analogue of :class:`~geomexact.mesh2d.snapshot.Mesh2`'s half-edges: each positively
+oriented tetrahedron (a, b, c, d) contributes its four faces, each oriented so that the
+tetrahedron's fourth vertex (the *apex*) lies on its positive side (``orient3d(face,
+apex) > 0``), keyed by the face rotated to start at its smallest id.  An interior face
+appears twice, with opposite orientations; a boundary face once.
+Model, digest and invariants: ``specs/mesh3d.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, TypeAlias
+
+import attrs
+import immutables
+
+from geomexact.kernel import digest as _digest
+from geomexact.kernel.numbers import Rational
+from geomexact.kernel.points import Point3
+
+if TYPE_CHECKING:
+    from geomexact.mesh3d.transient import Transient3
+
+Tetrahedron: TypeAlias = tuple[int, int, int, int]
+Face: TypeAlias = tuple[int, int, int]
+Edge: TypeAlias = tuple[int, int]
+
+MAX_VERTICES = 1 << 32
+
+
+def canonical_face(a: int, b: int, c: int) -> Face:
+    """The rotation of the oriented face (a, b, c) that starts at its smallest id."""
+    if a < b and a < c:
+        return a, b, c
+    if b < c:
+        return b, c, a
+    return c, a, b
+
+
+def canonical_tetrahedron(a: int, b: int, c: int, d: int) -> Tetrahedron:
+    """The even permutation of (a, b, c, d) (the same orientation) that starts at its
+    smallest id, its other three rotated to start at their smallest."""
+    if a < b and a < c and a < d:
+        return (a, *canonical_face(b, c, d))
+    if b < c and b < d:
+        return (b, *canonical_face(a, d, c))  # (b, a, d, c) is even
+    if c < d:
+        return (c, *canonical_face(d, a, b))  # (c, d, a, b) is even
+    return (d, *canonical_face(c, b, a))  # (d, c, b, a) is even
+
+
+def tetrahedron_faces(a: int, b: int, c: int, d: int) -> tuple[tuple[Face, int], ...]:
+    """The four (canonical oriented face, apex) pairs of the positive tetrahedron abcd:
+    each face oriented so that its apex is on its positive side (the face seen
+    counter-clockwise from inside the tetrahedron)."""
+    return (
+        (canonical_face(a, b, c), d),
+        (canonical_face(a, c, d), b),
+        (canonical_face(a, d, b), c),
+        (canonical_face(b, d, c), a),
+    )
+
+
+def opposite_face(face: Face) -> Face:
+    """The same triangle with the other orientation (canonical)."""
+    a, b, c = face
+    return canonical_face(a, c, b)
+
+
+def undirected(u: int, v: int) -> Edge:
+    """The edge {u, v} as the pair (min, max)."""
+    return (u, v) if u < v else (v, u)
+
+
+@attrs.frozen(slots=True, eq=False)
+class Mesh3:
+    """An immutable tetrahedral mesh with exact rational vertices.
+
+    Tables (persistent maps):
+
+    - ``vertices``: id -> :class:`Point3`, ids 0..n-1 in insertion order;
+    - ``faces``: canonical oriented face -> apex, four per positive tetrahedron;
+    - ``hints``: vertex -> a face key containing it (to walk its star; absent for a vertex
+      in no tetrahedron);
+
+    plus ``tetrahedron_count`` and the content ``digest`` (the sum of the vertex hashes and
+    the tetrahedra's cell hashes, as in 2D).
+    """
+
+    vertices: immutables.Map[int, Point3]
+    faces: immutables.Map[Face, int]
+    hints: immutables.Map[int, Face]
+    tetrahedron_count: int
+    digest: int
+
+    # -- sizes and identity -------------------------------------------------------------
+    @property
+    def vertex_count(self) -> int:
+        return len(self.vertices)
+
+    @property
+    def digest_text(self) -> str:
+        return _digest.digest_text(self.digest)
+
+    def transient(self) -> Transient3:
+        """A batch builder on this snapshot (the snapshot itself never changes)."""
+        from geomexact.mesh3d.transient import Transient3
+
+        return Transient3(self)
+
+    # -- queries ------------------------------------------------------------------------
+    def point(self, vertex: int) -> Point3:
+        return self.vertices[vertex]
+
+    def apex(self, a: int, b: int, c: int) -> int | None:
+        """The apex of the tetrahedron on the positive side of the oriented face abc."""
+        return self.faces.get(canonical_face(a, b, c))
+
+    def iter_tetrahedra(self) -> Iterator[Tetrahedron]:
+        """Every tetrahedron once, canonical, in table order (for sums and checks)."""
+        for (a, b, c), d in self.faces.items():
+            if d < a and d < b and d < c:  # the face opposite the smallest vertex
+                yield canonical_tetrahedron(a, b, c, d)
+
+    def tetrahedra(self) -> list[Tetrahedron]:
+        """Every tetrahedron, canonical, sorted."""
+        return sorted(self.iter_tetrahedra())
+
+    def has_tetrahedron(self, tetrahedron: Tetrahedron) -> bool:
+        a, b, c, d = tetrahedron
+        return self.faces.get(canonical_face(a, b, c)) == d
+
+    def boundary_faces(self) -> list[Face]:
+        """The faces with no tetrahedron on their negative side, oriented outward
+        (counter-clockwise seen from outside: the reversal of the stored face), sorted."""
+        faces = self.faces
+        return sorted(
+            opposite_face(face) for face in faces if opposite_face(face) not in faces
+        )
+
+    def interior_faces(self) -> list[Face]:
+        """Each face shared by two tetrahedra once, as its sorted vertex triple, sorted."""
+        faces = self.faces
+        return sorted(
+            tuple(sorted(face))  # type: ignore[misc]
+            for face in faces
+            if opposite_face(face) in faces and face < opposite_face(face)
+        )
+
+    def edges(self) -> list[Edge]:
+        """Every edge (min, max), sorted."""
+        found: set[Edge] = set()
+        for a, b, c in self.faces:
+            found.update((undirected(a, b), undirected(b, c), undirected(c, a)))
+        return sorted(found)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Mesh3):
+            return NotImplemented
+        return (
+            self.digest == other.digest
+            and self.tetrahedron_count == other.tetrahedron_count
+            and self.vertices == other.vertices
+            and self.faces == other.faces
+        )
+
+    def __hash__(self) -> int:
+        return hash(self.digest)
+
+    def __repr__(self) -> str:
+        return (
+            f"Mesh3(vertices={self.vertex_count}, tetrahedra={self.tetrahedron_count}, "
+            f"digest={self.digest_text})"
+        )
+
+
+def empty_mesh3() -> Mesh3:
+    """The mesh with no vertices and no tetrahedra."""
+    return Mesh3(
+        vertices=immutables.Map(),
+        faces=immutables.Map(),
+        hints=immutables.Map(),
+        tetrahedron_count=0,
+        digest=0,
+    )
+
+
+def full_digest3(mesh: Mesh3) -> int:
+    """The digest recomputed from the content (``validate`` compares it with ``digest``)."""
+    total = 0
+    for vertex, point in mesh.vertices.items():
+        total = _digest.combine(total, _digest.vertex_hash(vertex, point[:3]))
+    for tetrahedron in mesh.iter_tetrahedra():
+        total = _digest.combine(total, _digest.cell_hash(tetrahedron))
+    return total
+
+
+def signed_volume6(a: Point3, b: Point3, c: Point3, d: Point3) -> Rational:
+    """Six times the signed volume of abcd, exactly: ``det[b - a, c - a, d - a]``
+    (positive for a positively oriented tetrahedron, as ``orient3d``)."""
+    bx, by, bz = b.x - a.x, b.y - a.y, b.z - a.z
+    cx, cy, cz = c.x - a.x, c.y - a.y, c.z - a.z
+    dx, dy, dz = d.x - a.x, d.y - a.y, d.z - a.z
+    return (  # type: ignore[no-any-return]
+        bx * (cy * dz - cz * dy) - by * (cx * dz - cz * dx) + bz * (cx * dy - cy * dx)
+    )

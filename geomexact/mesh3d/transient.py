@@ -1,0 +1,273 @@
+"""The batch builder of :class:`~geomexact.mesh3d.snapshot.Mesh3`: a :class:`Transient3`
+opens on a snapshot in O(1), takes any number of edits and steps, and is sealed into the
+next snapshot in O(1).  It never escapes the function that made it."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+import immutables
+
+from geomexact.errors import PreconditionError, TransientSealedError
+from geomexact.kernel import digest as _digest
+from geomexact.kernel.points import Point3, point3
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates3d import orient3d
+from geomexact.mesh3d.snapshot import (
+    MAX_VERTICES,
+    Face,
+    Mesh3,
+    Tetrahedron,
+    canonical_face,
+    canonical_tetrahedron,
+    empty_mesh3,
+    tetrahedron_faces,
+)
+from geomexact.trace.step import Step
+
+__all__ = ["Transient3", "mesh3_from_tetrahedra"]
+
+
+class Transient3:
+    """Mutable edits on a :class:`Mesh3`, with the digest kept current (O(1) per element)
+    and the steps recorded with the digest after each."""
+
+    __slots__ = (
+        "_digest",
+        "_faces",
+        "_hints",
+        "_sealed",
+        "_stale",
+        "_tetrahedron_count",
+        "_vertices",
+        "step_digests",
+        "steps",
+    )
+
+    def __init__(self, mesh: Mesh3) -> None:
+        self._vertices = mesh.vertices.mutate()
+        self._faces = mesh.faces.mutate()
+        self._hints = mesh.hints.mutate()
+        self._tetrahedron_count = mesh.tetrahedron_count
+        self._digest = mesh.digest
+        self._sealed = False
+        self._stale: set[int] = set()  # vertices of removed tetrahedra: hints to check
+        self.steps: list[Step] = []
+        self.step_digests: list[int] = []
+
+    # -- reads --------------------------------------------------------------------------
+    @property
+    def vertex_count(self) -> int:
+        return len(self._vertices)
+
+    @property
+    def tetrahedron_count(self) -> int:
+        return self._tetrahedron_count
+
+    @property
+    def digest(self) -> int:
+        return self._digest
+
+    def point(self, vertex: int) -> Point3:
+        return self._vertices[vertex]
+
+    def apex(self, a: int, b: int, c: int) -> int | None:
+        """The apex of the tetrahedron on the positive side of the oriented face abc."""
+        return self._faces.get(canonical_face(a, b, c))
+
+    def has_tetrahedron(self, a: int, b: int, c: int, d: int) -> bool:
+        return self._faces.get(canonical_face(a, b, c)) == d
+
+    def star(self, vertex: int) -> list[Tetrahedron]:
+        """The tetrahedra containing ``vertex`` (canonical, sorted), found by walking
+        across the faces that contain it from its hint."""
+        hint = self._hints.get(vertex)
+        if hint is None or hint not in self._faces:
+            return self._scan_star(vertex)
+        first = canonical_tetrahedron(hint[0], hint[1], hint[2], self._faces[hint])
+        seen = {first}
+        pending = [first]
+        faces = self._faces
+        while pending:
+            a, b, c, d = pending.pop()
+            for face, _ in tetrahedron_faces(a, b, c, d):
+                if vertex not in face:
+                    continue
+                x, y, z = face
+                neighbour_apex = faces.get(canonical_face(x, z, y))
+                if neighbour_apex is None:
+                    continue
+                neighbour = canonical_tetrahedron(x, z, y, neighbour_apex)
+                if neighbour not in seen:
+                    seen.add(neighbour)
+                    pending.append(neighbour)
+        return sorted(seen)
+
+    def faces_snapshot(self) -> immutables.Map[Face, int]:
+        """The current face table as an immutable map (to iterate over it).  O(1): the
+        mutation is finished and reopened."""
+        snapshot = self._faces.finish()
+        self._faces = snapshot.mutate()
+        return snapshot
+
+    def _scan_star(self, vertex: int) -> list[Tetrahedron]:
+        return sorted(
+            {
+                canonical_tetrahedron(a, b, c, apex)
+                for (a, b, c), apex in self.faces_snapshot().items()
+                if vertex in (a, b, c, apex)
+            }
+        )
+
+    def around_edge(self, u: int, v: int) -> list[Tetrahedron]:
+        """The tetrahedra containing both u and v (canonical, sorted)."""
+        return [tetrahedron for tetrahedron in self.star(u) if v in tetrahedron]
+
+    # -- edits --------------------------------------------------------------------------
+    def _check_open(self) -> None:
+        if self._sealed:
+            raise TransientSealedError("this transient was sealed; start a new one")
+
+    def add_vertex(self, point: Point3) -> int:
+        """Append a vertex (in no tetrahedron yet) and return its id."""
+        self._check_open()
+        vertex = len(self._vertices)
+        if vertex >= MAX_VERTICES:
+            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+        self._vertices[vertex] = point
+        self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, point[:3]))
+        return vertex
+
+    def add_tetrahedron(self, a: int, b: int, c: int, d: int) -> None:
+        """Add the tetrahedron abcd, which the caller knows to be positively oriented;
+        :class:`PreconditionError` when a face of it already has a tetrahedron on that
+        side."""
+        self._check_open()
+        entries = tetrahedron_faces(a, b, c, d)
+        faces = self._faces
+        for face, _ in entries:
+            if face in faces:
+                raise PreconditionError(
+                    "add_tetrahedron",
+                    f"face {face} of tetrahedron {(a, b, c, d)} already has a tetrahedron "
+                    "on that side",
+                )
+        for face, apex in entries:
+            faces[face] = apex
+        hints = self._hints
+        for index, (_, apex) in enumerate(entries):
+            hints[apex] = entries[(index + 1) % 4][0]  # every other face contains the apex
+        self._tetrahedron_count += 1
+        self._digest = _digest.combine(
+            self._digest, _digest.cell_hash(canonical_tetrahedron(a, b, c, d))
+        )
+
+    def remove_tetrahedron(self, a: int, b: int, c: int, d: int) -> None:
+        """Remove the tetrahedron abcd (any even permutation)."""
+        self._check_open()
+        entries = tetrahedron_faces(a, b, c, d)
+        faces = self._faces
+        for face, apex in entries:
+            if faces.get(face) != apex:
+                raise PreconditionError(
+                    "remove_tetrahedron", f"{(a, b, c, d)} is not a tetrahedron of the mesh"
+                )
+        for face, _ in entries:
+            del faces[face]
+        self._stale.update((a, b, c, d))
+        self._tetrahedron_count -= 1
+        self._digest = _digest.remove(
+            self._digest, _digest.cell_hash(canonical_tetrahedron(a, b, c, d))
+        )
+
+    def record(self, step: Step) -> None:
+        """Append ``step`` (just completed) and the digest after it to the record."""
+        self._check_open()
+        self.steps.append(step)
+        self.step_digests.append(self._digest)
+
+    # -- steps and sealing --------------------------------------------------------------
+    def apply(self, step: Step, /) -> None:
+        """Apply ``step`` through the 3D step table (:data:`geomexact.mesh3d.ops.
+        OPERATIONS`) and record it; :class:`PreconditionError` when it cannot."""
+        from geomexact.mesh3d.ops import apply_in
+
+        apply_in(self, step)
+
+    def _repair_hints(self) -> None:
+        faces, hints = self._faces, self._hints
+        stale = sorted(
+            vertex for vertex in self._stale
+            if (hint := hints.get(vertex)) is not None and hint not in faces
+        )
+        self._stale.clear()
+        if not stale:
+            return
+        # rare (tetrahedra removed without replacement): one scan
+        table = self.faces_snapshot()
+        wanted = set(stale)
+        best: dict[int, Face] = {}
+        for face in table:  # one scan; the smallest face, so the table order cannot matter
+            for vertex in face:
+                if vertex in wanted and (vertex not in best or face < best[vertex]):
+                    best[vertex] = face
+        for vertex in stale:
+            if vertex in best:
+                hints[vertex] = best[vertex]
+            else:
+                del hints[vertex]
+
+    def seal(self) -> Mesh3:
+        """Finish the edits and return the new snapshot; the transient is then unusable."""
+        self._check_open()
+        self._repair_hints()
+        self._sealed = True
+        return Mesh3(
+            vertices=self._vertices.finish(),
+            faces=self._faces.finish(),
+            hints=self._hints.finish(),
+            tetrahedron_count=self._tetrahedron_count,
+            digest=self._digest,
+        )
+
+
+def mesh3_from_tetrahedra(
+    points: Sequence[Point3 | tuple[object, object, object]],
+    tetrahedra: Iterable[Sequence[int]],
+    *,
+    orient: bool = False,
+) -> Mesh3:
+    """Build a snapshot from vertex and tetrahedron tables.
+
+    ``points`` are :class:`Point3` or coordinate triples (converted exactly); tetrahedra
+    are vertex-index quadruples, positively oriented unless ``orient=True`` (then each
+    negative one is reversed).  :class:`PreconditionError` for an index out of range, a
+    flat tetrahedron, a negative one when ``orient`` is false, or two tetrahedra on the
+    same side of a face.
+    """
+    transient = Transient3(empty_mesh3())
+    for raw in points:
+        transient.add_vertex(raw if isinstance(raw, Point3) else point3(*raw))
+    count = transient.vertex_count
+    for index, raw_tetrahedron in enumerate(tetrahedra):
+        a, b, c, d = (int(i) for i in raw_tetrahedron)
+        if not all(0 <= vertex < count for vertex in (a, b, c, d)) or len({a, b, c, d}) < 4:
+            raise PreconditionError(
+                "mesh3_from_tetrahedra",
+                f"tetrahedron #{index} {(a, b, c, d)} has a vertex out of range 0..{count - 1} "
+                "or a repeated one",
+            )
+        orientation = orient3d(*(transient.point(v) for v in (a, b, c, d)))
+        if orientation == Orientation.COLLINEAR:
+            raise PreconditionError(
+                "mesh3_from_tetrahedra", f"tetrahedron #{index} {(a, b, c, d)} is flat"
+            )
+        if orientation == Orientation.CLOCKWISE:
+            if not orient:
+                raise PreconditionError(
+                    "mesh3_from_tetrahedra",
+                    f"tetrahedron #{index} {(a, b, c, d)} is negatively oriented",
+                )
+            a, b = b, a
+        transient.add_tetrahedron(a, b, c, d)
+    return transient.seal()
