@@ -30,7 +30,12 @@ from geomexact.mesh2d.snapshot import (
     walk_star,
 )
 from geomexact.mesh2d.transient import Transient2
-from geomexact.mesh2d.vertex_interpolation import interpolated_in_triangle, interpolated_on_edge
+from geomexact.mesh2d.vertex_interpolation import (
+    interpolated_in_quadrilateral,
+    interpolated_in_triangle,
+    interpolated_on_edge,
+)
+from geomexact.trace.protocols import apply_from
 from geomexact.trace.step import Step
 
 CCW = Orientation.COUNTERCLOCKWISE
@@ -351,13 +356,10 @@ def _insert_in_quadrilateral(
                 edge=(u, v),
             )
     attributes: Attributes = ()
-    if t.vertex_attributes(u):  # interpolated in the one of the two triangles holding it
-        au, av = t.vertex_attributes(u), t.vertex_attributes(v)
-        if orient2d(pu, pv, point) != Orientation.CLOCKWISE:
-            corners = ((pu, au), (pv, av), (pw, t.vertex_attributes(w)))
-        else:
-            corners = ((pv, av), (pu, au), (px, t.vertex_attributes(x)))
-        attributes = interpolated_in_triangle(corners, point)
+    if t.vertex_attributes(u):
+        attributes = interpolated_in_quadrilateral(
+            ((pu, t.vertex_attributes(u)), (pv, t.vertex_attributes(v)),
+             (pw, t.vertex_attributes(w)), (px, t.vertex_attributes(x))), point)
     n = t.add_vertex(point, 0, attributes)
     join_in_quadrilateral(t, u, v, w, x, n)
     return n
@@ -663,10 +665,7 @@ import (the :data:`geomexact.trace.protocols.OperationTable` of ``mesh2d``)."""
 
 def apply_in(t: Transient2, step: Step) -> None:
     """Apply ``step`` to the transient (it records the step in ``t.steps``)."""
-    run = OPERATIONS.get(step.op)
-    if run is None:
-        raise PreconditionError(step.op, f"unknown step {step.op!r}")
-    run(t, step)
+    apply_from(OPERATIONS, t, step)
 
 
 # ---------------------------------------------------------------------------------------

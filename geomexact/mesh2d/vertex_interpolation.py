@@ -9,9 +9,11 @@ from __future__ import annotations
 
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.snapshot import Attributes
 
-__all__ = ["interpolated_in_triangle", "interpolated_on_edge"]
+__all__ = ["interpolated_in_quadrilateral", "interpolated_in_triangle", "interpolated_on_edge"]
 
 
 def _uniform(*rows: Attributes) -> bool:
@@ -53,3 +55,19 @@ def interpolated_in_triangle(
     return tuple(
         la * a + lb * b + lc * c for a, b, c in zip(aa, ab, ac, strict=True)
     )
+
+
+def interpolated_in_quadrilateral(
+    corners: tuple[tuple[Point2, Attributes], tuple[Point2, Attributes],
+                   tuple[Point2, Attributes], tuple[Point2, Attributes]],
+    point: Point2,
+) -> Attributes:
+    """The attributes at ``point`` inside the quadrilateral of the edge uv with its two
+    triangles uvw and vux, ``corners`` being (u, v, w, x) with their attributes:
+    interpolated in the triangle of the two that holds the point (either one on uv)."""
+    (pu, au), (pv, av), (pw, aw), (px, ax) = corners
+    if not _uniform(au, av, aw, ax):
+        return ()
+    if orient2d(pu, pv, point) != Orientation.CLOCKWISE:
+        return interpolated_in_triangle(((pu, au), (pv, av), (pw, aw)), point)
+    return interpolated_in_triangle(((pv, av), (pu, au), (px, ax)), point)

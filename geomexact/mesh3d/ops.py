@@ -22,6 +22,7 @@ from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates3d import orient3d
 from geomexact.mesh3d.snapshot import Edge, Face, Mesh3, Tetrahedron, undirected
 from geomexact.mesh3d.transient import Transient3
+from geomexact.trace.protocols import apply_from
 from geomexact.trace.step import Step
 
 __all__ = [
@@ -270,10 +271,7 @@ OPERATIONS: Mapping[str, Callable[[Transient3, Step], None]] = MappingProxyType(
 
 def apply_in(t: Transient3, step: Step) -> None:
     """Apply ``step`` to the transient (it records the step)."""
-    run = OPERATIONS.get(step.op)
-    if run is None:
-        raise PreconditionError(step.op, f"unknown 3D step {step.op!r}")
-    run(t, step)
+    apply_from(OPERATIONS, t, step)
 
 
 # ---------------------------------------------------------------------------------------

@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Protocol, TypeAlias, TypeVar
 
+from geomexact.errors import PreconditionError
 from geomexact.trace.step import Step
 
 T = TypeVar("T", contravariant=True)
@@ -43,4 +44,15 @@ class Snapshot(Protocol):
 
 OperationTable: TypeAlias = Mapping[str, Callable[[T, Step], None]]
 """Step name -> how to apply it to a transient of one mesh type.  Each mesh package defines
-its table once, complete at import (``geomexact.mesh2d.ops.OPERATIONS``)."""
+its table once, complete at import (``geomexact.mesh2d.ops.OPERATIONS``,
+``geomexact.mesh3d.ops.OPERATIONS``)."""
+
+
+def apply_from(table: OperationTable[T], transient: T, step: Step) -> None:
+    """Apply ``step`` to ``transient`` by its entry in ``table`` (the entry records it);
+    :class:`~geomexact.errors.PreconditionError` for a step the table does not know."""
+    run = table.get(step.op)
+    if run is None:
+        raise PreconditionError(step.op, f"unknown step {step.op!r} (known: "
+                                f"{', '.join(sorted(table))})")
+    run(transient, step)

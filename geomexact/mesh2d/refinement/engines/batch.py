@@ -36,7 +36,10 @@ from geomexact.mesh2d.snapshot import (
     Mesh2,
     walk_star,
 )
-from geomexact.mesh2d.vertex_interpolation import interpolated_in_triangle, interpolated_on_edge
+from geomexact.mesh2d.vertex_interpolation import (
+    interpolated_in_quadrilateral,
+    interpolated_on_edge,
+)
 from geomexact.trace.step import Step
 
 _CCW = Orientation.COUNTERCLOCKWISE
@@ -170,12 +173,9 @@ class BatchRefinement(BatchTriangulation, Refinement):
                 raise PreconditionError(op, f"centroid of ({u}, {v}) outside its quadrilateral")
         attributes: Attributes = ()
         if self.vertex_attrs is not None:  # as in the reference op
-            au, av = self.vertex_attributes(u), self.vertex_attributes(v)
-            if orient2d(pu, pv, point) != Orientation.CLOCKWISE:
-                corners = ((pu, au), (pv, av), (pw, self.vertex_attributes(w)))
-            else:
-                corners = ((pv, av), (pu, au), (px, self.vertex_attributes(x)))
-            attributes = interpolated_in_triangle(corners, point)
+            attributes = interpolated_in_quadrilateral(
+                ((pu, self.vertex_attributes(u)), (pv, self.vertex_attributes(v)),
+                 (pw, self.vertex_attributes(w)), (px, self.vertex_attributes(x))), point)
         n = self.add_vertex(point, 0, False, attributes)
         join_in_quadrilateral(self, u, v, w, x, n)
         self.record(op, args)
