@@ -158,6 +158,9 @@ class _Handler(BaseHTTPRequestHandler):
     server: MeshServer
     server_version = "geomexact"
     timeout = 60  # seconds a client may take to send its request
+    # an unparsable request line is answered with a status line too (the default, HTTP/0.9,
+    # answers a bare body)
+    default_request_version = "HTTP/1.0"
 
     def log_message(self, format: str, *args: Any) -> None:
         self.server.write_log(f"{self.address_string()} {format % args}")
