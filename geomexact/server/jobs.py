@@ -15,7 +15,7 @@ from typing import Any
 from geomexact.server.actions import ACTIONS, available_actions
 from geomexact.server.bounded import JobFailed
 from geomexact.server.listing import listed_files
-from geomexact.server.read_failures import failure_message
+from geomexact.server.read_failures import failure_message, without_prefixes
 from geomexact.server.served_files import UNSERVED_SUFFIXES, confined_files, sandbox
 
 _SAFE_NAME = re.compile(r"[^A-Za-z0-9._-]+")
@@ -38,12 +38,6 @@ def _main_file(names: list[str]) -> str:
     return names[0]
 
 
-def _relative(text: str, prefixes: tuple[str, ...]) -> str:
-    for prefix in prefixes:
-        text = text.replace(prefix, "")
-    return text
-
-
 def _read(path: Path, name: str, prefixes: tuple[str, ...]) -> tuple[Any, list[str]]:
     """Read the file ``path`` (shown as ``name``); a problem is a :class:`JobFailed` 400
     that names files without ``prefixes`` (folders the user never named) and shows none
@@ -56,7 +50,7 @@ def _read(path: Path, name: str, prefixes: tuple[str, ...]) -> tuple[Any, list[s
         raise
     except Exception as error:  # any reader's failure, meshio's included
         raise JobFailed(HTTPStatus.BAD_REQUEST, failure_message(error, name, prefixes)) from None
-    return value, [_relative(note, prefixes) for note in notes]
+    return value, [without_prefixes(note, prefixes) for note in notes]
 
 
 def _read_served(root: Path, relative: str) -> tuple[Any, list[str]]:

@@ -100,6 +100,14 @@ def without_file_text(problem: str, line: str | None) -> str:
     return "".join(shown)
 
 
+def without_prefixes(text: str, prefixes: tuple[str, ...]) -> str:
+    """``text`` with every occurrence of each of ``prefixes`` (folder paths ending with a
+    separator) removed: the paths in it become relative."""
+    for prefix in prefixes:
+        text = text.replace(prefix, "")
+    return text
+
+
 def shown_path(path: str, prefixes: tuple[str, ...]) -> str:
     """``path`` without the first of ``prefixes`` it starts with (folders the user never
     named: the served directory, a sandbox, an upload's temporary folder)."""
@@ -115,20 +123,15 @@ def failure_message(error: BaseException, name: str, prefixes: tuple[str, ...]) 
     quotes of the file's text hidden), the kind of problem for anything else."""
     from geomexact.errors import FormatError, GeomexactError
 
-    def relative(text: str) -> str:
-        for prefix in prefixes:
-            text = text.replace(prefix, "")
-        return text
-
     if isinstance(error, FormatError):
         where = shown_path(error.path, prefixes)
         if error.line is not None:
             where = f"{where}:{error.line}"
-        problem = without_file_text(relative(error.problem),
+        problem = without_file_text(without_prefixes(error.problem, prefixes),
                                     offending_line(error.path, error.line))
         return f"{where}: {problem}"
     if isinstance(error, GeomexactError):
-        return f"{name}: {without_file_text(relative(str(error)), None)}"
+        return f"{name}: {without_file_text(without_prefixes(str(error), prefixes), None)}"
     if isinstance(error, OSError):
         return f"{name}: cannot read it ({error.strerror or type(error).__name__})"
     return f"{name}: cannot be read ({type(error).__name__}; the reader's message is not shown)"
