@@ -18,7 +18,9 @@ def command_serve(args: argparse.Namespace) -> int:
     options = serving.ServeOptions(
         Path(args.directory), host=args.host, port=args.port,
         max_upload_bytes=int(args.max_upload_mb * 1024 * 1024),
-        time_limit=args.time_limit, jobs=args.jobs,
+        time_limit=args.time_limit, jobs=args.jobs, view_jobs=args.view_jobs,
+        memory_limit_bytes=(args.memory_limit_mb * 1024 * 1024
+                            if args.memory_limit_mb else None),
     )
     if not serving.is_loopback(args.host):
         print(f"geomexact: warning: listening on {args.host}: other machines can read the "
@@ -52,5 +54,13 @@ def add_parser(commands: Subcommands) -> None:
                         help="a job (reading, refining, building a page) is stopped after "
                              "this long (default 60)")
     serve_.add_argument("--jobs", type=non_negative, default=2, metavar="N",
-                        help="jobs run at once; more requests are told the server is busy "
+                        help="upload jobs run at once; more uploads are told the server is "
+                             "busy (default 2)")
+    serve_.add_argument("--view-jobs", type=non_negative, default=2, metavar="N",
+                        help="viewing jobs run at once, apart from the upload jobs (uploads "
+                             "never make viewing busy); more are told the server is busy "
                              "(default 2)")
+    serve_.add_argument("--memory-limit-mb", type=non_negative, default=2048,
+                        metavar="MB",
+                        help="a job's process may use at most this much memory (its "
+                             "address space); 0: no limit (default 2048)")

@@ -1,11 +1,12 @@
 """Running a job in a bounded child process: a job is a function that returns a page or
-raises :class:`JobFailed`; :func:`run_bounded` runs it in a separate process killed after a
-time limit."""
+raises :class:`JobFailed`; :func:`run_bounded` runs it in a separate process with a cap on
+its memory (its address space), killed after a time limit."""
 
 from __future__ import annotations
 
 import multiprocessing
 import multiprocessing.connection
+import signal
 import threading
 import traceback
 from collections.abc import Callable
@@ -22,14 +23,41 @@ class JobFailed(Exception):
         self.message = message
 
 
+def _megabytes(size: int) -> str:
+    return f"{size / (1024 * 1024):,.0f} MB"
+
+
+def out_of_memory_message(memory_limit: int | None) -> str:
+    """What the page says when a job runs out of memory."""
+    if memory_limit is None:
+        return "the job ran out of memory"
+    return (f"the job ran out of memory: it may use at most {_megabytes(memory_limit)} "
+            "(ask for less work, or start the server with a larger --memory-limit-mb)")
+
+
+def limit_memory(memory_limit: int) -> None:
+    """Cap this process's address space at ``memory_limit`` bytes (``RLIMIT_AS``; never
+    above the hard limit); an allocation beyond it fails (``MemoryError``)."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - Windows: no such limit
+        return
+    _, hard = resource.getrlimit(resource.RLIMIT_AS)
+    soft = memory_limit if hard == resource.RLIM_INFINITY else min(memory_limit, hard)
+    resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+
+
 def _child(connection: multiprocessing.connection.Connection, job: Callable[..., str],
-           args: tuple[Any, ...]) -> None:
+           args: tuple[Any, ...], memory_limit: int | None) -> None:
+    if memory_limit is not None:
+        limit_memory(memory_limit)
     try:
         connection.send(("ok", job(*args)))
     except JobFailed as failure:
         connection.send(("failed", failure.status, failure.message))
     except MemoryError:
-        connection.send(("failed", HTTPStatus.INSUFFICIENT_STORAGE, "the job ran out of memory"))
+        connection.send(("failed", HTTPStatus.INSUFFICIENT_STORAGE,
+                         out_of_memory_message(memory_limit)))
     except BaseException as error:  # report, never hang the parent
         detail = "".join(traceback.format_exception_only(type(error), error)).strip()
         connection.send(("failed", HTTPStatus.INTERNAL_SERVER_ERROR, f"internal error: {detail}"))
@@ -56,12 +84,31 @@ def _context() -> multiprocessing.context.BaseContext:
         return _CONTEXT
 
 
-def run_bounded(job: Callable[..., str], args: tuple[Any, ...], time_limit: float) -> str:
-    """``job(*args)`` in a separate process, killed after ``time_limit`` seconds
-    (:class:`JobFailed` 503 then); a job's :class:`JobFailed` is re-raised here."""
+def _ended_message(exitcode: int | None, memory_limit: int | None) -> str:
+    if exitcode is not None and exitcode < 0:
+        try:
+            how = f"it was stopped by {signal.Signals(-exitcode).name}"
+        except ValueError:
+            how = f"it was stopped by signal {-exitcode}"
+    else:
+        how = f"exit status {exitcode}"
+    hint = ("; it most likely ran out of memory: it may use at most "
+            f"{_megabytes(memory_limit)} (ask for less work, or start the server with a "
+            "larger --memory-limit-mb)" if memory_limit is not None else "")
+    return f"the job's process ended without an answer ({how}){hint}"
+
+
+def run_bounded(job: Callable[..., str], args: tuple[Any, ...], time_limit: float,
+                memory_limit: int | None = None) -> str:
+    """``job(*args)`` in a separate process whose address space is capped at
+    ``memory_limit`` bytes (None: no cap), killed after ``time_limit`` seconds
+    (:class:`JobFailed` 503 then).  A job's :class:`JobFailed` is re-raised here; running
+    out of memory is 507, and so is a process that ends without an answer under a memory
+    cap (the likely cause; 500 without one)."""
     context: Any = _context()
     receiver, sender = context.Pipe(duplex=False)
-    process = context.Process(target=_child, args=(sender, job, args), daemon=True)
+    process = context.Process(target=_child, args=(sender, job, args, memory_limit),
+                              daemon=True)
     process.start()
     sender.close()
     try:
@@ -74,8 +121,10 @@ def run_bounded(job: Callable[..., str], args: tuple[Any, ...], time_limit: floa
         try:
             answer = receiver.recv()
         except EOFError:
-            raise JobFailed(HTTPStatus.INTERNAL_SERVER_ERROR,
-                            "the job's process ended without an answer") from None
+            process.join(5)
+            status = (HTTPStatus.INSUFFICIENT_STORAGE if memory_limit is not None
+                      else HTTPStatus.INTERNAL_SERVER_ERROR)
+            raise JobFailed(status, _ended_message(process.exitcode, memory_limit)) from None
     finally:
         receiver.close()
         if process.is_alive():

@@ -1,20 +1,23 @@
 """The HTTP server: :class:`MeshServer` and its request handler (routes, checks of the
-``Host`` and ``Origin`` headers and of the upload's size), :func:`make_server` and
-:func:`serve`."""
+``Host``, ``Origin`` and ``Sec-Fetch-Site`` headers and of the upload's size, the two
+pools of job slots), :func:`make_server` and :func:`serve`."""
 
 from __future__ import annotations
 
 import email.parser
 import email.policy
 import ipaddress
+import re
 import socket
 import sys
 import threading
+import time
+import traceback
 import urllib.parse
 from collections.abc import Callable
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
-from typing import Any
+from typing import Any, TextIO
 
 from geomexact.server.bounded import JobFailed, run_bounded
 from geomexact.server.jobs import upload_job, view_job
@@ -22,6 +25,9 @@ from geomexact.server.options import ServeOptions
 from geomexact.server.pages import error_page, index_page
 
 LOOPBACK_NAMES = {"localhost", "127.0.0.1", "::1"}
+LISTEN_BACKLOG = 1024  # connections waiting to be accepted (the kernel may cap it lower)
+LINGER_SECONDS = 5.0  # how long an unread request body is drained after the answer
+_DIGITS = re.compile(r"[0-9]+", re.ASCII)
 
 
 def is_loopback(host: str) -> bool:
@@ -32,6 +38,20 @@ def is_loopback(host: str) -> bool:
         return ipaddress.ip_address(host.strip("[]")).is_loopback
     except ValueError:
         return False
+
+
+def same_origin(origin: str, host: str) -> bool:
+    """True when the ``Origin`` header ``origin`` names the plain-HTTP site the ``Host``
+    header ``host`` names (names compared case-insensitively, port 80 when omitted)."""
+    try:
+        named = urllib.parse.urlsplit(origin.strip())
+        served = urllib.parse.urlsplit(f"//{host.strip()}")
+        named_port, served_port = named.port or 80, served.port or 80
+    except ValueError:  # a port that is not a number
+        return False
+    return (named.scheme == "http" and named.hostname is not None
+            and named.hostname == served.hostname and named_port == served_port
+            and not named.path.strip("/") and not named.username)
 
 
 def parse_multipart(content_type: str, body: bytes) -> tuple[list[tuple[str, bytes]],
@@ -59,15 +79,51 @@ def parse_multipart(content_type: str, body: bytes) -> tuple[list[tuple[str, byt
     return files, fields
 
 
+class JobSlots:
+    """At most ``size`` jobs of one kind at once: :meth:`try_acquire` takes a slot or says
+    there is none free (the request is answered "busy" then, never queued)."""
+
+    def __init__(self, size: int) -> None:
+        self.size = max(1, size)
+        self._used = 0
+        self._lock = threading.Lock()
+
+    @property
+    def in_use(self) -> int:
+        """How many slots are taken now."""
+        return self._used
+
+    def try_acquire(self) -> bool:
+        """Take a free slot (True), or False when all are taken."""
+        with self._lock:
+            if self._used >= self.size:
+                return False
+            self._used += 1
+            return True
+
+    def release(self) -> None:
+        """Give back a slot taken by :meth:`try_acquire`."""
+        with self._lock:
+            if self._used == 0:
+                raise ValueError("release() without try_acquire()")
+            self._used -= 1
+
+
 class MeshServer(ThreadingHTTPServer):
-    """The HTTP server: its options, and a limit on concurrent jobs."""
+    """The HTTP server: its options, the slots of upload jobs and of viewing jobs (two
+    pools: uploads never make viewing busy), and its log (``log``, default standard
+    error: one line per request and per client that went away)."""
 
     daemon_threads = True
+    request_queue_size = LISTEN_BACKLOG
 
-    def __init__(self, options: ServeOptions) -> None:
+    def __init__(self, options: ServeOptions, log: TextIO | None = None) -> None:
         self.options = options
-        self.job_slots = threading.BoundedSemaphore(max(1, options.jobs))
+        self.upload_slots = JobSlots(options.jobs)
+        self.view_slots = JobSlots(options.view_jobs)
         self.loopback = is_loopback(options.host)
+        self.log = log
+        self._log_lock = threading.Lock()
         if ":" in options.host:
             self.address_family = socket.AF_INET6
         super().__init__((options.host, options.port), _Handler)
@@ -79,14 +135,35 @@ class MeshServer(ThreadingHTTPServer):
         shown = f"[{name}]" if ":" in name else name
         return f"http://{shown}:{port}/"
 
+    def write_log(self, text: str) -> None:
+        """Write ``text`` and a newline to the log (whole lines: threads share it)."""
+        stream = self.log if self.log is not None else sys.stderr
+        with self._log_lock:
+            stream.write(f"geomexact serve: {text}\n")
+            stream.flush()
+
+    def handle_error(self, request: Any, client_address: Any) -> None:
+        """A client that went away (reset, broken pipe, timeout) is one log line; anything
+        else is a bug, logged with its traceback."""
+        error = sys.exc_info()[1]
+        who = client_address[0] if isinstance(client_address, tuple) else str(client_address)
+        if isinstance(error, ConnectionError | TimeoutError):
+            self.write_log(f"{who} went away before its answer was sent "
+                           f"({type(error).__name__})")
+            return
+        self.write_log(f"error while answering {who}:\n{traceback.format_exc().rstrip()}")
+
 
 class _Handler(BaseHTTPRequestHandler):
     server: MeshServer
     server_version = "geomexact"
     timeout = 60  # seconds a client may take to send its request
+    # an unparsable request line is answered with a status line too (the default, HTTP/0.9,
+    # answers a bare body)
+    default_request_version = "HTTP/1.0"
 
     def log_message(self, format: str, *args: Any) -> None:
-        sys.stderr.write(f"geomexact serve: {self.address_string()} {format % args}\n")
+        self.server.write_log(f"{self.address_string()} {format % args}")
 
     # -- responses ---------------------------------------------------------------------
     def _send(self, status: int, text: str, content_type: str = "text/html") -> None:
@@ -98,6 +175,7 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("X-Content-Type-Options", "nosniff")
         self.send_header("Referrer-Policy", "no-referrer")
         self.send_header("Content-Security-Policy", "frame-ancestors 'none'")
+        self.send_header("Connection", "close")  # one request per connection (HTTP/1.0)
         self.end_headers()
         if self.command != "HEAD":
             self.wfile.write(data)
@@ -105,20 +183,37 @@ class _Handler(BaseHTTPRequestHandler):
     def _fail(self, status: int, message: str) -> None:
         self._send(status, error_page(status, message, self.server.options))
 
-    def _job(self, job: Callable[..., str], args: tuple[Any, ...]) -> None:
-        if not self.server.job_slots.acquire(blocking=False):
-            self._fail(HTTPStatus.SERVICE_UNAVAILABLE,
-                       f"the server is busy with {self.server.options.jobs} job(s); "
-                       "try again when one has finished")
-            return
+    def _busy(self, slots: JobSlots, kind: str) -> None:
+        self._fail(HTTPStatus.SERVICE_UNAVAILABLE,
+                   f"the server is busy with {slots.size} {kind} job(s); try again when one "
+                   "has finished")
+
+    def _run(self, slots: JobSlots, job: Callable[..., str], args: tuple[Any, ...]) -> None:
+        """Run ``job`` in a slot already taken from ``slots``; release it; answer."""
+        options = self.server.options
         try:
-            page = run_bounded(job, args, self.server.options.time_limit)
+            page = run_bounded(job, args, options.time_limit, options.memory_limit_bytes)
         except JobFailed as failure:
             self._fail(failure.status, failure.message)
             return
         finally:
-            self.server.job_slots.release()
+            slots.release()
         self._send(HTTPStatus.OK, page)
+
+    def _discard_unread_body(self) -> None:
+        """After an answer sent without reading the request's body: stop sending, then
+        read and drop what the client still sends (at most :data:`LINGER_SECONDS`), so
+        that closing does not reset the connection before the client reads the answer."""
+        try:
+            self.wfile.flush()
+            self.connection.shutdown(socket.SHUT_WR)
+            deadline = time.monotonic() + LINGER_SECONDS
+            while (left := deadline - time.monotonic()) > 0:
+                self.connection.settimeout(left)
+                if not self.connection.recv(1 << 16):
+                    break
+        except OSError:
+            pass  # the client closed first: nothing more to do
 
     # -- checks --------------------------------------------------------------------------
     def _host_allowed(self) -> bool:
@@ -134,6 +229,42 @@ class _Handler(BaseHTTPRequestHandler):
         self._fail(HTTPStatus.FORBIDDEN,
                    f"this server answers only loopback names, not Host {host!r}")
         return False
+
+    def _cross_site(self) -> str | None:
+        """Why this (state-changing) request is refused as coming from another site, or
+        None: its ``Origin``, when present, is this server as the browser named it
+        (``Host``), and its ``Sec-Fetch-Site``, when present, is ``same-origin`` or
+        ``none``.  A request with neither header (curl, scripts) is accepted."""
+        origin = self.headers.get("Origin")
+        if origin is not None:
+            if origin.strip().lower() == "null":
+                return "a request from an opaque origin (Origin: null) is not accepted"
+            if not same_origin(origin, self.headers.get("Host", "")):
+                return f"requests from {origin} are not accepted"
+        site = self.headers.get("Sec-Fetch-Site")
+        if site is not None and site.strip().lower() not in ("same-origin", "none"):
+            return f"a {site} request (Sec-Fetch-Site) is not accepted"
+        return None
+
+    def _body_length(self) -> tuple[int, str] | int:
+        """The body's declared length, or the (status, message) that refuses it: 411
+        without a Content-Length (chunked bodies included), 400 for an invalid one, 413
+        above ``max_upload_bytes``."""
+        if self.headers.get("Transfer-Encoding") is not None:
+            return (HTTPStatus.LENGTH_REQUIRED,
+                    "send the upload with a Content-Length (no Transfer-Encoding)")
+        values = self.headers.get_all("Content-Length") or []
+        if not values:
+            return HTTPStatus.LENGTH_REQUIRED, "an upload needs a Content-Length"
+        if len(set(values)) != 1 or not _DIGITS.fullmatch(values[0].strip()):
+            return HTTPStatus.BAD_REQUEST, "the upload's Content-Length is not a length"
+        length = int(values[0].strip())
+        limit = self.server.options.max_upload_bytes
+        if length > limit:
+            return (HTTPStatus.REQUEST_ENTITY_TOO_LARGE,
+                    f"the upload has {length:,} bytes; this server takes at most {limit:,} "
+                    "(start it with a larger --max-upload-mb)")
+        return length
 
     # -- routes ------------------------------------------------------------------------
     def do_HEAD(self) -> None:
@@ -154,57 +285,71 @@ class _Handler(BaseHTTPRequestHandler):
         elif parsed.path == "/view":
             file = query.get("file", [None])[0]
             trace = query.get("trace", [None])[0]
-            self._job(view_job, (options.directory.resolve(), file, trace))
+            slots = self.server.view_slots
+            if not slots.try_acquire():
+                self._busy(slots, "viewing")
+                return
+            self._run(slots, view_job, (options.directory.resolve(), file, trace))
         else:
             self._fail(HTTPStatus.NOT_FOUND, f"no page {parsed.path!r}")
 
     def do_POST(self) -> None:
+        body_read = False
+        try:
+            body_read = self._post()
+        finally:
+            if not body_read and (self.headers.get("Content-Length", "0").strip() != "0"
+                                  or self.headers.get("Transfer-Encoding") is not None):
+                self._discard_unread_body()
+
+    def _post(self) -> bool:
+        """Answer a POST; True once its body has been read (else the caller drops it)."""
         if not self._host_allowed():
-            return
+            return False
+        refusal = self._cross_site()
+        if refusal is not None:
+            self._fail(HTTPStatus.FORBIDDEN, refusal)
+            return False
         parsed = urllib.parse.urlsplit(self.path)
         if parsed.path != "/upload":
             self._fail(HTTPStatus.NOT_FOUND, f"no page {parsed.path!r}")
-            return
-        origin = self.headers.get("Origin")
-        if origin and origin != "null":
-            origin_host = urllib.parse.urlsplit(origin).netloc
-            if origin_host != self.headers.get("Host", ""):
-                self._fail(HTTPStatus.FORBIDDEN, f"uploads from {origin} are not accepted")
-                return
-        length_text = self.headers.get("Content-Length")
-        if length_text is None or not length_text.isdigit():
-            self._fail(HTTPStatus.LENGTH_REQUIRED, "an upload needs a Content-Length")
-            return
-        length = int(length_text)
-        limit = self.server.options.max_upload_bytes
-        if length > limit:
-            self.close_connection = True
-            self._fail(HTTPStatus.REQUEST_ENTITY_TOO_LARGE,
-                       f"the upload has {length:,} bytes; this server takes at most {limit:,} "
-                       "(start it with a larger --max-upload-mb)")
-            return
-        body = self.rfile.read(length)
-        if len(body) != length:
-            self._fail(HTTPStatus.BAD_REQUEST, "the upload ended early")
-            return
+            return False
+        length = self._body_length()
+        if isinstance(length, tuple):
+            self._fail(*length)
+            return False
         content_type = self.headers.get("Content-Type", "")
         if not content_type.startswith("multipart/form-data"):
             self._fail(HTTPStatus.BAD_REQUEST, "the upload must be multipart/form-data")
-            return
+            return False
+        slots = self.server.upload_slots
+        if not slots.try_acquire():  # before reading: a busy server holds no bodies
+            self._busy(slots, "upload")
+            return False
         try:
+            body = self.rfile.read(length)
+            if len(body) != length:
+                raise JobFailed(HTTPStatus.BAD_REQUEST, "the upload ended early")
             files, fields = parse_multipart(content_type, body)
         except JobFailed as failure:
+            slots.release()
             self._fail(failure.status, failure.message)
-            return
-        self._job(upload_job, (files, fields))
+            return True
+        except BaseException:
+            slots.release()
+            raise
+        del body  # the files are what the job needs; hold one copy only
+        self._run(slots, upload_job, (files, fields))
+        return True
 
 
-def make_server(options: ServeOptions) -> MeshServer:
-    """A bound server (call ``serve_forever()``; ``port=0`` picks a free port)."""
+def make_server(options: ServeOptions, *, log: TextIO | None = None) -> MeshServer:
+    """A bound server (call ``serve_forever()``; ``port=0`` picks a free port) logging to
+    ``log`` (default: standard error)."""
     if not options.directory.is_dir():
         raise NotADirectoryError(f"{options.directory}: not a directory")
     try:
-        return MeshServer(options)
+        return MeshServer(options, log)
     except OSError as error:  # e.g. the port is taken: name the address
         raise OSError(error.errno, error.strerror or str(error),
                       f"{options.host}:{options.port}") from error

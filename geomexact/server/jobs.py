@@ -15,6 +15,8 @@ from typing import Any
 from geomexact.server.actions import ACTIONS, available_actions
 from geomexact.server.bounded import JobFailed
 from geomexact.server.listing import listed_files
+from geomexact.server.read_failures import failure_message, without_prefixes
+from geomexact.server.served_files import UNSERVED_SUFFIXES, confined_files, sandbox
 
 _SAFE_NAME = re.compile(r"[^A-Za-z0-9._-]+")
 _MAIN_ORDER = (".ele", ".poly", ".off", ".pslg", ".node", ".txt")
@@ -36,21 +38,29 @@ def _main_file(names: list[str]) -> str:
     return names[0]
 
 
-def _read(path: Path, root: Path) -> tuple[Any, list[str]]:
-    """Read a file; problems name it relative to ``root`` (the served directory, or the
-    upload's temporary folder, which the user never saw)."""
+def _read(path: Path, name: str, prefixes: tuple[str, ...]) -> tuple[Any, list[str]]:
+    """Read the file ``path`` (shown as ``name``); a problem is a :class:`JobFailed` 400
+    that names files without ``prefixes`` (folders the user never named) and shows none
+    of their text (:func:`~geomexact.server.read_failures.failure_message`)."""
     from geomexact import io
-    from geomexact.errors import GeomexactError
 
-    prefix = f"{root}{os.sep}"
     try:
         value, notes = io.read_with_notes(path)
-    except GeomexactError as error:
-        raise JobFailed(HTTPStatus.BAD_REQUEST, str(error).replace(prefix, "")) from None
-    except (OSError, TypeError, ValueError) as error:
-        shown = path.relative_to(root) if path.is_relative_to(root) else path.name
-        raise JobFailed(HTTPStatus.BAD_REQUEST, f"{shown}: {error}") from None
-    return value, [note.replace(prefix, "") for note in notes]
+    except MemoryError:
+        raise
+    except Exception as error:  # any reader's failure, meshio's included
+        raise JobFailed(HTTPStatus.BAD_REQUEST, failure_message(error, name, prefixes)) from None
+    return value, [without_prefixes(note, prefixes) for note in notes]
+
+
+def _read_served(root: Path, relative: str) -> tuple[Any, list[str]]:
+    """Read the served file ``relative`` under the resolved ``root``, with every file the
+    read opens confined to ``root`` (:mod:`~geomexact.server.served_files`)."""
+    files = confined_files(root, relative)
+    with sandbox(files) as folder:
+        main = files[0].relative
+        return _read(folder.joinpath(*main.parts), main.as_posix(),
+                     (f"{folder}{os.sep}", f"{root}{os.sep}"))
 
 
 def _exact_pslg_text(mesh: Any, name: str) -> str:
@@ -81,7 +91,11 @@ def upload_job(files: list[tuple[str, bytes]], form: dict[str, str]) -> str:
             (Path(folder) / clean).write_bytes(data)
             names.append(clean)
         main = _main_file(names)
-        value, notes = _read(Path(folder) / main, Path(folder))
+        if main.lower().endswith(UNSERVED_SUFFIXES):
+            raise JobFailed(HTTPStatus.BAD_REQUEST,
+                            f"{main}: XDMF names its data files by path; the server does not "
+                            "read it")
+        value, notes = _read(Path(folder) / main, main, (f"{folder}{os.sep}",))
     try:
         outcome = action.run(value, form)
         stem = main.rsplit(".", 1)[0]
@@ -98,14 +112,6 @@ def upload_job(files: list[tuple[str, bytes]], form: dict[str, str]) -> str:
         )
     except GeomexactError as error:
         raise JobFailed(HTTPStatus.BAD_REQUEST, f"{main}: {error}") from None
-
-
-def _inside(directory: Path, relative: str) -> Path:
-    root = directory.resolve()
-    target = (root / relative).resolve()
-    if not target.is_relative_to(root) or not target.is_file():
-        raise JobFailed(HTTPStatus.NOT_FOUND, f"no file {relative!r} in the served directory")
-    return target
 
 
 def _trace_start_candidates(directory: Path, trace_path: Path) -> list[Path]:
@@ -132,31 +138,37 @@ def view_job(directory: Path, file: str | None, trace: str | None) -> str:
     from geomexact.viz.scene import trace_start
     from geomexact.viz.viewer import viewer_html
 
+    root = directory.resolve()
     links = (("← files", "/"),)
     if trace is None:
         if file is None:
             raise JobFailed(HTTPStatus.BAD_REQUEST, "name a file to view")
-        path = _inside(directory, file)
-        value, notes = _read(path, directory)
+        value, notes = _read_served(root, file)
         return viewer_html(value, title=file, source=file, notes=notes, links=links)
-    trace_path = _inside(directory, trace)
+    trace_file = confined_files(root, trace)[0]
     try:
-        run = read_trace(trace_path)
-    except GeomexactError as error:
-        raise JobFailed(HTTPStatus.BAD_REQUEST, str(error)) from None
-    candidates = ([_inside(directory, file)] if file is not None
-                  else _trace_start_candidates(directory, trace_path))
+        run = read_trace(trace_file.target)
+    except Exception as error:  # the trace reader's failure
+        raise JobFailed(HTTPStatus.BAD_REQUEST,
+                        failure_message(error, trace, (f"{root}{os.sep}",))) from None
+    candidates = ([file] if file is not None else
+                  [path.relative_to(root).as_posix() for path in
+                   _trace_start_candidates(root, root.joinpath(*trace_file.relative.parts))])
     for candidate in candidates:
         try:
-            value, notes = _read(candidate, directory.resolve())
+            value, notes = _read_served(root, candidate)
             start = trace_start(value)
-        except (JobFailed, TypeError):
+        except JobFailed:
+            if file is not None:
+                raise
+            continue
+        except TypeError:
             continue
         if start.digest == run.input_digest:
-            shown = candidate.relative_to(directory.resolve()).as_posix()
             try:
-                return viewer_html(value, trace=run, title=f"{shown} + {trace}", source=shown,
-                                   trace_source=trace, notes=notes, links=links)
+                return viewer_html(value, trace=run, title=f"{candidate} + {trace}",
+                                   source=candidate, trace_source=trace, notes=notes,
+                                   links=links)
             except GeomexactError as error:
                 raise JobFailed(HTTPStatus.BAD_REQUEST, f"{trace}: {error}") from None
     raise JobFailed(

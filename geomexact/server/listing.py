@@ -7,6 +7,8 @@ import os
 from collections.abc import Iterator
 from pathlib import Path
 
+from geomexact.server.served_files import is_servable
+
 MAX_LISTED_FILES = 2000
 TRACE_SUFFIXES = (".trace.jsonl", ".trace")
 
@@ -20,7 +22,9 @@ def listed_files(directory: Path) -> list[Path]:
     """The mesh, PSLG and trace files of ``directory`` and its subdirectories (two levels,
     hidden names skipped, at most :data:`MAX_LISTED_FILES`), sorted.  A Triangle
     ``.node`` or ``.poly`` beside an ``.ele`` of the same stem is part of that mesh and not
-    listed on its own."""
+    listed on its own.  Only what the server would read is listed: a file (or symlink)
+    resolving outside ``directory``, or whose companions do
+    (:func:`~geomexact.server.served_files.is_servable`), is not, nor is XDMF."""
     from geomexact import io
     from geomexact.errors import FormatError
 
@@ -45,6 +49,8 @@ def listed_files(directory: Path) -> list[Path]:
     for path in walk(root, 0):
         if len(found) >= MAX_LISTED_FILES:
             break
+        if not is_servable(root, path):
+            continue
         if is_trace(path.name):
             found.append(path)
             continue

@@ -265,7 +265,7 @@ def test_multipart_parsing() -> None:
 @pytest.fixture()
 def strict_server(served: Path) -> Iterator[MeshServer]:
     yield from start(ServeOptions(served, port=0, max_upload_bytes=2000, time_limit=1.0,
-                                  jobs=1))
+                                  jobs=1, view_jobs=1))
 
 
 def test_upload_size_is_bounded(strict_server: MeshServer) -> None:
@@ -290,12 +290,20 @@ def test_run_time_is_bounded(strict_server: MeshServer) -> None:
 
 
 def test_busy_server_says_so(strict_server: MeshServer) -> None:
-    """With every job slot taken, a request that needs a job gets 503 busy."""
-    assert strict_server.job_slots.acquire(blocking=False)
+    """With every slot of a pool taken, a request that needs a job of that pool gets 503
+    busy: viewing for the viewing slots, uploads for the upload slots."""
+    assert strict_server.view_slots.try_acquire()
     try:
         status, page = request(strict_server, "GET", "/view?file=meshes/square.off")
     finally:
-        strict_server.job_slots.release()
+        strict_server.view_slots.release()
+    assert status == 503 and "busy" in alert(page)
+    assert strict_server.upload_slots.try_acquire()
+    try:
+        status, page = upload(strict_server, [("a.off", SQUARE_OFF.encode())],
+                              action="triangulate")
+    finally:
+        strict_server.upload_slots.release()
     assert status == 503 and "busy" in alert(page)
 
 
