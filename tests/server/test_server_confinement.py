@@ -11,7 +11,7 @@ from collections.abc import Iterator
 from pathlib import Path, PurePosixPath
 
 import pytest
-from server_client import SQUARE_OFF, alert, request, running
+from helpers.server_client import SQUARE_OFF, alert, request, running
 
 from geomexact import io
 from geomexact.io.trace_file import write_trace
@@ -169,7 +169,7 @@ def test_vocabulary_quotes_stay(server: MeshServer) -> None:
 
 def test_a_bad_upload_is_not_echoed_either(server: MeshServer) -> None:
     """Uploads follow the same rule (the page never quotes a file)."""
-    from server_client import upload
+    from helpers.server_client import upload
 
     status, page = upload(server, [("pw.txt", f"{SECRET} a b\n".encode())],
                           action="triangulate")

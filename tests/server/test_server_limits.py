@@ -8,7 +8,7 @@ import threading
 from pathlib import Path
 
 import pytest
-from server_client import (
+from helpers.server_client import (
     SQUARE_OFF,
     UNIT_SQUARE_PSLG,
     Log,

@@ -16,7 +16,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
-from server_client import SQUARE_OFF, multipart, raw_exchange, status_of
+from helpers.server_client import SQUARE_OFF, multipart, raw_exchange, status_of
 
 REQUESTS = 200
 RSS_GROWTH_LIMIT_KB = 32 * 1024

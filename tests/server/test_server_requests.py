@@ -14,7 +14,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
-from server_client import (
+from helpers.server_client import (
     SQUARE_OFF,
     UNIT_SQUARE_PSLG,
     Log,
