@@ -113,7 +113,7 @@ def format_decimal(value: Rational) -> str:
     if numerator == 0:
         return "0"
     sign = "-" if numerator < 0 else ""
-    # value = digits * 10^-scale with the least scale: 10^scale / (2^a 5^b) = 2^(scale-a) 5^(scale-b)
+    # value = digits * 10^-scale, least scale: 10^scale / (2^a 5^b) = 2^(scale-a) 5^(scale-b)
     scale = max(twos, fives)
     digits = str(abs(numerator) * gmpy2.mpz(2) ** (scale - twos) * gmpy2.mpz(5) ** (scale - fives))
     significant = digits.rstrip("0")
