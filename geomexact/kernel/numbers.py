@@ -32,7 +32,9 @@ _DECIMAL = re.compile(
     re.ASCII,
 )
 _FRACTION = re.compile(r"(?P<numerator>[+-]?\d+)/(?P<denominator>\d+)", re.ASCII)
-_MAX_EXPONENT = 100_000  # refuse "1e999999999" instead of allocating a huge integer
+# refuse "1e999999999" instead of allocating a huge integer; 10^1000000 (415 kB, built in
+# milliseconds) is as big as a million written digits, which are accepted too
+_MAX_EXPONENT = 1_000_000
 
 
 def parse_rational(text: str) -> Rational:
@@ -48,11 +50,14 @@ def parse_rational(text: str) -> Rational:
     if decimal and (decimal["whole"] or decimal["fraction"]):
         written_exponent = gmpy2.mpz(decimal["exponent"] or 0)
         if abs(written_exponent) > _MAX_EXPONENT:
-            raise RationalParseError(text, "exponent out of range")
+            raise RationalParseError(
+                text, f"exponent out of range (at most {_MAX_EXPONENT:,} in magnitude)"
+            )
         fraction = decimal["fraction"] or ""
         digits = gmpy2.mpz((decimal["whole"] + fraction) or 0)
         exponent = int(written_exponent) - len(fraction)
-        value = mpq(digits * 10**exponent) if exponent >= 0 else mpq(digits, 10**-exponent)
+        power = gmpy2.mpz(10) ** abs(exponent)  # GMP's power: 40x faster than int's here
+        value = mpq(digits * power) if exponent >= 0 else mpq(digits, power)
         return -value if decimal["sign"] == "-" else value
     fraction_match = _FRACTION.fullmatch(stripped)
     if fraction_match:
