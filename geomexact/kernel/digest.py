@@ -26,7 +26,8 @@ def _hash(payload: bytes) -> int:
 
 
 def _rational_text(value: Rational) -> str:
-    return f"{value.numerator}/{value.denominator}"
+    # gmpy2 writes the digits: Python's int -> str refuses more than 4300 of them
+    return f"{gmpy2.mpz(value.numerator)}/{gmpy2.mpz(value.denominator)}"
 
 
 _ID = struct.Struct("<Q").pack

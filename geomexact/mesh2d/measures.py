@@ -43,15 +43,15 @@ def boundary_enclosed_area(mesh: Mesh2) -> Rational:
     return twice / 2
 
 
+_SMALLEST_NORMAL = 2.0**-1022
 _BAND = (2.0**-500, 2.0**500)
 """Arm components whose largest magnitude lies here multiply without overflow or
 underflow; outside it an arm is first scaled exactly by a power of two."""
 
 
-def _arm(p: Point2, q: Point2) -> tuple[float, float]:
-    """The vector p -> q as doubles, scaled by an exact power of two when its size is
-    outside :data:`_BAND` (angles do not change under scaling)."""
-    dx, dy = q.x - p.x, q.y - p.y
+def _direction(dx: Rational, dy: Rational) -> tuple[float, float]:
+    """The vector (dx, dy) as doubles, scaled by an exact power of two when its size is
+    outside :data:`_BAND` (directions and angles do not change under scaling)."""
     try:
         fx, fy = float(dx), float(dy)
     except OverflowError:
@@ -61,6 +61,18 @@ def _arm(p: Point2, q: Point2) -> tuple[float, float]:
         return fx, fy
     scale = mpq(2) ** -floor_log2(max(abs(dx), abs(dy)))
     return float(dx * scale), float(dy * scale)
+
+
+def _arm(p: Point2, q: Point2) -> tuple[float, float]:
+    """The vector p -> q as doubles, scaled as :func:`_direction` does."""
+    return _direction(q.x - p.x, q.y - p.y)
+
+
+def atan2_degrees(y: Rational, x: Rational) -> float:
+    """``atan2(y, x)`` in degrees, in (-180, 180], of exact y and x at any magnitude
+    (floating point, for reports)."""
+    fx, fy = _direction(x, y)
+    return math.degrees(math.atan2(fy, fx))
 
 
 def triangle_angles_degrees(a: Point2, b: Point2, c: Point2) -> tuple[float, float, float]:
@@ -84,8 +96,8 @@ def angle_and_area_report(
 ) -> dict[str, object]:
     """The angle and area entries of a mesh report (``info``, the summaries): the smallest
     and largest angle in degrees, the smallest, largest and mean cell area as the nearest
-    doubles (None for no cells; the exact text for an area beyond the range of a double,
-    never a wrong number), and the exact total area as text."""
+    doubles (None for no cells; the exact text for an area beyond the range of a double
+    or below its normal range, never a wrong number), and the exact total area as text."""
     return {
         "min_angle_deg": angles[0],
         "max_angle_deg": angles[1],
@@ -97,8 +109,12 @@ def angle_and_area_report(
 
 
 def _reported(value: Rational) -> float | str:
-    """The nearest double, or the exact text when ``value`` is beyond the doubles."""
+    """The nearest double when it is normal (or ``value`` is 0), else the exact text:
+    beyond the doubles, or so small that the double is subnormal or 0 (a wrong number)."""
     try:
-        return to_float(value)
+        nearest = to_float(value)
     except OverflowError:
         return format_rational(value)
+    if value != 0 and abs(nearest) < _SMALLEST_NORMAL:
+        return format_rational(value)
+    return nearest

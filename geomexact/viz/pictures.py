@@ -251,6 +251,10 @@ def draw(
     if len(scene.seeds):
         seeds = np.frombuffer(scene.seeds.tobytes()).reshape(-1, 2)
         ax.plot(seeds[:, 0], seeds[:, 1], "+", color="#2e7d32", markersize=7)
+    if scene.scale_exponent:
+        # the axes are off: say how the drawing was scaled (exactly, to fit the doubles)
+        ax.text(0.0, 0.0, f"coordinates × 2^{-scene.scale_exponent}", transform=ax.transAxes,
+                fontsize=8, color="#555555", ha="left", va="bottom")
     if count:
         finite = xy[np.isfinite(xy).all(axis=1)]
         x0, y0 = finite.min(axis=0)
@@ -352,6 +356,7 @@ def plot_step(
         exact=None,
         triangles=indices(v for t in triangles for v in t),
         segments=indices(v for s in segments for v in s),
+        scale_exponent=base.scale_exponent,
     )
     added: list[Triangle] = []
     removed: list[Triangle] = []

@@ -12,6 +12,7 @@ Scenes are built by one function per kind of value, registered in :data:`SCENE_B
 
 from __future__ import annotations
 
+import itertools
 import math
 import sys
 from array import array
@@ -20,7 +21,7 @@ from typing import Any, TypeAlias
 
 import attrs
 
-from geomexact.kernel.numbers import format_rational, to_float
+from geomexact.kernel.numbers import Rational, floor_log2, format_rational, mpq
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
@@ -41,6 +42,12 @@ INDEX_TYPE = next(code for code in ("I", "L") if array(code).itemsize == 4)
 
 DEFAULT_EXACT_BUDGET = 4_000_000
 """Characters of exact coordinate text a scene carries at most (beyond it: none)."""
+
+DRAWN_BAND = 500
+"""A scene is drawn unscaled when its largest coordinate magnitude lies in
+2^-DRAWN_BAND .. 2^DRAWN_BAND (every ordinary input); otherwise it is scaled exactly by a
+power of two first, so that neither the doubles nor the viewer's float arithmetic on them
+(extents, areas) overflows or underflows."""
 
 
 def indices(values: Iterable[int] = ()) -> array[int]:
@@ -81,7 +88,11 @@ class Scene:
     - ``segments``: vertex pairs of constrained edges (PSLG segments); ``holes`` and
       ``seeds``: hole and region seed points (doubles);
     - ``summary``: the statistics of ``geomexact info`` (JSON values);
-    - ``dimension``: 2 (a 3D scene will say 3).
+    - ``dimension``: 2 (a 3D scene will say 3);
+    - ``scale_exponent``: ``xy``, ``holes`` and ``seeds`` are the doubles of the exact
+      coordinates times ``2**-scale_exponent`` (0 unless the largest coordinate is outside
+      the band of :data:`DRAWN_BAND`, e.g. 1e309 or 1e-400: then it is about 1); ``exact``
+      is never scaled.
     """
 
     kind: str
@@ -97,6 +108,7 @@ class Scene:
     seeds: array[float] = attrs.field(factory=doubles)
     summary: dict[str, Any] = attrs.field(factory=dict)
     dimension: int = 2
+    scale_exponent: int = 0
 
     @property
     def vertex_count(self) -> int:
@@ -116,12 +128,45 @@ class Scene:
         return tuple(self.polygon_vertices[start:end])
 
 
-def _points_xy(points: Iterable[Point2]) -> array[float]:
+def scale_exponent_of(*groups: Sequence[Point2]) -> int:
+    """The ``scale_exponent`` of a scene drawing these points: 0 when the largest
+    coordinate magnitude is 0 or within 2^-DRAWN_BAND .. 2^DRAWN_BAND, else its
+    ``floor_log2`` (found exactly).  O(n)."""
+    low, high = 2.0**-DRAWN_BAND, 2.0**DRAWN_BAND
+    largest_double = 0.0
+    for point in itertools.chain(*groups):
+        fx, fy = abs(point.fx), abs(point.fy)
+        if not (fx <= high and fy <= high):  # beyond the band, or nan (beyond the doubles)
+            break
+        largest_double = max(largest_double, fx, fy)
+    else:
+        if largest_double >= low:
+            return 0
+    largest = max((max(abs(p.x), abs(p.y)) for p in itertools.chain(*groups)), default=0)
+    return 0 if largest == 0 else floor_log2(largest)
+
+
+def _points_xy(points: Iterable[Point2], scale_exponent: int = 0) -> array[float]:
     xy = doubles()
+    if scale_exponent == 0:
+        for point in points:
+            xy.append(point.fx)
+            xy.append(point.fy)
+        return xy
+    scale = mpq(2) ** -scale_exponent
     for point in points:
-        xy.append(point.fx if math.isfinite(point.fx) else to_float(point.x))
-        xy.append(point.fy if math.isfinite(point.fy) else to_float(point.y))
+        # |coordinate| * scale < 2: the doubles exist, and are correctly rounded
+        xy.append(float(point.x * scale))
+        xy.append(float(point.y * scale))
     return xy
+
+
+def _region_double(value: Rational) -> float:
+    """A region attribute as a double for colouring: +-inf beyond the double range."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.copysign(math.inf, value)
 
 
 def exact_text(
@@ -156,18 +201,20 @@ def mesh_scene(mesh: Mesh2, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
         triangles.extend(triangle)
         if has_regions:
             values = mesh.triangle_attributes.get(triangle)
-            regions.append(to_float(values[0]) if values else math.nan)
+            regions.append(_region_double(values[0]) if values else math.nan)
     segments = indices()
     for u, v, _ in mesh.segment_list():
         segments.extend((u, v))
+    exponent = scale_exponent_of(points)
     return Scene(
         kind="triangles",
-        xy=_points_xy(points),
+        xy=_points_xy(points, exponent),
         exact=exact_text(points, exact_budget),
         triangles=triangles,
         regions=regions if has_regions else None,
         segments=segments,
         summary=mesh_summary(mesh) if summary else {},
+        scale_exponent=exponent,
     )
 
 
@@ -177,13 +224,16 @@ def pslg_scene(pslg: PSLG, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
     segments = indices()
     for u, v, _ in pslg.segments:
         segments.extend((u, v))
+    seeds = [region.point for region in pslg.regions]
+    exponent = scale_exponent_of(pslg.vertices, pslg.holes, seeds)
     return Scene(
         kind="pslg",
-        xy=_points_xy(pslg.vertices),
+        xy=_points_xy(pslg.vertices, exponent),
         exact=exact_text(pslg.vertices, exact_budget),
         segments=segments,
-        holes=_points_xy(pslg.holes),
-        seeds=_points_xy(region.point for region in pslg.regions),
+        holes=_points_xy(pslg.holes, exponent),
+        seeds=_points_xy(seeds, exponent),
+        scale_exponent=exponent,
         summary={
             "vertices": len(pslg.vertices),
             "segments": len(pslg.segments),
@@ -221,9 +271,11 @@ def polygon_mesh_scene(mesh: PolygonMesh, *, exact_budget: int = DEFAULT_EXACT_B
         if not is_convex_polygon(mesh.vertices, polygon):
             nonconvex.append(index)
     sizes = [len(polygon) for polygon in mesh.polygons]
+    exponent = scale_exponent_of(mesh.vertices)
     return Scene(
         kind="polygons",
-        xy=_points_xy(mesh.vertices),
+        xy=_points_xy(mesh.vertices, exponent),
+        scale_exponent=exponent,
         exact=exact_text(mesh.vertices, exact_budget),
         polygon_offsets=offsets,
         polygon_vertices=vertices,

@@ -174,6 +174,7 @@
       seeds: options.seeds || new Float64Array(0),
       summary: options.summary || null,
       notes: options.notes || [],
+      scaleExponent: options.scaleExponent || 0,
       history: null,
       step: 0,
       download: options.download || null,
@@ -286,6 +287,7 @@
       seeds: decodeBase64(s.seeds, Float64Array),
       summary: s.summary,
       notes: data.notes || [],
+      scaleExponent: s.scale_exponent || 0,
       download: data.download || null,
     });
     if (model.polyOffsets.length === 0) {
@@ -1771,6 +1773,8 @@
     if (s.clockwise) row("clockwise", "clockwise triangles", formatCount(s.clockwise));
     const b = model.box;
     row("bbox", "bounding box", "x " + formatNumber(b.x0) + " … " + formatNumber(b.x1) + ", y " + formatNumber(b.y0) + " … " + formatNumber(b.y1));
+    // coordinates beyond the doubles' comfortable range are drawn scaled exactly by 2^-k
+    if (model.scaleExponent) row("scale", "drawn scale", "coordinates × 2^" + -model.scaleExponent);
     $("stats-table").innerHTML = rows.join("");
     // the exact statistics geomexact computed, for the mesh it describes
     const exact = $("exact-table");

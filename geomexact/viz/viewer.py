@@ -82,7 +82,16 @@ def scene_payload(scene: Scene, *, with_cells: bool = True) -> dict[str, Any]:
         "holes": _b64(scene.holes),
         "seeds": _b64(scene.seeds),
         "summary": scene.summary,
+        "scale_exponent": scene.scale_exponent,
     }
+
+
+def _scale_notes(scene: Scene) -> list[str]:
+    if not scene.scale_exponent:
+        return []
+    return [f"coordinates drawn × 2^{-scene.scale_exponent} (exactly; they are beyond the "
+            "comfortable range of doubles): drawn measures are scaled, the exact ones are "
+            "not"]
 
 
 def history_payload(history: History) -> dict[str, Any]:
@@ -130,7 +139,7 @@ def payload(
         "generator": f"geomexact {__version__}",
         "title": title,
         "source": {"file": source, "trace": trace_source},
-        "notes": list(notes),
+        "notes": list(notes) + _scale_notes(scene),
         "scene": scene_payload(scene, with_cells=history is None),
         "history": history_payload(history) if history is not None else None,
         "download": attrs.asdict(download) if download is not None else None,

@@ -14,6 +14,8 @@ from hypothesis import strategies as st
 
 from geomexact.errors import GeomexactError, RationalParseError
 from geomexact.kernel.numbers import (
+    DoubleRangeError,
+    approximate_text,
     format_decimal,
     format_float,
     format_rational,
@@ -93,7 +95,7 @@ def test_parse_rational_is_exact(text: str, expected: object) -> None:
         "1/2/3",
         "1 / 2",
         "--1",
-        "1e100001",
+        "1e1000001",
         "1e" + "9" * 5000,
         "\u0663",  # ARABIC-INDIC DIGIT THREE: only ASCII digits are numbers here
         "\u0661/\u0662",
@@ -292,3 +294,58 @@ def test_floor_log2_brackets_the_value(value: Fraction) -> None:
     exact = mpq(value.numerator, value.denominator)
     k = floor_log2(exact)
     assert mpq(2) ** k <= exact < mpq(2) ** (k + 1)
+
+
+# ---- any size (issue 11) --------------------------------------------------------------------
+
+
+def test_text_of_numbers_beyond_the_int_str_digit_limit() -> None:
+    """200,001 digits, 1/10^100000 and p/q with 100,000-digit parts print and read back
+    exactly, fast, without touching the process's int <-> str digit limit."""
+    limit = sys.get_int_max_str_digits()
+    huge = mpq(3) * mpq(10) ** 200_000 + 1
+    for value in (huge, -huge / 7, mpq(5, 10**100_000), mpq(1, 2**300_000),
+                  mpq(4, gmpy2.mpz("7" * 100_000))):
+        text = format_rational(value)
+        assert parse_rational(text) == value
+    assert format_rational(mpq(10) ** 200_000) == "1e200000"
+    assert format_rational(mpq(-3, 10**100_000)) == "-3e-100000"
+    assert sys.get_int_max_str_digits() == limit
+
+
+@given(st.fractions(max_denominator=10**12), st.integers(0, 200), st.integers(0, 200))
+def test_decimal_text_uses_the_least_scale(value: Fraction, twos: int, fives: int) -> None:
+    """The decimal digits of p / (2^a 5^b): read back exactly, no trailing zero after the
+    point."""
+    q = mpq(value.numerator, value.denominator) / (mpq(2) ** twos * mpq(5) ** fives)
+    if is_finite_decimal(q):
+        text = format_decimal(q)
+        assert parse_rational(text) == q
+        assert not ("." in text and text.split("e")[0].endswith("0"))
+
+
+@pytest.mark.parametrize(("value", "text"), [
+    (mpq(0), "0"), (mpq(1, 10), "0.1"), (mpq(-1, 3), "-0.333333"),
+    (mpq(3) * mpq(10) ** 309, "3e309"), (mpq(-1, 7) / mpq(10) ** 100_000, "-1.42857e-100001"),
+    (mpq(123456789), "1.23457e8"), (mpq(10) ** 200_000 * 11 / 2, "5.5e200000"),
+])
+def test_approximate_text(value: object, text: str) -> None:
+    assert approximate_text(value) == text
+
+
+def test_beyond_the_doubles_is_one_clear_error() -> None:
+    """A GeomexactError (one line from the command) and an OverflowError, naming the value
+    briefly even when it has 200,001 digits."""
+    with pytest.raises(DoubleRangeError) as caught:
+        format_float(mpq(3) * mpq(10) ** 200_000)
+    assert isinstance(caught.value, GeomexactError) and isinstance(caught.value, OverflowError)
+    assert str(caught.value).startswith("3e200000 is beyond the range of a double")
+    assert len(str(caught.value)) < 200
+    assert caught.value.value == mpq(3) * mpq(10) ** 200_000
+
+
+def test_exponents_up_to_a_million_are_read() -> None:
+    assert parse_rational("2e1000000") == 2 * mpq(10) ** 1_000_000
+    assert parse_rational("-1.5e-1000000") == mpq(-3, 2) / mpq(10) ** 1_000_000
+    with pytest.raises(RationalParseError, match="at most 1,000,000"):
+        parse_rational("1e-1000001")

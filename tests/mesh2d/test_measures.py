@@ -15,6 +15,7 @@ from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.delaunay.triangulation import is_delaunay
 from geomexact.mesh2d.measures import (
+    atan2_degrees,
     boundary_enclosed_area,
     signed_area,
     total_area,
@@ -261,3 +262,25 @@ def test_summary_of_a_mesh_with_huge_coordinates() -> None:
     assert summary["total_area"] == format_rational(big * big / 2)
     assert summary["min_area"] == summary["max_area"] == format_rational(big * big / 2)
     assert summary["min_angle_deg"] == 45.0 and summary["max_angle_deg"] == 90.0
+
+
+@pytest.mark.parametrize("scale", [mpq(10) ** -400, mpq(2) ** -1074, mpq(10) ** -200,
+                                   mpq(1, 3), mpq(10) ** 309, mpq(10) ** 200_000])
+def test_summary_reports_areas_below_the_normal_doubles_exactly(scale: object) -> None:
+    """An area whose nearest double is 0 or subnormal is reported as its exact text (not
+    0, a wrong number), one beyond the doubles too; a normal one as the double."""
+    mesh = mesh_from_triangles([(0, 0), (3 * scale, scale), (scale, 4 * scale)], [(0, 1, 2)])
+    area = mpq(11, 2) * scale * scale
+    summary = mesh_summary(mesh)
+    normal = 2.0**-1022 <= abs(area) < 2**1024
+    assert summary["min_area"] == (to_float(area) if normal else format_rational(area))
+    assert round(summary["min_angle_deg"], 9) == 47.726310994
+
+
+@pytest.mark.parametrize("exponent", [-1330, -1074, -600, 0, 600, 1100, 1330, 700_000])
+def test_atan2_degrees_at_any_magnitude(exponent: int) -> None:
+    scale = mpq(2) ** exponent
+    assert atan2_degrees(scale, scale) == 45.0
+    assert atan2_degrees(-scale, 0 * scale) == -90.0
+    assert atan2_degrees(0 * scale, -scale) == 180.0
+    assert atan2_degrees(scale * 3, scale * 4) == atan2_degrees(mpq(3), mpq(4))

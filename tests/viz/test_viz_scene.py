@@ -11,6 +11,7 @@ from hypothesis import given
 
 from geomexact import io
 from geomexact.errors import TraceError
+from geomexact.kernel.numbers import Rational, format_rational, mpq
 from geomexact.kernel.points import point2
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
@@ -28,6 +29,7 @@ from geomexact.viz.scene import (
     indices,
     is_convex_polygon,
     little_endian,
+    scale_exponent_of,
     scene_of,
     step_label,
     trace_start,
@@ -242,3 +244,37 @@ def test_arrays_are_little_endian() -> None:
     assert little_endian(indices([1, 256])) == bytes([1, 0, 0, 0, 0, 1, 0, 0])
     assert little_endian(doubles([1.0])) == bytes([0, 0, 0, 0, 0, 0, 0xF0, 0x3F])
     assert indices().itemsize == 4
+
+
+def test_ordinary_scenes_are_drawn_unscaled(superior: PSLG) -> None:
+    """Every ordinary input keeps its cached doubles (scale_exponent 0)."""
+    scene = scene_of(triangulate(superior).mesh, summary=False)
+    assert scene.scale_exponent == 0
+    mesh = triangulate(superior).mesh
+    assert list(scene.xy) == [c for v in range(mesh.vertex_count)
+                              for c in (mesh.point(v).fx, mesh.point(v).fy)]
+    assert scale_exponent_of([point2(0, 0)]) == 0 and scale_exponent_of() == 0
+
+
+@pytest.mark.parametrize("scale", [mpq(10) ** 309, mpq(10) ** -400, mpq(2) ** 600,
+                                   mpq(2) ** -600, mpq(10) ** 200_000,
+                                   mpq(1, 7) / mpq(10) ** 100_000])
+def test_scenes_beyond_the_band_are_drawn_scaled_exactly(scale: Rational) -> None:
+    """The drawing is the exact coordinates times 2^-k, the largest in [1, 2), in every
+    kind of scene; the exact text is unscaled."""
+    corners = [(0, 0), (3, 1), (1, 4), (4, 5)]
+    mesh = mesh_from_triangles([(x * scale, y * scale) for x, y in corners],
+                               [(0, 1, 2), (1, 3, 2)])
+    points = [mesh.point(v) for v in range(4)]
+    pslg = PSLG(points, [(0, 1, 0), (1, 3, 0), (3, 2, 0), (2, 0, 0)],
+                holes=[point2(2 * scale, 2 * scale)],
+                regions=[RegionSeed(point2(scale, scale), 1)])
+    polygons = PolygonMesh(points, [(0, 1, 3, 2)])
+    for value in (mesh, pslg, polygons):
+        scene = scene_of(value, summary=False)
+        k = scene.scale_exponent
+        assert mpq(2) ** k <= 5 * scale < mpq(2) ** (k + 1)
+        assert list(scene.xy) == [float(c * scale / mpq(2) ** k) for xy in corners for c in xy]
+        assert scene.exact is not None and scene.exact[3].split() == [
+            format_rational(4 * scale), format_rational(5 * scale)]
+    assert list(scene_of(pslg).holes) == [float(2 * scale / mpq(2) ** k)] * 2

@@ -9,7 +9,6 @@ polygons partition the triangulation.  Spec: ``specs/polylla.md`` (polygon meshe
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Sequence
 from functools import cmp_to_key
 from typing import Any
@@ -19,11 +18,11 @@ import numpy as np
 
 from geomexact.errors import InvalidMeshError, PreconditionError, Violation
 from geomexact.kernel.array_filters import orient2d_signs, point_doubles
-from geomexact.kernel.numbers import ZERO, Rational, format_rational, to_float
+from geomexact.kernel.numbers import ZERO, Rational, format_rational
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
-from geomexact.mesh2d.measures import angle_and_area_report
+from geomexact.mesh2d.measures import angle_and_area_report, atan2_degrees
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
 from geomexact.mesh2d.validation import validate as validate_triangulation
@@ -231,7 +230,7 @@ def is_convex_polygon(points: Sequence[Point2], polygon: Sequence[int]) -> bool:
 def interior_angles_degrees(points: Sequence[Point2], polygon: Sequence[int]) -> list[float]:
     """The interior angle at each vertex of the counter-clockwise ``polygon`` in degrees,
     in (0, 360) (floating point, for reports; computed from the exact cross and dot
-    products)."""
+    products, at any magnitude)."""
     count = len(polygon)
     angles = []
     for index in range(count):
@@ -242,9 +241,7 @@ def interior_angles_degrees(points: Sequence[Point2], polygon: Sequence[int]) ->
         # direction to the previous one
         ux, uy = n.x - v.x, n.y - v.y
         wx, wy = p.x - v.x, p.y - v.y
-        cross = to_float(ux * wy - uy * wx)
-        dot = to_float(ux * wx + uy * wy)
-        angle = math.degrees(math.atan2(cross, dot))
+        angle = atan2_degrees(ux * wy - uy * wx, ux * wx + uy * wy)
         angles.append(angle + 360.0 if angle < 0 else angle)
     return angles
 

@@ -38,8 +38,8 @@ def kinds(mesh: PolygonMesh, **options: object) -> list[str]:
 
 
 def test_module_doctests() -> None:
-    # ``geomexact.mesh2d.polygonal.polylla_meshing`` is also the function re-exported by the package: import the
-    # module by name
+    # ``geomexact.mesh2d.polygonal.polylla_meshing`` is also the function re-exported by the
+    # package: import the module by name
     polylla_module = importlib.import_module("geomexact.mesh2d.polygonal.polylla_meshing")
     assert doctest.testmod(polylla_module).failed == 0
     assert doctest.testmod(polymesh_module).failed == 0
@@ -142,6 +142,10 @@ def test_polygon_helpers() -> None:
     assert not is_convex_polygon(l_shape, polygon)
     assert interior_angles_degrees(l_shape, polygon) == pytest.approx(
         [90, 90, 90, 270, 90, 90])
+    for scale in (mpq(10) ** 999, mpq(10) ** -400, mpq(10) ** 200_000):  # any magnitude
+        scaled = [point2(p.x * scale, p.y * scale) for p in l_shape]
+        assert interior_angles_degrees(scaled, polygon) == pytest.approx(
+            [90, 90, 90, 270, 90, 90])
     straight = [point2(0, 0), point2(1, 0), point2(2, 0), point2(1, 1)]
     assert is_convex_polygon(straight, (0, 1, 2, 3))  # 180° at vertex 1 counts as convex
     assert nonconvex_polygons(PolygonMesh(l_shape, [polygon, (0, 1, 3)])) == [0]
