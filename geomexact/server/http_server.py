@@ -173,7 +173,7 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("Content-Length", str(len(data)))
         self.send_header("Cache-Control", "no-store")
         self.send_header("X-Content-Type-Options", "nosniff")
-        self.send_header("Referrer-Policy", "no-referrer")
+        self.send_header("Referrer-Policy", "same-origin")
         self.send_header("Content-Security-Policy", "frame-ancestors 'none'")
         self.send_header("Connection", "close")  # one request per connection (HTTP/1.0)
         self.end_headers()
@@ -234,14 +234,18 @@ class _Handler(BaseHTTPRequestHandler):
         """Why this (state-changing) request is refused as coming from another site, or
         None: its ``Origin``, when present, is this server as the browser named it
         (``Host``), and its ``Sec-Fetch-Site``, when present, is ``same-origin`` or
-        ``none``.  A request with neither header (curl, scripts) is accepted."""
+        ``none``.  ``Origin: null`` is accepted only with ``Sec-Fetch-Site: same-origin``
+        (a browser's own form under a strict referrer policy; a page cannot set that
+        header).  A request with neither header (curl, scripts) is accepted."""
         origin = self.headers.get("Origin")
+        site = self.headers.get("Sec-Fetch-Site")
         if origin is not None:
             if origin.strip().lower() == "null":
+                if site is not None and site.strip().lower() == "same-origin":
+                    return None
                 return "a request from an opaque origin (Origin: null) is not accepted"
             if not same_origin(origin, self.headers.get("Host", "")):
                 return f"requests from {origin} are not accepted"
-        site = self.headers.get("Sec-Fetch-Site")
         if site is not None and site.strip().lower() not in ("same-origin", "none"):
             return f"a {site} request (Sec-Fetch-Site) is not accepted"
         return None

@@ -209,19 +209,21 @@ def test_view_at_every_magnitude(
 
 
 @pytest.mark.parametrize("command", ["triangulate", "refine", "polylla"])
-def test_nearest_doubles_beyond_the_doubles_are_refused_in_one_line(
+def test_numbers_beyond_the_doubles_are_written_losslessly(
     command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Without --exact the output is the nearest doubles: beyond 1.8e308 there is none,
-    which is said (before anything is written), not written as inf or a traceback."""
+    """Files are lossless by default: 3e309 (no double holds it) is written as itself, and
+    the file read back is the mesh reported; ``--float`` keeps such a number too (there is
+    no nearest double to round it to) instead of writing inf or failing."""
     off, node = _files(tmp_path, SCALES[0])
     source = node if command == "triangulate" else off
     extra = ["--max-area", "1e618"] if command == "refine" else []
-    code, _, err = _run(capsys, command, source, *extra, "-o", tmp_path / "out.off")
-    assert code == 2
-    assert err.startswith("geomexact: error: 3e309 is beyond the range of a double")
-    assert "--exact" in err and len(err.strip().splitlines()) == 1
-    assert not list(tmp_path.glob("out.*"))
+    for flags, name in (([], "out.off"), (["--float"], "float.off")):
+        code, _, err = _run(capsys, command, source, *extra, "-o", tmp_path / name, *flags)
+        assert code == 0, err
+        assert "Traceback" not in err
+        assert "3e309" in (tmp_path / name).read_text()
+        assert io.read(tmp_path / name) == io.read(tmp_path / "out.off")
 
 
 def test_a_far_vertex_that_turns_a_triangle_is_reported_exactly(

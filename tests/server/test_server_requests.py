@@ -63,6 +63,8 @@ def square_upload(**headers: str) -> tuple[bytes, dict[str, str]]:
 @pytest.mark.parametrize("headers", [
     {"Origin": "null"},
     {"Origin": "NULL"},
+    {"Origin": "null", "Sec-Fetch-Site": "cross-site"},
+    {"Origin": "null", "Sec-Fetch-Site": "none"},
     {"Sec-Fetch-Site": "cross-site"},
     {"Sec-Fetch-Site": "same-site"},
     {"Origin": "http://localhost:1"},
@@ -86,6 +88,9 @@ def test_cross_site_uploads_are_refused(server: MeshServer, headers: dict[str, s
     {"Origin": "SAME"},
     {"Origin": "SAME", "Sec-Fetch-Site": "same-origin"},
     {"Sec-Fetch-Site": "none"},
+    # Chromium's own form under a strict referrer policy sends Origin: null; the
+    # browser-set Sec-Fetch-Site (a page cannot forge it) says it is same-origin
+    {"Origin": "null", "Sec-Fetch-Site": "same-origin"},
 ])
 def test_same_origin_and_plain_uploads_are_accepted(server: MeshServer,
                                                     headers: dict[str, str]) -> None:
