@@ -22,6 +22,7 @@ from geomexact.mesh2d import _HOMES as _MESH2D_HOMES
 if TYPE_CHECKING:
     from geomexact.errors import (
         ConvexDecompositionError,
+        DoubleRangeError,
         FormatError,
         GeomexactError,
         InvalidMeshError,
@@ -107,6 +108,7 @@ _FACADE_2D = frozenset(
 
 _HOMES: dict[str, str] = {
     "ConvexDecompositionError": "geomexact.errors",
+    "DoubleRangeError": "geomexact.errors",
     "FormatError": "geomexact.errors",
     "GeomexactError": "geomexact.errors",
     "InvalidMeshError": "geomexact.errors",
@@ -155,6 +157,7 @@ __all__ = [
     "Construction",
     "ConvexDecomposition",
     "ConvexDecompositionError",
+    "DoubleRangeError",
     "EdgeLabels",
     "FormatError",
     "GeomexactError",

@@ -82,6 +82,15 @@ class InvalidMeshError(GeomexactError, ValueError):
         self.violations = tuple(violations)
 
 
+class DoubleRangeError(GeomexactError, OverflowError):
+    """A number whose nearest double would be infinite, where a double is required
+    (``value``: the exact number)."""
+
+    def __init__(self, message: str, value: object) -> None:
+        super().__init__(message)
+        self.value = value
+
+
 class TraceError(GeomexactError, ValueError):
     """A trace that does not belong to the mesh it is replayed on (``step`` is None), or
     that diverges at step number ``step`` (1-based)."""

@@ -15,7 +15,7 @@ from typing import Any, TypeAlias
 
 import gmpy2
 
-from geomexact.errors import GeomexactError, RationalParseError
+from geomexact.errors import DoubleRangeError, RationalParseError
 
 Rational: TypeAlias = "gmpy2.mpq"
 mpq = gmpy2.mpq
@@ -164,16 +164,13 @@ def format_float(value: Rational) -> str:
     return repr(to_float(value))
 
 
-class DoubleRangeError(GeomexactError, OverflowError):
-    """A number whose nearest double would be infinite, where a double is required
-    (``value``: the exact number)."""
-
-    def __init__(self, value: Rational) -> None:
-        super().__init__(
-            f"{approximate_text(value)} is beyond the range of a double (about 1.8e308): "
-            "it can only be written exactly (exact=True, --exact)"
-        )
-        self.value = value
+def double_range_error(value: Rational) -> DoubleRangeError:
+    """The error for ``value``, whose nearest double would be infinite."""
+    return DoubleRangeError(
+        f"{approximate_text(value)} is beyond the range of a double (about 1.8e308): "
+        "it can only be written exactly (exact=True, --exact)",
+        value,
+    )
 
 
 def to_float(value: Rational) -> float:
@@ -183,7 +180,7 @@ def to_float(value: Rational) -> float:
     try:
         return numerator / denominator  # Python's int/int division is correctly rounded
     except OverflowError:
-        raise DoubleRangeError(value) from None
+        raise double_range_error(value) from None
 
 
 def floor_log2(value: Rational) -> int:
