@@ -10,7 +10,9 @@ what the improvement does), and the :class:`CensusSummary` of many rows.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterable
+from functools import lru_cache
 from typing import Any, Final
 
 import attrs
@@ -34,6 +36,7 @@ __all__ = [
     "CensusRow",
     "CensusSummary",
     "census_row",
+    "configuration_counts",
     "configuration_masks",
     "kind_mask",
     "kinds_of_mask",
@@ -43,36 +46,50 @@ __all__ = [
 KIND_ORDER: Final[tuple[FaceKind, ...]] = tuple(FaceKind)
 """The configuration kinds in mask-bit order: T23, T32, T22, T44, N32, N44, N40, N30, N20."""
 TRANSFORMABLE_NAMES: Final = ("T22", "T23", "T32", "T44")
+_BIT: Final = {kind.value: 1 << i for i, kind in enumerate(KIND_ORDER)}
 
 
 def kind_mask(kinds: Iterable[FaceKind | str]) -> int:
     """The bit mask of ``kinds`` (bit i: ``KIND_ORDER[i]``)."""
     mask = 0
     for kind in kinds:
-        mask |= 1 << KIND_ORDER.index(FaceKind(kind))
+        mask |= _BIT[FaceKind(kind).value]
     return mask
 
 
+@lru_cache(maxsize=1 << len(KIND_ORDER))
 def kinds_of_mask(mask: int) -> tuple[str, ...]:
     """The kind names of ``mask``, sorted by name."""
     return tuple(sorted(kind.value for i, kind in enumerate(KIND_ORDER) if mask >> i & 1))
 
 
+def configuration_counts(mesh: Mesh3) -> dict[str, tuple[int, int]]:
+    """Kind name -> (interior faces of that configuration, those failing the sphere
+    test), for every kind in :data:`KIND_ORDER` order (zeros included)."""
+    t = mesh.transient()
+    counts = {kind.value: [0, 0] for kind in KIND_ORDER}
+    for face in interior_faces_in(t):
+        count = counts[classify_face_in(t, face).kind.value]
+        count[0] += 1
+        if is_failing_in(t, face):
+            count[1] += 1
+    return {name: (total, failing) for name, (total, failing) in counts.items()}
+
+
 def configuration_masks(mesh: Mesh3) -> tuple[int, int]:
     """(the kinds of the interior faces, the kinds of those that fail the sphere test) of
     ``mesh``, as masks."""
-    t = mesh.transient()
-    present = failing = 0
-    for face in interior_faces_in(t):
-        bit = 1 << KIND_ORDER.index(classify_face_in(t, face).kind)
-        present |= bit
-        if is_failing_in(t, face):
-            failing |= bit
+    counts = configuration_counts(mesh)
+    present = kind_mask(name for name, (total, _) in counts.items() if total)
+    failing = kind_mask(name for name, (_, bad) in counts.items() if bad)
     return present, failing
 
 
 def _kinds_text(mask: int | None) -> str | None:
     return None if mask is None else " ".join(kinds_of_mask(mask))
+
+
+_CSV_NAMES: Final = tuple((name, f"{name}_failing", _BIT[name]) for name in TRANSFORMABLE_NAMES)
 
 
 @attrs.frozen(slots=True)
@@ -115,11 +132,11 @@ class CensusRow:
 
     def has(self, kind: str) -> bool:
         """The partition has an interior face of configuration ``kind``."""
-        return bool(self.kinds & kind_mask([kind]))
+        return bool(self.kinds & _BIT[kind])
 
     def fails(self, kind: str) -> bool:
         """The partition has a face of configuration ``kind`` failing its sphere test."""
-        return bool(self.failing & kind_mask([kind]))
+        return bool(self.failing & _BIT[kind])
 
     def record(self) -> dict[str, Any]:
         """The row as a flat mapping over :data:`CENSUS_COLUMNS` (bools as 0/1, kind sets
@@ -130,9 +147,9 @@ class CensusRow:
             "template": self.template, "tetrahedra": self.tetrahedra,
             "valid": int(self.valid), "delaunay": int(self.delaunay),
         }
-        for name in TRANSFORMABLE_NAMES:
-            row[name] = int(self.has(name))
-            row[f"{name}_failing"] = int(self.fails(name))
+        for name, failing_name, bit in _CSV_NAMES:
+            row[name] = int(bool(self.kinds & bit))
+            row[failing_name] = int(bool(self.failing & bit))
         row["failing_kinds"] = _kinds_text(self.failing)
         row["improved"] = int(self.improved)
         row["flips"] = None if flips is None else sum(flips)
@@ -250,30 +267,34 @@ def summarize(rows: Iterable[CensusRow]) -> list[CensusSummary]:
     return [_summary(key, members) for key, members in groups.items()]
 
 
+def _count_kinds(masks: Counter[int]) -> dict[str, int]:
+    """Kind name -> the number of rows whose mask has it (``masks``: mask -> rows)."""
+    return {kind.value: sum(rows for mask, rows in masks.items() if mask & _BIT[kind.value])
+            for kind in KIND_ORDER}
+
+
 def _summary(key: tuple[str, str, int], rows: list[CensusRow]) -> CensusSummary:
     shape, order, template = key
-    names = [kind.value for kind in KIND_ORDER]
     flips = dict.fromkeys(FLIP_NAMES, 0)
-    failing_improved = dict.fromkeys(names, 0)
     improved = [row for row in rows if row.flips is not None]
     for row in improved:
-        assert row.flips is not None and row.failing_improved is not None
+        assert row.flips is not None
         for index, name in enumerate(FLIP_NAMES):
             flips[name] += row.flips[index]
-        for name in kinds_of_mask(row.failing_improved):
-            failing_improved[name] += 1
+    failing_after = Counter(row.failing_improved for row in improved)
+    tetrahedra = [row.tetrahedra for row in rows]
     return CensusSummary(
         shape=shape, order=order, template=template, patterns=len(rows),
         valid=sum(row.valid and row.valid_improved is not False for row in rows),
-        present={name: sum(row.has(name) for row in rows) for name in names},
-        failing={name: sum(row.fails(name) for row in rows) for name in names},
-        delaunay=sum(row.delaunay for row in rows),
-        tetrahedra=sum(row.tetrahedra for row in rows),
-        tetrahedra_min=min((row.tetrahedra for row in rows), default=0),
-        tetrahedra_max=max((row.tetrahedra for row in rows), default=0),
+        present=_count_kinds(Counter(row.kinds for row in rows)),
+        failing=_count_kinds(Counter(row.failing for row in rows)),
+        delaunay=sum(row.failing == 0 for row in rows),
+        tetrahedra=sum(tetrahedra),
+        tetrahedra_min=min(tetrahedra, default=0),
+        tetrahedra_max=max(tetrahedra, default=0),
         improved=len(improved), flips=flips,
-        delaunay_improved=sum(bool(row.delaunay_improved) for row in improved),
-        failing_improved=failing_improved,
+        delaunay_improved=failing_after.get(0, 0),
+        failing_improved=_count_kinds(failing_after),  # type: ignore[arg-type]
         tetrahedra_improved=sum(row.tetrahedra_improved or 0 for row in improved),
         rounds_max=max((row.rounds or 0 for row in improved), default=0),
     )
