@@ -30,11 +30,11 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from geomexact.mesh3d.cuboid import compiled  # noqa: E402
-from geomexact.mesh3d.cuboid.boxes import box_of_extents, unit_cube  # noqa: E402
-from geomexact.mesh3d.cuboid.census import summarize  # noqa: E402
-from geomexact.mesh3d.cuboid.census_runs import CensusJob, run_census  # noqa: E402
-from geomexact.mesh3d.cuboid.numbering import PATTERN_COUNT  # noqa: E402
+from geomexact.mesh3d.cuboid import compiled
+from geomexact.mesh3d.cuboid.boxes import box_of_extents, unit_cube
+from geomexact.mesh3d.cuboid.census import summarize
+from geomexact.mesh3d.cuboid.census_runs import CensusJob, run_census
+from geomexact.mesh3d.cuboid.numbering import PATTERN_COUNT
 
 TARGET_SECONDS = 300.0
 FULL = 4 * (PATTERN_COUNT - 1)
