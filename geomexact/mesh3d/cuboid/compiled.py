@@ -93,12 +93,11 @@ def row_of(values: Sequence[int], pattern: int, shape: str, order: str,
     """The :class:`CensusRow` of the kernel's 12 row ints."""
     (tetrahedra, valid, kinds, failing, f23, f32, f22, f44, rounds, after, valid_after,
      failing_after) = values
-    row = CensusRow(pattern, shape, order, template, tetrahedra, bool(valid), kinds, failing)
     if rounds < 0:
-        return row
-    return attrs.evolve(row, flips=(f23, f32, f22, f44), rounds=rounds,
-                        tetrahedra_improved=after, valid_improved=bool(valid_after),
-                        failing_improved=failing_after)
+        return CensusRow(pattern, shape, order, template, tetrahedra, valid == 1, kinds,
+                         failing)
+    return CensusRow(pattern, shape, order, template, tetrahedra, valid == 1, kinds, failing,
+                     (f23, f32, f22, f44), rounds, after, valid_after == 1, failing_after)
 
 
 @attrs.frozen(slots=True)
