@@ -56,7 +56,7 @@ def assert_valid(run: CuboidMesh) -> None:
                 )
 
 
-@settings(max_examples=60, deadline=None)
+@settings(deadline=None)
 @given(patterns, boxes, orders, templates)
 def test_the_partition_is_valid_with_the_exact_volume_and_replays(
     pattern: int, box: Box, order: str, template: int
@@ -71,7 +71,7 @@ def test_the_partition_is_valid_with_the_exact_volume_and_replays(
         assert run.mesh.point(vertex) == box.steiner_point(bit)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(deadline=None)
 @given(patterns, boxes, orders, templates)
 def test_each_box_face_is_triangulated_by_its_own_steiner_points(
     pattern: int, box: Box, order: str, template: int
@@ -86,7 +86,7 @@ def test_each_box_face_is_triangulated_by_its_own_steiner_points(
         assert other.face_triangulations()[face_bit] == faces[face_bit]  # any box
 
 
-@settings(max_examples=60, deadline=None)
+@settings(deadline=None)
 @given(patterns, boxes, orders, templates, st.booleans())
 def test_the_improvement_keeps_validity_terminates_and_leaves_no_failing_transformable_face(
     pattern: int, box: Box, order: str, template: int, boundary: bool

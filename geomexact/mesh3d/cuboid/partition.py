@@ -22,7 +22,6 @@ from geomexact.mesh3d.cuboid.improvement import ImprovementReport, improve_in
 from geomexact.mesh3d.cuboid.numbering import (
     BIT_COUNT,
     CORNER_POSITIONS,
-    FACE_NAMES,
     check_pattern,
     steiner_position2,
 )
@@ -171,5 +170,3 @@ def partition_cuboid(
     return CuboidMesh(pattern, box, split_order, template, start, partition, mesh, trace,
                       tuple(steiner), report)
 
-
-FACE_LABELS: Final = dict(zip(range(12, 18), FACE_NAMES, strict=True))
