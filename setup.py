@@ -3,6 +3,8 @@
 * ``geomexact/mesh2d/refinement/engines/lepp_kernel.pyx``: Lepp-bisection (``geomexact.mesh2d.refinement.api``);
 * ``geomexact/mesh2d/delaunay/delaunay_kernel.pyx``: the Delaunay triangulation of a point set
   (``geomexact.mesh2d.delaunay.triangulation.triangulate_points``);
+* ``geomexact/mesh3d/cuboid/cuboid_kernel.pyx``: the cuboid partition, its improvement and its
+  census row (``geomexact.mesh3d.cuboid.compiled``);
 * ``geomexact/kernel/cfilters.pyx``: test-facing wrappers of the C filters, so that the tests
   can check them against the exact predicates (nothing in the package imports it).
 
@@ -64,6 +66,7 @@ KERNELS = [
     ("geomexact.mesh2d.refinement.engines.lepp_kernel", "geomexact/mesh2d/refinement/engines/lepp_kernel.pyx"),
     ("geomexact.mesh2d.delaunay.delaunay_kernel", "geomexact/mesh2d/delaunay/delaunay_kernel.pyx"),
     ("geomexact.kernel.cfilters", "geomexact/kernel/cfilters.pyx"),
+    ("geomexact.mesh3d.cuboid.cuboid_kernel", "geomexact/mesh3d/cuboid/cuboid_kernel.pyx"),
 ]
 
 

@@ -9,8 +9,10 @@ from typing import NoReturn, cast
 
 from geomexact._version import __version__
 from geomexact.cli import (
+    census,
     check,
     convert,
+    cuboid,
     demo,
     info,
     polylla,
@@ -31,6 +33,8 @@ COMMANDS: tuple[Callable[[Subcommands], None], ...] = (
     triangulate.add_parser,
     polylla.add_parser,
     refine.add_parser,
+    cuboid.add_parser,
+    census.add_parser,
     view.add_parser,
     serve.add_parser,
     demo.add_parser,

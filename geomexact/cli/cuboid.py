@@ -1,0 +1,164 @@
+"""``geomexact cuboid``: the partition of one 1-irregular cuboid pattern into
+tetrahedra, optionally improved by Joe's flips; reports it and can write its trace."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from geomexact.cli.arguments import Subcommands, add_command, add_force_flag, add_json_flag
+from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.reporting import print_json, print_table, violation_reports
+from geomexact.errors import OverwriteError
+from geomexact.kernel.numbers import format_rational, parse_rational
+from geomexact.mesh3d.cuboid.boxes import Box, box_of_extents
+from geomexact.mesh3d.cuboid.numbering import FACE_NAMES, PATTERN_COUNT
+from geomexact.mesh3d.cuboid.partition import point_label
+from geomexact.mesh3d.cuboid.split_order import ORDERS
+from geomexact.mesh3d.snapshot import Mesh3
+
+
+def pattern_argument(text: str) -> int:
+    """A pattern: an integer 0 .. 2**18 - 1 (decimal, or 0x… / 0b…)."""
+    try:
+        value = int(text, 0)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if not 0 <= value < PATTERN_COUNT:
+        raise argparse.ArgumentTypeError(f"{value} is outside 0..{PATTERN_COUNT - 1}")
+    return value
+
+
+def rational_argument(text: str) -> Any:
+    """An exact positive number (``2``, ``0.5``, ``1/3``)."""
+    try:
+        value = parse_rational(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"{text} is not positive")
+    return value
+
+
+def shape_box(args: argparse.Namespace) -> Box:
+    """The box [0, X] x [0, Y] x [0, Z] of ``--shape X Y Z``."""
+    x, y, z = args.shape
+    return box_of_extents(x, y, z)
+
+
+def add_cuboid_options(sub: argparse.ArgumentParser) -> None:
+    """``--shape``, ``--order``, ``--template``, ``--improve``, ``--allow-boundary-flips``."""
+    sub.add_argument("--shape", nargs=3, type=rational_argument, metavar=("X", "Y", "Z"),
+                     default=[parse_rational("1")] * 3,
+                     help="the box [0,X]x[0,Y]x[0,Z], exact (default: the unit cube)")
+    sub.add_argument("--order", choices=ORDERS, default="conforming",
+                     help="split order: face centres first, then edge midpoints, each by "
+                     "exact coordinates (conforming, the default), or by bit number (index)")
+    sub.add_argument("--template", type=int, choices=(0, 1), default=0,
+                     help="the 5-tetrahedron template: central tetrahedron on corners "
+                     "0,3,5,6 (0, the default) or 1,2,4,7 (1)")
+    sub.add_argument("--improve", action="store_true",
+                     help="improve the partition toward Delaunay by Joe's flips")
+    sub.add_argument("--allow-boundary-flips", action="store_true",
+                     help="let the improvement flip T22 (changes the box's boundary)")
+
+
+def _configurations(mesh: Mesh3) -> dict[str, dict[str, int]]:
+    from geomexact.mesh3d.cuboid.census import configuration_counts
+
+    return {kind: {"total": total, "failing": failing}
+            for kind, (total, failing) in configuration_counts(mesh).items()}
+
+
+def command_cuboid(args: argparse.Namespace) -> int:
+    """Partition one pattern (optionally improve it), report it, write its trace."""
+    from geomexact.io.trace_file import write_trace
+    from geomexact.mesh3d.cuboid.partition import partition_cuboid
+    from geomexact.mesh3d.measures import is_delaunay3, total_volume
+    from geomexact.mesh3d.validation import validate3
+
+    box = shape_box(args)
+    if args.trace and Path(args.trace).exists() and not args.force:
+        raise OverwriteError(str(args.trace))
+    run = partition_cuboid(args.pattern, box, order=args.order, template=args.template,
+                           improve=args.improve,
+                           allow_boundary_flips=args.allow_boundary_flips)
+    mesh = run.mesh
+    violations = validate3(mesh, volume=box.volume)
+    faces = {FACE_NAMES[bit - 12]: [[point_label(code) for code in triangle]
+                                    for triangle in triangles]
+             for bit, triangles in run.face_triangulations().items()}
+    report = run.improvement
+    report_json: dict[str, Any] = {
+        "pattern": args.pattern,
+        "bits": [bit for bit, _ in sorted(run.steiner)],
+        "shape": box.describe(),
+        "order": run.order,
+        "template": run.template,
+        "split_order": [bit for bit, _ in run.steiner],
+        "tetrahedra": mesh.tetrahedron_count,
+        "tetrahedra_partition": run.partition.tetrahedron_count,
+        "vertices": mesh.vertex_count,
+        "volume": format_rational(total_volume(mesh)),
+        "valid": not violations,
+        "delaunay": is_delaunay3(mesh),
+        "delaunay_partition": is_delaunay3(run.partition),
+        "flips": None if report is None else {
+            **{name: report.flips_of(name) for name in ("flip23", "flip32", "flip22",
+                                                        "flip44")},
+            "total": report.flip_count, "rounds": report.rounds},
+        "failing_kinds": None if report is None else list(report.failing_kinds),
+        "configurations": _configurations(mesh),
+        "configurations_partition": _configurations(run.partition),
+        "faces": faces,
+        "steps": len(run.trace),
+        "digest": mesh.digest_text,
+        "trace": args.trace,
+    }
+    if args.trace:
+        write_trace(args.trace, run.trace, overwrite=args.force)
+    if args.json:
+        report_json["violations"] = violation_reports(violations)
+        print_json(report_json)
+    else:
+        _print_text(report_json)
+        for violation in violations:
+            print(f"  {violation}")
+    return EXIT_FAILED if violations else EXIT_OK
+
+
+def _print_text(report: dict[str, Any]) -> None:
+    title = (f"cuboid pattern {report['pattern']} (bits {report['bits']}) on "
+             f"{report['shape']}, order {report['order']}, template {report['template']}")
+    configurations = {
+        kind: f"{counts['total']} ({counts['failing']} failing)"
+        for kind, counts in report["configurations"].items() if counts["total"]}
+    rows = {key: report[key] for key in ("tetrahedra", "tetrahedra_partition", "vertices",
+                                         "volume", "valid", "delaunay",
+                                         "delaunay_partition", "steps", "digest")}
+    if report["flips"] is not None:
+        rows["flips"] = ", ".join(f"{k} {v}" for k, v in report["flips"].items())
+        rows["failing_kinds"] = " ".join(report["failing_kinds"]) or "none"
+    rows["configurations"] = ", ".join(f"{k} {v}" for k, v in configurations.items())
+    print_table(title, rows)
+    print("  box faces (triangles by point: cK corner, eI edge midpoint, fJ face centre):")
+    for name, triangles in report["faces"].items():
+        print(f"    {name}: " + "  ".join("-".join(t) for t in triangles))
+    if report["trace"]:
+        print(f"wrote {report['trace']}")
+
+
+def add_parser(commands: Subcommands) -> None:
+    """Add the ``cuboid`` command."""
+    cuboid = add_command(commands, "cuboid", command_cuboid,
+                         "partition a 1-irregular cuboid pattern into tetrahedra "
+                         "(optionally improved by Joe's flips)")
+    cuboid.add_argument("pattern", metavar="PATTERN", type=pattern_argument,
+                        help="0 .. 262143: bit i marks a Steiner point on cube edge i "
+                        "(0-11) or face i (12-17); see docs/cuboid.md")
+    add_cuboid_options(cuboid)
+    cuboid.add_argument("--trace", metavar="FILE",
+                        help="write the trace (from the 5-tetrahedron start) to FILE")
+    add_force_flag(cuboid, "an existing trace file")
+    add_json_flag(cuboid)
