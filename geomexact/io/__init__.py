@@ -16,7 +16,7 @@ the line and the problem.  ``write`` refuses to replace an existing file unless
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import MappingProxyType
 
@@ -24,9 +24,11 @@ from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
-from geomexact.io.pslg_text import read_pslg_text, write_pslg_text
-from geomexact.io.registry import Format, Value
+from geomexact.io.pslg_text import pslg_text_reading, read_pslg_text, write_pslg_text
+from geomexact.io.registry import Format, Reading, SourceLines, Value
 from geomexact.io.triangle import (
+    node_reading,
+    poly_reading,
     read_node,
     read_poly,
     read_triangle,
@@ -118,7 +120,8 @@ def detect_format(path: str | Path) -> str:
         known = ", ".join(sorted(_BY_EXTENSION))
         shown = f"extension {suffix!r}" if suffix else "no extension"
         raise FormatError(
-            str(path), None, f"{shown} names no known format (known: {known}); pass format="
+            str(path), None,
+            f"{shown} names no known format (known: {known}); pass format= to name one",
         )
     return name
 
@@ -139,6 +142,27 @@ def read_with_notes(path: str | Path, *, format: str | None = None) -> tuple[Val
     reader = _format(path, format).read
     with collector_paused():
         return reader(Path(path))
+
+
+_SOURCED_READERS: Mapping[str, Callable[[Path], Reading]] = MappingProxyType({
+    "node": node_reading,
+    "poly": poly_reading,
+    "pslg": pslg_text_reading,
+})
+"""The readers that also give the line of each item (:class:`SourceLines`)."""
+
+
+def read_with_sources(path: str | Path, *, format: str | None = None) -> Reading:
+    """:func:`read_with_notes`, with the file and line of each vertex, segment, hole and
+    region where the format has lines for them (``node``, ``poly``, ``pslg``; else
+    ``sources`` is None), so that a later error can name the input's lines."""
+    chosen = _format(path, format)
+    with collector_paused():
+        sourced = _SOURCED_READERS.get(chosen.name)
+        if sourced is not None:
+            return sourced(Path(path))
+        value, notes = chosen.read(Path(path))
+    return Reading(value, notes)
 
 
 def read(path: str | Path, *, format: str | None = None) -> Value:
@@ -168,4 +192,15 @@ def write(
     return chosen.write(Path(path), value, overwrite=overwrite, exact=exact)
 
 
-__all__ = ["FORMATS", "Format", "Value", "detect_format", "read", "read_with_notes", "write"]
+__all__ = [
+    "FORMATS",
+    "Format",
+    "Reading",
+    "SourceLines",
+    "Value",
+    "detect_format",
+    "read",
+    "read_with_notes",
+    "read_with_sources",
+    "write",
+]
