@@ -12,7 +12,7 @@ from geomexact import io
 from geomexact.cli.errors import UsageProblem, print_warning
 from geomexact.cli.kinds import Value, kind_name
 from geomexact.errors import FormatError, PreconditionError, SegmentError
-from geomexact.io.registry import SourceLines
+from geomexact.io.registry import SourceLines, clipped
 from geomexact.kernel.numbers import format_rational
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.delaunay.triangulation import Construction, triangulate
@@ -73,7 +73,8 @@ def load_mesh(path: str, format: str | None, verbose: bool, command: str) -> Mes
 # triangulating an input, in the words of its file
 # -----------------------------------------------------------------------------------------
 def _point(point: Point2) -> str:
-    return f"({format_rational(point.x)}, {format_rational(point.y)})"
+    """The exact coordinates, each at most about 100 characters (huge numbers clipped)."""
+    return f"({clipped(format_rational(point.x), 100)}, {clipped(format_rational(point.y), 100)})"
 
 
 def _listed(items: list[str]) -> str:
@@ -125,20 +126,20 @@ def segment_problems(pslg: PSLG, sources: SourceLines, pairs: Any) -> list[str]:
     return problems
 
 
-def triangulation_problem(
-    error: PreconditionError, loaded: Loaded, split_hint: str
-) -> str | None:
-    """The message of a triangulation refusal naming the input's lines (None when
-    ``error`` is no refusal of the input or the file has no lines).  ``split_hint``: what
-    the command offers against crossing segments."""
+def triangulation_problems(
+    error: PreconditionError, loaded: Loaded
+) -> tuple[str, str, list[str]] | None:
+    """A triangulation refusal of the input as (kind, headline, one sentence per
+    offending item naming its file and line), or None when ``error`` is no refusal of the
+    input or the file has no lines.  Kinds: ``segments-meet``, ``duplicate-points``,
+    ``collinear-points``, ``too-few-points``."""
     sources, pslg = loaded.sources, loaded.value
     if sources is None or not isinstance(pslg, PSLG):
         return None
     base = sources.base
     if isinstance(error, SegmentError):
-        problems = segment_problems(pslg, sources, error.pairs)
-        return (f"segments cross or pass through vertices ({split_hint}): "
-                f"{_listed(problems)}")
+        return ("segments-meet", "segments cross or pass through vertices",
+                segment_problems(pslg, sources, error.pairs))
     details = error.details
     if "duplicates" in details:
         items = [
@@ -146,20 +147,38 @@ def triangulation_problem(
             f"repeats vertex {kept + base} {_point(pslg.vertices[kept])}"
             for dropped, kept in details["duplicates"]
         ]
-        return (f"{len(items)} duplicate points (use --merge-duplicates to keep only the "
-                f"first copy): {_listed(items)}")
+        return ("duplicate-points", f"{len(items)} duplicate points", items)
     if "collinear" in details:
         ids = details["collinear"]
         shown = ", ".join(sources.vertex(v) for v in ids[:SHOWN])
         more = ", …" if len(ids) > SHOWN else ""
-        return (f"{loaded.path}: all {len(ids)} distinct points are collinear ({shown}{more}): "
-                "no triangle exists")
+        return ("collinear-points", "no triangle exists",
+                [f"{loaded.path}: all {len(ids)} distinct points are collinear ({shown}{more})"])
     if "distinct" in details:
         ids = details["distinct"]
         shown = ", ".join(sources.vertex(v) for v in ids)
-        return (f"{loaded.path}: {len(ids)} distinct points ({shown or 'none'}): a "
-                "triangulation needs at least 3")
+        return ("too-few-points", "a triangulation needs at least 3 distinct points",
+                [f"{loaded.path}: {len(ids)} distinct points ({shown or 'none'})"])
     return None
+
+
+_REMEDIES = {"duplicate-points": "use --merge-duplicates to keep only the first copy"}
+
+
+def triangulation_problem(
+    error: PreconditionError, loaded: Loaded, split_hint: str
+) -> str | None:
+    """The message of a triangulation refusal naming the input's lines (None when
+    ``error`` is no refusal of the input or the file has no lines).  ``split_hint``: what
+    the command offers against crossing segments."""
+    found = triangulation_problems(error, loaded)
+    if found is None:
+        return None
+    kind, headline, items = found
+    remedy = split_hint if kind == "segments-meet" else _REMEDIES.get(kind)
+    if kind in ("collinear-points", "too-few-points"):
+        return f"{_listed(items)}: {headline}"
+    return f"{headline}{f' ({remedy})' if remedy else ''}: {_listed(items)}"
 
 
 def triangulate_input(loaded: Loaded, *, split_hint: str, **options: Any) -> Construction:
