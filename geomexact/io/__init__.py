@@ -25,7 +25,7 @@ from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
 from geomexact.io.pslg_text import pslg_text_reading, read_pslg_text, write_pslg_text
-from geomexact.io.registry import Format, Reading, SourceLines, Value
+from geomexact.io.registry import Format, Reading, SourceLines, Value, bounded
 from geomexact.io.triangle import (
     node_reading,
     poly_reading,
@@ -140,8 +140,11 @@ def read_with_notes(path: str | Path, *, format: str | None = None) -> tuple[Val
     """Read ``path`` (format from its extension unless ``format`` names one); return the
     value and the reader's notes (what it fixed or ignored, for verbose output)."""
     reader = _format(path, format).read
-    with collector_paused():
-        return reader(Path(path))
+    try:
+        with collector_paused():
+            return reader(Path(path))
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
 
 
 _SOURCED_READERS: Mapping[str, Callable[[Path], Reading]] = MappingProxyType({
@@ -157,11 +160,14 @@ def read_with_sources(path: str | Path, *, format: str | None = None) -> Reading
     region where the format has lines for them (``node``, ``poly``, ``pslg``; else
     ``sources`` is None), so that a later error can name the input's lines."""
     chosen = _format(path, format)
-    with collector_paused():
-        sourced = _SOURCED_READERS.get(chosen.name)
-        if sourced is not None:
-            return sourced(Path(path))
-        value, notes = chosen.read(Path(path))
+    try:
+        with collector_paused():
+            sourced = _SOURCED_READERS.get(chosen.name)
+            if sourced is not None:
+                return sourced(Path(path))
+            value, notes = chosen.read(Path(path))
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
     return Reading(value, notes)
 
 

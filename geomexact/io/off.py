@@ -95,20 +95,26 @@ class _Unwrapper:
         return text[self.col : end]
 
     def _blank_block(self) -> None:
-        """Blank a balanced ``{ … }`` starting at the cursor."""
+        """Blank a balanced ``{ … }`` starting at the cursor (each row blanked at once:
+        blanking character by character was quadratic in a long row)."""
         start_line = self.row + 1
         depth = 0
         while self.skip_space():
             text = self.rows[self.row]
-            char = text[self.col]
-            self._blank(self.col, self.col + 1)
-            self.col += 1
-            if char == "{":
-                depth += 1
-            elif char == "}":
-                depth -= 1
-                if depth == 0:
-                    return
+            end = self.col
+            while end < len(text):
+                char = text[end]
+                end += 1
+                if char == "{":
+                    depth += 1
+                elif char == "}":
+                    depth -= 1
+                    if depth == 0:
+                        break
+            self._blank(self.col, end)
+            self.col = end
+            if depth == 0:
+                return
         raise FormatError(self.path, start_line, "the '{' of this block is never closed")
 
     def unwrap(self) -> int:
@@ -125,9 +131,15 @@ class _Unwrapper:
                 return 0
             word = self._word()
             if word.lower() == "appearance":
+                line = self.row + 1
                 self._blank(self.col, self.col + len(word))
                 self.col += len(word)
-                if not self.skip_space() or self.rows[self.row][self.col] != "{":
+                if not self.skip_space():
+                    raise FormatError(
+                        self.path, line, "'appearance' must be followed by '{ … }', but the "
+                        "file ends"
+                    )
+                if self.rows[self.row][self.col] != "{":
                     raise FormatError(
                         self.path, self.row + 1, "'appearance' must be followed by '{ … }'"
                     )

@@ -175,7 +175,8 @@ class Lines:
             raise FormatError(
                 self.path,
                 self.last_line,
-                f"expected {count} {plural}, found {index}: the file ends before {item}",
+                f"expected {clipped(str(count), 40)} {plural}, found {index}: the file ends "
+                f"before {clipped(item, 80)}",
             )
         return self.next(item)
 
@@ -216,8 +217,25 @@ def section_too_short(
     return FormatError(
         path,
         line,
-        f"expected {count} {plural}, found {found}: this line is not one of them "
-        f"({problem}); is the count{where} right?",
+        f"expected {clipped(str(count), 40)} {plural}, found {found}: this line is not one "
+        f"of them ({problem}); is the count{where} right?",
+    )
+
+
+PROBLEM_LIMIT = 1000
+"""The longest problem text of a reader's FormatError (:func:`bounded`)."""
+
+
+def bounded(error: FormatError) -> FormatError:
+    """``error``, or when its problem is longer than :data:`PROBLEM_LIMIT` characters (an
+    absurd number quoted whole, e.g. a 4000-digit vertex label) the same error with the
+    middle of the problem cut: the safety net behind every reader's quoting."""
+    problem = error.problem
+    if len(problem) <= PROBLEM_LIMIT:
+        return error
+    head, tail = problem[: PROBLEM_LIMIT * 2 // 3], problem[-PROBLEM_LIMIT // 4 :]
+    return FormatError(
+        error.path, error.line, f"{head}… ({len(problem):,} characters) …{tail}"
     )
 
 

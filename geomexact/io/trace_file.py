@@ -20,7 +20,7 @@ from typing import Any
 
 from geomexact.errors import FormatError, RationalParseError
 from geomexact.io.files import read_lines, write_lines_atomic
-from geomexact.io.registry import clipped, quoted
+from geomexact.io.registry import bounded, clipped, quoted
 from geomexact.kernel.numbers import Rational, parse_rational
 from geomexact.trace.record import Trace
 from geomexact.trace.step import Step, StepArgument
@@ -71,7 +71,10 @@ def trace_text(trace: Trace) -> str:
 def parse_trace(text: str, path: str = "<trace>") -> Trace:
     """Read a trace file's text; raises :class:`FormatError` naming the line and problem.
     Lines are split on ``\\n`` (as :func:`read_trace` splits a file)."""
-    return _parse_lines(enumerate(text.removeprefix("\ufeff").split("\n"), start=1), path)
+    try:
+        return _parse_lines(enumerate(text.removeprefix("\ufeff").split("\n"), start=1), path)
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
 
 
 def _parse_lines(lines: Iterable[tuple[int, str]], path: str) -> Trace:
@@ -175,5 +178,8 @@ def write_trace(path: str | Path, trace: Trace, *, overwrite: bool = False) -> N
 
 def read_trace(path: str | Path) -> Trace:
     """Read a trace file (see :func:`parse_trace`), line by line."""
-    return _parse_lines(read_lines(path), str(path))
+    try:
+        return _parse_lines(read_lines(path), str(path))
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
 
