@@ -17,10 +17,12 @@ their bytes, and :func:`check_read`, which reads a (mutated) case and asserts th
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import random
+import signal
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -239,6 +241,30 @@ def check_value(value: Any) -> None:
         raise AssertionError(f"a reader returned a {type(value).__name__}")
 
 
+class Hang(BaseException):
+    """A read that took longer than its time limit (a BaseException: no reader's
+    ``except Exception`` may turn it into a FormatError)."""
+
+
+@contextlib.contextmanager
+def time_limit(seconds: int) -> Iterator[None]:
+    """Raise :class:`Hang` in the block after ``seconds`` (SIGALRM; no limit without it)."""
+    if not hasattr(signal, "SIGALRM"):
+        yield
+        return
+
+    def stop(signum: int, frame: object) -> None:
+        raise Hang(f"the read took more than {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
 def check_read(directory: Path, case: Case, files: dict[str, bytes]) -> str:
     """Write ``files`` into ``directory``, read ``case.main`` and assert the contract;
     returns ``"value"`` or ``"error"`` (for statistics)."""
@@ -250,7 +276,8 @@ def check_read(directory: Path, case: Case, files: dict[str, bytes]) -> str:
         else (lambda: io.read(path, format=case.format))
     )
     try:
-        value = reader()
+        with time_limit(20):
+            value = reader()
     except FormatError as error:
         named = Path(error.path)
         assert named.name in files, f"the error names {error.path}, not a file of the case"
