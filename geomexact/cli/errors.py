@@ -8,7 +8,7 @@ import sys
 
 
 class UsageProblem(Exception):
-    """A command given the wrong kind of input (e.g. ``check`` on a PSLG): exit 2."""
+    """A command given the wrong kind of input (e.g. ``polylla`` on a polygon mesh): exit 2."""
 
 
 OPTION_WORDING: tuple[tuple[str, str], ...] = (

@@ -8,14 +8,20 @@ from __future__ import annotations
 import ast
 import json
 import re
+import tempfile
 from pathlib import Path
 
 import pytest
+from helpers.io_cases import pslgs
 from helpers.paths import SUPERIOR
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
+from geomexact import io, point2
 from geomexact.cli import main
 from geomexact.cli.errors import OPTION_WORDING, cli_wording
 from geomexact.io.trace_file import read_trace
+from geomexact.mesh2d.pslg import PSLG
 
 PACKAGE = Path(__file__).resolve().parents[2] / "geomexact"
 
@@ -260,3 +266,47 @@ def test_superior_left_triangle_is_at_a_sharp_corner(
     assert len(report["left"]) == 1 and report["left_reasons"] == ["sharp-corner"]
     assert "1 at a sharp input corner" in err
     assert "protected tip" not in err and "step limit" not in err
+
+
+# -- properties over random PSLGs --------------------------------------------------------
+@given(pslgs())
+@settings(max_examples=40, suppress_health_check=[HealthCheck.function_scoped_fixture])
+def test_every_line_a_triangulate_refusal_names_holds_that_item(
+    capsys: pytest.CaptureFixture[str], pslg: PSLG
+) -> None:
+    """Whatever the PSLG, a refusal names only ``file:line`` of vertex or segment lines,
+    and the lines of all crossing segments it reports."""
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / "p.poly"
+        io.write(path, pslg, exact=True)
+        lines = path.read_text().split("\n")
+        code, _, err = run(capsys, "triangulate", path)
+        if code == 0:
+            return
+        line = one_error_line(err)
+    vertex_lines = range(2, 2 + len(pslg.vertices))
+    segment_lines = range(3 + len(pslg.vertices), 3 + len(pslg.vertices) + len(pslg.segments))
+    named = [int(number) for number in re.findall(re.escape(str(path)) + r":(\d+)", line)]
+    if any(word in line for word in ("segments cross", "duplicate points", "collinear")):
+        assert named
+    for number in named:
+        assert number in vertex_lines or number in segment_lines, (number, lines)
+
+
+@given(pslgs(), st.integers(1, 3))
+@settings(max_examples=25, suppress_health_check=[HealthCheck.function_scoped_fixture])
+def test_a_seed_far_outside_is_always_a_warning_naming_its_line(
+    capsys: pytest.CaptureFixture[str], pslg: PSLG, far: int
+) -> None:
+    seed = point2(10**6 * far + 7, -999_999)
+    outside = PSLG(vertices=pslg.vertices, segments=pslg.segments, holes=(seed,),
+                   vertex_markers=pslg.vertex_markers)
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / "p.poly"
+        io.write(path, outside, exact=True)
+        code, _, err = run(capsys, "triangulate", path, "--merge-duplicates",
+                           "--split-segments")
+    if code != 0:  # e.g. all points collinear: nothing to warn about
+        return
+    hole_line = 2 + len(pslg.vertices) + 1 + len(pslg.segments) + 1
+    assert f"geomexact: warning: {path}:{hole_line}: hole 1 at ({10**6 * far + 7}, -999999)" in err

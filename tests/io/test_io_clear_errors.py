@@ -5,18 +5,22 @@ line in bounded memory."""
 
 from __future__ import annotations
 
+import tempfile
 import time
 import tracemalloc
 from pathlib import Path
 
 import pytest
-from helpers.io_cases import write
+from helpers.io_cases import grid_meshes, pslgs, write
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from geomexact import io
 from geomexact.errors import FormatError
 from geomexact.io.registry import QUOTE_LIMIT, quoted, quoted_tokens
 from geomexact.io.trace_file import read_trace
 from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.snapshot import Mesh2
 
 LONG = "9" * 10_000_000  # a 10 MB token
 
@@ -207,3 +211,69 @@ def test_a_large_trace_fails_at_an_early_bad_line(tmp_path: Path) -> None:
     finally:
         tracemalloc.stop()
     assert caught.value.line == 2 and peak < 2_000_000
+
+
+# -- properties: each class of problem, on random valid files ----------------------------
+@given(pslgs(), st.integers(1, 5), st.sampled_from(["p.poly", "p.node"]))
+@settings(max_examples=30)
+def test_any_vertex_count_too_large_says_expected_and_found(
+    pslg: PSLG, extra: int, name: str
+) -> None:
+    """Whatever the file, a header announcing ``extra`` more vertices than it lists is
+    "expected N vertices, found M" (at the segment header, or at the end of the file)."""
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / name
+        io.write(path, pslg, exact=True)
+        lines = path.read_text().split("\n")
+        count, rest = lines[0].split(" ", 1)
+        lines[0] = f"{int(count) + extra} {rest}"
+        path.write_text("\n".join(lines))
+        with pytest.raises(FormatError) as caught:
+            io.read(path)
+    found = len(pslg.vertices)
+    assert f"expected {found + extra} vertices, found {found}" in caught.value.problem
+
+
+@given(grid_meshes(extras=False), st.integers(1, 5))
+@settings(max_examples=20)
+def test_any_off_vertex_count_too_large_says_expected_and_found(mesh: Mesh2, extra: int) -> None:
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / "m.off"
+        io.write(path, mesh, exact=True)
+        lines = path.read_text().split("\n")
+        vertices, faces, edges = lines[1].split()
+        lines[1] = f"{int(vertices) + extra} {faces} {edges}"
+        path.write_text("\n".join(lines))
+        with pytest.raises(FormatError) as caught:
+            io.read(path)
+    assert (f"expected {mesh.vertex_count + extra} vertices, found {mesh.vertex_count}"
+            in caught.value.problem)
+
+
+@given(pslgs(), st.lists(st.sampled_from(["0", "x", "1.5", "#"]), min_size=1, max_size=3))
+@settings(max_examples=30)
+def test_extra_fields_after_hole_and_region_fields_change_nothing(
+    pslg: PSLG, extra: list[str]
+) -> None:
+    """Triangle's reading: fields after a hole or region header's count, after a hole's
+    ``number x y`` and a region's five fields are ignored — the same PSLG."""
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / "p.poly"
+        io.write(path, pslg, exact=True)
+        lines = path.read_text().rstrip("\n").split("\n")
+        holes_at = len(pslg.vertices) + 1 + len(pslg.segments) + 1
+        regions_at = holes_at + 1 + len(pslg.holes)
+        tail = " " + " ".join(extra)
+        for index in (holes_at, regions_at, *range(holes_at + 1, regions_at)):
+            lines[index] += tail
+        for index in range(regions_at + 1, len(lines)):
+            fields = lines[index].split()
+            lines[index] = " ".join(fields + (["-1"] if len(fields) == 4 else [])) + tail
+        path.write_text("\n".join(lines) + "\n")
+        assert io.read(path) == io.read_with_notes(path)[0]
+        again = io.read(path)
+    assert isinstance(again, PSLG)
+    assert (again.vertices, again.segments, again.holes) == (
+        pslg.vertices, pslg.segments, pslg.holes)
+    assert [(r.point, r.attribute) for r in again.regions] == [
+        (r.point, r.attribute) for r in pslg.regions]
