@@ -1,4 +1,5 @@
-"""``geomexact check``: validate a triangle or polygon mesh (exit 1 on violations)."""
+"""``geomexact check``: validate a triangle or polygon mesh, or a PSLG (exit 1 on
+violations)."""
 
 from __future__ import annotations
 
@@ -11,26 +12,29 @@ from geomexact.cli.arguments import (
     add_json_flag,
     add_verbose_flag,
 )
-from geomexact.cli.errors import UsageProblem
+from geomexact.cli.errors import UsageProblem, cli_wording, print_warning
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
-from geomexact.cli.loading import load
+from geomexact.cli.loading import Loaded, load, seed_warnings, triangulation_problems
 from geomexact.cli.reporting import print_json, violation_reports
+from geomexact.errors import PreconditionError, Violation
+from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import (
     PolygonMesh,
     isolated_polygon_vertices,
     validate_polygon_mesh,
 )
+from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.validation import validate
 
 
 def command_check(args: argparse.Namespace) -> int:
-    """Validate a triangle mesh (:func:`geomexact.mesh2d.validation`) or a polygon mesh
+    """Validate a triangle mesh (:func:`geomexact.mesh2d.validation`), a polygon mesh
     (:func:`geomexact.mesh2d.polygonal.polygon_mesh.validate_polygon_mesh`, with its geometric
-    checks); exit 1
-    listing every violation."""
+    checks) or a PSLG (:func:`pslg_violations`); exit 1 listing every violation."""
     loaded = load(args.file, args.format, args.verbose)
     value = loaded.value
+    warnings: list[str] = []
     if isinstance(value, Mesh2):
         violations = validate(value, allow_isolated=not args.strict)
         counts = {"vertices": value.vertex_count, "triangles": value.triangle_count}
@@ -41,10 +45,17 @@ def command_check(args: argparse.Namespace) -> int:
             violations.extend(isolated_polygon_vertices(value))
         counts = {"vertices": len(value.vertices), "polygons": len(value.polygons)}
         digest = ""
+    elif isinstance(value, PSLG):
+        violations, warnings = pslg_violations(loaded, strict=args.strict)
+        counts = {"vertices": len(value.vertices), "segments": len(value.segments),
+                  "holes": len(value.holes), "regions": len(value.regions)}
+        digest = ""
+        for warning in warnings if not args.strict else ():  # strict: they are violations
+            print_warning(warning)
     else:
         raise UsageProblem(
-            f"{args.file}: is a {loaded.kind.replace('_', ' ')}, but check needs a triangle mesh "
-            "or a polygon mesh (a Triangle .ele, OFF, or PSLG text file of triangles, …)"
+            f"{args.file}: is a {loaded.kind.replace('_', ' ')}, but check needs a triangle "
+            "mesh, a polygon mesh or a PSLG"
         )
     if args.json:
         print_json(
@@ -54,6 +65,7 @@ def command_check(args: argparse.Namespace) -> int:
                 "valid": not violations,
                 **counts,
                 "violations": violation_reports(violations),
+                "warnings": warnings,
             }
         )
     elif violations:
@@ -66,16 +78,47 @@ def command_check(args: argparse.Namespace) -> int:
     return EXIT_FAILED if violations else EXIT_OK
 
 
+def pslg_violations(loaded: Loaded, *, strict: bool) -> tuple[list[Violation], list[str]]:
+    """What ``triangulate`` would refuse in the PSLG of ``loaded`` (crossing segments,
+    segments through vertices, duplicate or collinear points: violations naming each
+    item's file and line) and the hole and region seeds it would ignore (warnings, and
+    violations too when ``strict``).  Seeds are checked on the triangulation that splits
+    segments and merges duplicates when the plain one is refused."""
+    pslg = loaded.value
+    assert isinstance(pslg, PSLG)
+    violations: list[Violation] = []
+    construction = None
+    for lenient in (False, True):
+        try:
+            construction = triangulate(pslg, split_segments=lenient, merge_duplicates=lenient)
+            break
+        except PreconditionError as error:
+            if lenient:
+                break  # still refused (e.g. collinear): the first refusal says why
+            found = triangulation_problems(error, loaded)
+            if found is None:
+                violations.append(Violation("triangulation", cli_wording(str(error))))
+                continue
+            kind, _, items = found
+            violations.extend(Violation(kind, item) for item in items)
+    warnings = seed_warnings(loaded, construction) if construction is not None else []
+    if strict:
+        violations.extend(Violation("ignored-seed", warning) for warning in warnings)
+    return violations, warnings
+
+
 def add_parser(commands: Subcommands) -> None:
     """Add the ``check`` command."""
     check = add_command(commands, "check", command_check,
-                        "validate a triangle or polygon mesh (exit 1 on violations)")
-    check.add_argument("file", metavar="FILE", help="triangle or polygon mesh file")
+                        "validate a triangle or polygon mesh, or a PSLG (exit 1 on "
+                        "violations)")
+    check.add_argument("file", metavar="FILE", help="triangle or polygon mesh or PSLG file")
     add_format_option(check)
     check.add_argument(
         "--strict",
         action="store_true",
-        help="also report vertices in no triangle or polygon (isolated-vertex)",
+        help="also report vertices in no triangle or polygon (isolated-vertex), and a "
+             "PSLG's hole or region seeds that lie in no triangle (ignored-seed)",
     )
     add_json_flag(check)
     add_verbose_flag(check)

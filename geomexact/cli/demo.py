@@ -44,6 +44,7 @@ class DemoRun:
     trace: Trace | None = None  # the trace of the last stage, ending at ``mesh``
     report: dict[str, Any] = attrs.Factory(dict)
     written: list[Path] = attrs.Factory(list)
+    replays: dict[str, str] = attrs.Factory(dict)  # trace file -> the file it replays on
 
     def write(self, name: str, value: Value, format: str) -> None:
         """Write ``value`` exactly to ``directory/name``."""
@@ -95,6 +96,7 @@ def _demo_triangulate(run: DemoRun) -> None:
     trace_path = run.directory / "superior.1.trace.jsonl"
     write_trace(trace_path, construction.trace, overwrite=run.force)
     run.written.append(trace_path)
+    run.replays[trace_path.name] = "superior.poly"  # its vertices start the trace
 
 
 DEMO_MIN_ANGLE = 30
@@ -119,6 +121,7 @@ def _demo_refine(run: DemoRun) -> None:
     trace_path = run.directory / "superior.2.trace.jsonl"
     write_trace(trace_path, result.trace, overwrite=run.force)
     run.written.append(trace_path)
+    run.replays[trace_path.name] = "superior.1.ele"  # the triangulation it refines
     polygons = polylla(result.mesh)
     run.report["polylla"] = {"polygons": len(polygons.polygons)}
     run.write("superior.2.polylla.off", polygons, "off")
@@ -186,6 +189,7 @@ def command_demo(args: argparse.Namespace) -> int:
     run.report["steps"] = [step.name for step in DEMO_STEPS]
     run.report["output_directory"] = str(run.directory)
     run.report["written"] = [str(path) for path in run.written]
+    run.report["replays"] = dict(run.replays)
     if args.json:
         print_json(run.report)
         return EXIT_OK
@@ -198,6 +202,9 @@ def command_demo(args: argparse.Namespace) -> int:
                      run.report["refinement"])
     for path in run.written:
         print(f"wrote {path}")
+    for trace, source in run.replays.items():
+        print(f"{trace} replays on {source}: geomexact replay {run.directory / source} "
+              f"{run.directory / trace} -o OUT")
     return EXIT_OK
 
 

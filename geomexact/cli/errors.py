@@ -1,17 +1,49 @@
-"""The errors a command reports as one line ``geomexact: error: …`` on stderr (exit 2)."""
+"""The errors a command reports as one line ``geomexact: error: …`` on stderr (exit 2), in
+the words of the command line."""
 
 from __future__ import annotations
 
+import re
 import sys
 
 
 class UsageProblem(Exception):
-    """A command given the wrong kind of input (e.g. ``check`` on a PSLG): exit 2."""
+    """A command given the wrong kind of input (e.g. ``polylla`` on a polygon mesh): exit 2."""
+
+
+OPTION_WORDING: tuple[tuple[str, str], ...] = (
+    ("pass format=", "use --format F (for an input) or --to F (for an output)"),
+    ("pass split_segments=True / --split-segments", "use --split-segments"),
+    ("pass merge_duplicates=True", "use --merge-duplicates"),
+    ("pass split_segments=True", "use --split-segments"),
+    ("pass method='centroid' or method='quasi'", "use --method centroid or --method quasi"),
+    ("a step limit max_steps=N", "a step limit --max-steps N"),
+    ("pass delaunay=True to allow flips", "drop --no-delaunay to allow flips"),
+    ("overwrite=True", "--force"),
+)
+"""The library's hints that name a Python parameter (``pass format=``), each with the
+command-line wording that replaces it in a command's message.  ``tests/cli`` checks that
+every such hint in the library has one."""
+
+_ENGINE = re.compile(r"\bengine '(auto|compiled|python|reference)'")
+
+
+def cli_wording(message: str) -> str:
+    """``message`` with each hint naming a Python parameter (:data:`OPTION_WORDING`,
+    ``engine 'x'``) replaced by the command-line option that does the same."""
+    for library, command in OPTION_WORDING:
+        message = message.replace(library, command)
+    return _ENGINE.sub(r"--engine \1", message)
 
 
 def print_error(message: str) -> None:
-    """Print ``geomexact: error: message`` on stderr."""
-    print(f"geomexact: error: {message}", file=sys.stderr)
+    """Print ``geomexact: error: message`` on stderr (in the command line's words)."""
+    print(f"geomexact: error: {cli_wording(message)}", file=sys.stderr)
+
+
+def print_warning(message: str) -> None:
+    """Print ``geomexact: warning: message`` on stderr."""
+    print(f"geomexact: warning: {message}", file=sys.stderr)
 
 
 def os_error_text(error: OSError) -> str:

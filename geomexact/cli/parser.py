@@ -50,17 +50,33 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+KERNEL_RUNS: tuple[tuple[str, str], ...] = (
+    ("lepp", "refine --method bisection, centroid or quasi (centroid and quasi with "
+             "--centroid area), to --max-area, --factor or --max-edge (not --min-angle), in "
+             "any region, with or without --no-delaunay and --plain-centroids, on meshes "
+             "without triangle attributes; any other run uses the Python engine"),
+    ("delaunay", "the Delaunay triangulation of the points in triangulate (and in refine of "
+                 "a PSLG); segments, holes and regions are then inserted in Python"),
+)
+"""What each compiled kernel runs, exactly (``tests/cli`` checks the claim against
+``unsupported`` of :mod:`geomexact.mesh2d.refinement.engines.compiled`)."""
+
+
 def version_text() -> str:
-    """``geomexact X.Y.Z`` and the compiled kernels this install has (refinement and
-    triangulation run their pure-Python engines without them, slower, same results)."""
+    """``geomexact X.Y.Z``, the compiled kernels this install has and exactly what each
+    runs (refinement and triangulation run their pure-Python engines without them,
+    slower, same results)."""
     from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
     from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 
-    built = [name for name, available in (("lepp-bisection", compiled_engine.AVAILABLE),
-                                          ("delaunay", delaunay_compiled.AVAILABLE))
-             if available]
-    kernels = ", ".join(built) if built else "none (pure-Python engines)"
-    return f"geomexact {__version__}\ncompiled kernels: {kernels}"
+    available = {"lepp": compiled_engine.AVAILABLE, "delaunay": delaunay_compiled.AVAILABLE}
+    built = [(name, runs) for name, runs in KERNEL_RUNS if available[name]]
+    if not built:
+        return f"geomexact {__version__}\ncompiled kernels: none (pure-Python engines)"
+    lines = [f"geomexact {__version__}",
+             f"compiled kernels: {', '.join(name for name, _ in built)}"]
+    lines.extend(f"  {name}: {runs}" for name, runs in built)
+    return "\n".join(lines)
 
 
 class _Version(argparse.Action):

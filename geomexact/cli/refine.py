@@ -8,7 +8,9 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+import attrs
 
 from geomexact.cli.arguments import (
     Subcommands,
@@ -18,12 +20,12 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
-from geomexact.cli.loading import load
+from geomexact.cli.loading import load, seed_warnings, triangulate_input
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import distinct_outputs, write
 from geomexact.errors import OverwriteError
 from geomexact.io.trace_file import write_trace
-from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine, triangulate
+from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine
 from geomexact.mesh2d.engine_names import ENGINES, OLD_NAMES
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
@@ -31,6 +33,9 @@ from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
 from geomexact.mesh2d.validation import validate
 from geomexact.trace.record import Trace
+
+if TYPE_CHECKING:
+    from geomexact.mesh2d.refinement.driver import Method
 
 _TRIANGULATION_ENGINE: dict[str, DelaunayEngine] = {
     "auto": "auto", "compiled": "compiled", "python": "python", "reference": "python",
@@ -138,6 +143,19 @@ def _refine_region(args: argparse.Namespace) -> Any:
     return regions.Whole()
 
 
+def _refine_method(args: argparse.Namespace) -> tuple[Method, str | None]:
+    """The Lepp method: ``--method``, or the one that fits the criterion (centroid for a
+    minimum angle, which bisection cannot meet; else bisection), with a note when it was
+    chosen for the criterion."""
+    if args.method is not None:
+        chosen: Method = args.method
+        return chosen, None
+    if args.min_angle is not None:
+        return "centroid", ("--min-angle without --method: using --method centroid "
+                            "(Lepp-bisection does not raise angles)")
+    return "bisection", None
+
+
 def command_refine(args: argparse.Namespace) -> int:
     """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
     a region; writes the mesh, the trace and optionally every intermediate mesh."""
@@ -146,9 +164,16 @@ def command_refine(args: argparse.Namespace) -> int:
     loaded = load(args.input, args.format, args.verbose)
     criterion = _refine_criterion(args)
     region = _refine_region(args)
+    method, method_note = _refine_method(args)
+    notes = [method_note] if method_note else []
     construction = None
     if isinstance(loaded.value, PSLG):
-        construction = triangulate(loaded.value, engine=_TRIANGULATION_ENGINE[args.engine])
+        construction = triangulate_input(
+            loaded, engine=_TRIANGULATION_ENGINE[args.engine],
+            split_hint="refine does not split them: run 'geomexact triangulate "
+                       "--split-segments' first and refine its mesh",
+        )
+        notes += seed_warnings(loaded, construction)
         mesh = construction.mesh
     elif isinstance(loaded.value, Mesh2):
         mesh = loaded.value
@@ -167,12 +192,14 @@ def command_refine(args: argparse.Namespace) -> int:
             raise OverwriteError(str(existing[0]))
     progress = _RefineProgress() if args.progress else None
     result = refine(
-        mesh, criterion, region=region, method=args.method, delaunay=not args.no_delaunay,
+        mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
         centroid=args.centroid, constraint_midpoints=not args.plain_centroids,
         max_steps=args.max_steps, on_step=progress, engine=args.engine,
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
+    if method_note:  # after the run: a refusal stays one line
+        print(f"geomexact: {method_note}", file=sys.stderr)
     trace = result.trace
     if construction is not None:  # one trace from the PSLG's vertices to the result
         first = construction.trace
@@ -180,6 +207,7 @@ def command_refine(args: argparse.Namespace) -> int:
                       (*first.digests, *trace.digests),
                       {**dict(trace.parameters), "triangulation": dict(first.parameters),
                        "triangulation_steps": len(first)}, trace.version)
+    trace = attrs.evolve(trace, input_name=Path(args.input).name)
     written: list[Path] = []
     if args.output:
         written += write(args.output, result.mesh, args.to, overwrite=args.force,
@@ -208,7 +236,7 @@ def command_refine(args: argparse.Namespace) -> int:
     report: dict[str, Any] = {
         "input": args.input,
         "triangulated": construction is not None,
-        "method": args.method,
+        "method": method,
         "criterion": criterion.parameters(),
         "region": region.parameters(),
         **summary,
@@ -219,15 +247,18 @@ def command_refine(args: argparse.Namespace) -> int:
         "centroids": stats.centroids,
         "flips": stats.flips,
         "left": [list(t) for t in stats.left],
+        "left_reasons": list(stats.left_reasons),
+        "waiting": len(stats.waiting),
         "valid": not violations if args.check else None,
         "written": [str(path) for path in written],
+        "notes": notes,
     }
     not_delaunay = args.check_delaunay and not summary["is_delaunay"]
     if args.json:
         report["violations"] = violation_reports(violations)
         print_json(report)
     else:
-        title = (f"{args.input}: Lepp-{args.method} refinement, {stats.steps} steps in "
+        title = (f"{args.input}: Lepp-{method} refinement, {stats.steps} steps in "
                  f"{stats.seconds:.3f} s, {stats.status}")
         rows = {key: value for key, value in summary.items() if key != "total_area"}
         rows["left"] = len(stats.left)
@@ -238,12 +269,12 @@ def command_refine(args: argparse.Namespace) -> int:
             print(f"wrote {len(written) - 2} more files")
         for violation in violations:
             print(f"  {violation}")
-    if stats.status == "step-limit":
+    if stats.status == "step-limit" and not stats.waiting:  # e.g. a region-wide criterion
         print(f"geomexact: refine stopped at the step limit ({args.max_steps} steps): some "
               "triangles may not meet the criterion", file=sys.stderr)
-    if stats.left:
-        print(f"geomexact: {len(stats.left)} triangle(s) left below the minimum angle at "
-              "input angles sharper than it", file=sys.stderr)
+    summary_of_left = stats.left_summary()
+    if summary_of_left is not None:
+        print(f"geomexact: {summary_of_left}", file=sys.stderr)
     if not_delaunay:
         print("geomexact: the result is not Delaunay", file=sys.stderr)
     return EXIT_FAILED if violations or not_delaunay else EXIT_OK
@@ -274,7 +305,8 @@ def add_parser(commands: Subcommands) -> None:
                        help="refine only triangles with a vertex in this polygon (OFF with "
                             "one polygon, or a PSLG whose segments form one loop)")
     refine_.add_argument("--method", choices=("bisection", "centroid", "quasi"),
-                         default="bisection", help="Lepp method (default: bisection)")
+                         help="Lepp method (default: centroid for --min-angle, which "
+                              "bisection cannot meet, else bisection)")
     refine_.add_argument("--no-delaunay", action="store_true",
                          help="never flip (no legalization, no quasi-Delaunay flips)")
     refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices"),

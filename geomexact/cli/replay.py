@@ -12,7 +12,7 @@ from geomexact.cli.arguments import (
     format_names,
     non_negative,
 )
-from geomexact.cli.errors import UsageProblem
+from geomexact.cli.errors import UsageProblem, cli_wording
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
@@ -23,6 +23,7 @@ from geomexact.mesh2d.delaunay.triangulation import vertices_mesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.trace.playback import replay
+from geomexact.trace.record import Trace
 
 
 def command_replay(args: argparse.Namespace) -> int:
@@ -36,17 +37,18 @@ def command_replay(args: argparse.Namespace) -> int:
     else:
         raise UsageProblem(f"{args.input}: replay needs a triangle mesh or a PSLG")
     trace = read_trace(args.trace)
+    if start.digest != trace.input_digest:
+        raise UsageProblem(wrong_input(args.input, loaded.value, start, args.trace, trace))
     try:
         result = replay(start, trace, until=args.until)
     except TraceError as error:
-        wrong_start = start.digest != trace.input_digest
-        bad_until = args.until is not None and not 0 <= args.until <= len(trace)
-        if wrong_start or bad_until:
+        if args.until is not None and not 0 <= args.until <= len(trace):
             raise  # the inputs do not belong together: bad input, exit 2
-        print(f"geomexact: trace diverged: {error}", file=sys.stderr)
+        print(f"geomexact: trace diverged: {cli_wording(str(error))}", file=sys.stderr)
         if args.json:
             print_json(
-                {"input": args.input, "trace": args.trace, "diverged": True, "error": str(error)}
+                {"input": args.input, "trace": args.trace, "diverged": True,
+                 "error": cli_wording(str(error))}
             )
         return EXIT_FAILED
     applied = len(trace) if args.until is None else args.until
@@ -74,6 +76,27 @@ def command_replay(args: argparse.Namespace) -> int:
         for path in written:
             print(f"wrote {path}")
     return EXIT_OK
+
+
+def wrong_input(
+    input_path: str, value: PSLG | Mesh2, start: Mesh2, trace_path: str, trace: Trace
+) -> str:
+    """Why ``trace`` does not replay on ``input_path``: the input it was recorded on (its
+    name when the trace header has it, and digest), this one's digest, and what kind of
+    input the trace wants."""
+    recorded = f"{trace.input_name!r} " if trace.input_name else ""
+    wants = ""
+    algorithm = trace.parameter("algorithm")
+    if algorithm == "delaunay" and not isinstance(value, PSLG):
+        wants = ("; it is a triangulation trace, which replays on the PSLG or point set it "
+                 "triangulated (the .poly or .node), not on a mesh")
+    elif algorithm in ("lepp", "lawson") and isinstance(value, PSLG):
+        wants = (f"; it is a {'refinement' if algorithm == 'lepp' else 'Lawson flip'} "
+                 "trace, which replays on the mesh it started from, not on a PSLG")
+    return (
+        f"{trace_path} was recorded on {recorded}(digest {trace.input_digest:032x}), but "
+        f"{input_path} gives digest {start.digest_text}: not the trace's input{wants}"
+    )
 
 
 def add_parser(commands: Subcommands) -> None:

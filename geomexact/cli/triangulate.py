@@ -7,6 +7,8 @@ import argparse
 import time
 from pathlib import Path
 
+import attrs
+
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
@@ -14,11 +16,11 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
-from geomexact.cli.loading import load
+from geomexact.cli.loading import load, seed_warnings, triangulate_input
 from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.writing import distinct_outputs, write
 from geomexact.io.trace_file import write_trace
-from geomexact.mesh2d.delaunay.triangulation import is_delaunay, make_delaunay, triangulate
+from geomexact.mesh2d.delaunay.triangulation import is_delaunay, make_delaunay
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
@@ -31,17 +33,20 @@ def command_triangulate(args: argparse.Namespace) -> int:
     loaded = load(args.input, args.format, args.verbose)
     distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file")])
     started = time.perf_counter()
+    warnings: list[str] = []
     if isinstance(loaded.value, Mesh2):
         mesh, trace = make_delaunay(loaded.value)
         algorithm = "lawson flips"
     elif isinstance(loaded.value, PSLG):
-        construction = triangulate(
-            loaded.value,
+        construction = triangulate_input(
+            loaded,
+            split_hint="use --split-segments to split them there",
             keep_convex_hull=args.keep_convex_hull,
             split_segments=args.split_segments,
             merge_duplicates=args.merge_duplicates,
             engine=args.engine,
         )
+        warnings = seed_warnings(loaded, construction)
         mesh, trace = construction.mesh, construction.trace
         algorithm = "constrained delaunay" if loaded.value.segments else "delaunay"
     else:
@@ -52,6 +57,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
         written += write(args.output, mesh, args.to, overwrite=args.force, numbers=args.numbers)
     if args.trace:
         trace_path = Path(args.trace)
+        trace = attrs.evolve(trace, input_name=Path(args.input).name)
         write_trace(trace_path, trace, overwrite=args.force)
         written.append(trace_path)
     violations = validate(mesh) if args.check else []
@@ -64,13 +70,15 @@ def command_triangulate(args: argparse.Namespace) -> int:
         "seconds": round(seconds, 6),
         "valid": not violations,
         "written": [str(path) for path in written],
+        "warnings": warnings,
     }
     if args.json:
         print_json(report)
     else:
         print_table(f"{args.input}: {algorithm} in {seconds:.3f} s, {len(trace)} steps",
                     {k: v for k, v in report.items() if k not in {"input", "algorithm",
-                                                                   "written", "seconds"}})
+                                                                   "written", "seconds",
+                                                                   "warnings"}})
         for path in written:
             print(f"wrote {path}")
         for violation in violations:

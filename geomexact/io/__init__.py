@@ -21,7 +21,7 @@ listed in the report.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import MappingProxyType
 
@@ -29,9 +29,20 @@ from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
-from geomexact.io.pslg_text import read_pslg_text, write_pslg_text
-from geomexact.io.registry import NUMBER_STYLES, Format, NumberStyle, Value, WriteReport
+from geomexact.io.pslg_text import pslg_text_reading, read_pslg_text, write_pslg_text
+from geomexact.io.registry import (
+    NUMBER_STYLES,
+    Format,
+    NumberStyle,
+    Reading,
+    SourceLines,
+    Value,
+    WriteReport,
+    bounded,
+)
 from geomexact.io.triangle import (
+    node_reading,
+    poly_reading,
     read_node,
     read_poly,
     read_triangle,
@@ -125,7 +136,8 @@ def detect_format(path: str | Path) -> str:
         known = ", ".join(sorted(_BY_EXTENSION))
         shown = f"extension {suffix!r}" if suffix else "no extension"
         raise FormatError(
-            str(path), None, f"{shown} names no known format (known: {known}); pass format="
+            str(path), None,
+            f"{shown} names no known format (known: {known}); pass format= to name one",
         )
     return name
 
@@ -151,8 +163,35 @@ def read_with_notes(path: str | Path, *, format: str | None = None) -> tuple[Val
     """Read ``path`` (format from its extension unless ``format`` names one); return the
     value and the reader's notes (what it fixed or ignored, for verbose output)."""
     reader = _format(path, format).read
-    with collector_paused():
-        return reader(Path(path))
+    try:
+        with collector_paused():
+            return reader(Path(path))
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
+
+
+_SOURCED_READERS: Mapping[str, Callable[[Path], Reading]] = MappingProxyType({
+    "node": node_reading,
+    "poly": poly_reading,
+    "pslg": pslg_text_reading,
+})
+"""The readers that also give the line of each item (:class:`SourceLines`)."""
+
+
+def read_with_sources(path: str | Path, *, format: str | None = None) -> Reading:
+    """:func:`read_with_notes`, with the file and line of each vertex, segment, hole and
+    region where the format has lines for them (``node``, ``poly``, ``pslg``; else
+    ``sources`` is None), so that a later error can name the input's lines."""
+    chosen = _format(path, format)
+    try:
+        with collector_paused():
+            sourced = _SOURCED_READERS.get(chosen.name)
+            if sourced is not None:
+                return sourced(Path(path))
+            value, notes = chosen.read(Path(path))
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
+    return Reading(value, notes)
 
 
 def read(path: str | Path, *, format: str | None = None) -> Value:
@@ -211,12 +250,15 @@ __all__ = [
     "NUMBER_STYLES",
     "Format",
     "NumberStyle",
+    "Reading",
+    "SourceLines",
     "Value",
     "WriteReport",
     "detect_format",
     "output_paths",
     "read",
     "read_with_notes",
+    "read_with_sources",
     "write",
     "write_with_report",
 ]

@@ -6,7 +6,7 @@ from __future__ import annotations
 import errno
 import os
 import tempfile
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from geomexact.errors import FormatError, OverwriteError
@@ -29,6 +29,40 @@ def read_text(path: str | Path) -> str:
     except UnicodeDecodeError as error:
         line = data[: error.start].count(b"\n") + 1
         raise FormatError(name, line, f"not UTF-8 text (byte {error.start})") from error
+
+
+def read_lines(path: str | Path) -> Iterator[tuple[int, str]]:
+    """The lines of the UTF-8 file ``path``, one at a time, as (1-based number, text
+    without its ``\\n``), a leading byte-order mark removed: a long file is never held in
+    memory whole, and a reader that stops at a bad line reads no further.  Lines are split
+    on ``\\n`` only (``\\r`` stays in the text).  Errors are those of :func:`read_text`,
+    raised when the iteration starts (missing file) or reaches the line (a bad byte)."""
+    name = str(path)
+    try:
+        handle = open(path, "rb")  # noqa: SIM115 - the generator owns it, closed by `with`
+    except FileNotFoundError as error:
+        raise FormatError(name, None, "no such file") from error
+    except IsADirectoryError as error:
+        raise FormatError(name, None, "is a directory, not a file") from error
+    except OSError as error:
+        raise FormatError(name, None, f"cannot read: {error.strerror}") from error
+    number = 0
+    offset = 0
+    with handle:
+        try:
+            for number, data in enumerate(handle, start=1):
+                try:
+                    text = data.decode("utf-8")
+                except UnicodeDecodeError as error:
+                    raise FormatError(
+                        name, number, f"not UTF-8 text (byte {offset + error.start})"
+                    ) from error
+                offset += len(data)
+                if number == 1:
+                    text = text.removeprefix("\ufeff")  # a byte-order mark is not data
+                yield number, text.removesuffix("\n")
+        except OSError as error:
+            raise FormatError(name, number or None, f"cannot read: {error.strerror}") from error
 
 
 def write_text_atomic(path: str | Path, text: str, *, overwrite: bool = False) -> None:

@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import contextlib
 import importlib
+import sys
 import tempfile
+from collections.abc import Iterator
 from io import StringIO
 from pathlib import Path
 from typing import Any
@@ -33,6 +35,7 @@ from geomexact.io.registry import (
     Value,
     WriteReport,
     build_mesh,
+    clipped,
     dropped_parts,
 )
 from geomexact.kernel.numbers import to_float, to_rational
@@ -76,29 +79,107 @@ def _missing(error: ImportError) -> str:
     return f"meshio needs the {error.name or 'missing'} package for this format ({error})"
 
 
-def _meshio_read(path: Path) -> Any:
-    """meshio's reader of ``path``'s format.  ``meshio.read`` itself prints and calls
-    ``sys.exit`` when a file does not parse, so the format's own reader is called; only an
-    extension outside :data:`EXTENSIONS` goes through ``meshio.read``, silenced."""
+@contextlib.contextmanager
+def _meshio_messages(messages: list[str]) -> Iterator[None]:
+    """Collect the warnings meshio's readers would print (into ``messages``, clipped).
+    meshio prints them through rich, whose highlighting regex takes minutes on a long
+    line: a mutated Gmsh header of 200,000 characters hung a read (fuzz suite).  The
+    readers import ``warn`` and ``info`` by name, so each loaded meshio module's binding
+    is replaced for the call, and restored."""
+    common = sys.modules.get("meshio._common")
+
+    def collect(text: object, highlight: bool = True) -> None:
+        del highlight
+        messages.append(clipped(str(text), 200))
+
+    replaced: list[tuple[Any, str, Any]] = []
+    if common is not None:
+        originals = {getattr(common, name, None) for name in ("warn", "info")} - {None}
+        for name, module in list(sys.modules.items()):
+            if not name.startswith("meshio") or module is None:
+                continue
+            for attribute in ("warn", "info"):
+                value = getattr(module, attribute, None)
+                if value is not None and value in originals:
+                    replaced.append((module, attribute, value))
+                    setattr(module, attribute, collect)
+    try:
+        with contextlib.redirect_stdout(StringIO()), contextlib.redirect_stderr(StringIO()):
+            yield
+    finally:
+        for module, attribute, value in replaced:
+            setattr(module, attribute, value)
+
+
+MEMORY_MARGIN = 2 << 30
+"""The address space a meshio read may add beyond :data:`MEMORY_PER_BYTE` times the
+file's size (bytes)."""
+
+MEMORY_PER_BYTE = 64
+
+
+@contextlib.contextmanager
+def _memory_budget(size: int) -> Iterator[None]:
+    """Cap the process's address space while meshio reads a file of ``size`` bytes (Linux;
+    elsewhere nothing).  meshio sizes arrays by numbers in the file: a Gmsh node tag of
+    2^31 made it fill a 16 GiB array (fuzz suite); under the cap the allocation fails
+    with ``MemoryError``, reported as the file's problem.  The previous limit is
+    restored afterwards."""
+    try:
+        import resource
+
+        pages = int(Path("/proc/self/statm").read_text().split()[0])
+        used = pages * resource.getpagesize()
+        soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, OSError, ValueError, IndexError):
+        yield
+        return
+    cap = used + MEMORY_MARGIN + MEMORY_PER_BYTE * size
+    if hard != resource.RLIM_INFINITY:
+        cap = min(cap, hard)
+    if soft != resource.RLIM_INFINITY and soft <= cap:
+        yield  # already as tight
+        return
+    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+
+
+def _meshio_read(path: Path, notes: list[str]) -> Any:
+    """meshio's reader of ``path``'s format, its warnings collected into ``notes``.
+    ``meshio.read`` itself prints and calls ``sys.exit`` when a file does not parse, so
+    the format's own reader is called; only an extension outside :data:`EXTENSIONS` goes
+    through ``meshio.read``."""
     meshio = _meshio()
 
     name = str(path)
     modules = _MESHIO_FORMATS.get(path.suffix.lower())
+    messages: list[str] = []
     try:
-        if modules is None:
-            with contextlib.redirect_stdout(StringIO()), contextlib.redirect_stderr(StringIO()):
+        readers = [importlib.import_module(f"meshio.{module}") for module in modules or ()]
+        with _meshio_messages(messages), _memory_budget(path.stat().st_size):
+            if not readers:
                 return meshio.read(path)
-        for module in modules[:-1]:
-            try:
-                return importlib.import_module(f"meshio.{module}").read(name)
-            except meshio.ReadError:
-                continue
-        return importlib.import_module(f"meshio.{modules[-1]}").read(name)
+            for reader in readers[:-1]:
+                try:
+                    return reader.read(name)
+                except meshio.ReadError:
+                    continue
+            return readers[-1].read(name)
     except ImportError as error:
         raise FormatError(name, None, _missing(error)) from error
+    except MemoryError as error:
+        raise FormatError(
+            name, None, "meshio cannot read it: it needs more memory than a file of this "
+            "size can (a count or an index in the file is far too large)"
+        ) from error
     except (Exception, SystemExit) as error:  # meshio raises many kinds, or exits
-        problem = str(error) or type(error).__name__
+        problem = clipped(str(error) or type(error).__name__, 300)
         raise FormatError(name, None, f"meshio cannot read it: {problem}") from error
+    finally:
+        notes.extend(f"meshio: {message}" for message in messages[:5])
 
 
 def read_meshio(path: Path) -> tuple[Value, list[str]]:
@@ -106,8 +187,8 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     name = str(path)
     if not path.exists():
         raise FormatError(name, None, "no such file")
-    data = _meshio_read(path)
     notes: list[str] = []
+    data = _meshio_read(path, notes)
     raw_points = data.points
     if raw_points.ndim != 2 or raw_points.shape[1] not in (2, 3):
         raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 2|3")
@@ -128,6 +209,11 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     triangles: list[tuple[int, int, int]] = []
     for block in data.cells:
         if block.type == "triangle":
+            shape: tuple[int, ...] = tuple(getattr(block.data, "shape", ()))
+            if len(shape) != 2 or (shape[0] and shape[1] != 3):
+                raise FormatError(
+                    name, None, f"its triangle cells have shape {shape}; expected n x 3"
+                )
             triangles.extend(
                 (int(a), int(b), int(c)) for a, b, c in block.data.tolist()
             )

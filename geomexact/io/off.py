@@ -9,20 +9,24 @@ either; markers, attributes and segments of a mesh have no place in OFF and are 
 
 from __future__ import annotations
 
+import itertools
+from collections.abc import Iterator
 from pathlib import Path
 
-from geomexact.errors import FormatError, UnsupportedValueError
-from geomexact.io.files import read_text
+from geomexact.errors import FormatError, RationalParseError, UnsupportedValueError
+from geomexact.io.files import read_lines
 from geomexact.io.registry import (
     Lines,
     NumberedLine,
     NumberStyle,
     NumberText,
+    Orienter,
     TriangleTable,
     Value,
     WriteReport,
     all_clockwise_note,
     build_mesh,
+    clipped,
     counted,
     dropped_parts,
     expect_field_range,
@@ -31,9 +35,13 @@ from geomexact.io.registry import (
     parse_count,
     parse_int,
     parse_number,
+    quoted,
+    quoted_tokens,
+    section_too_short,
+    token_lines,
     write_files,
 )
-from geomexact.kernel.numbers import ZERO, Rational
+from geomexact.kernel.numbers import ZERO, Rational, parse_rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.snapshot import Mesh2
@@ -45,18 +53,30 @@ _BRACES = "{}"
 # the Geomview wrapper
 # -----------------------------------------------------------------------------------------
 class _Unwrapper:
-    """Blanks the ``{ [appearance {…}] [LIST] [{] … }`` wrapper around an OFF object in
-    comment-free rows, keeping every other character (and so every line number)."""
+    """Blanks the opening ``{ [appearance {…}] [LIST] [{]`` of the wrapper around an OFF
+    object in comment-free rows, keeping every other character (and so every line number).
+    Rows are pulled from the file only as far as the opening goes."""
 
-    def __init__(self, path: str, rows: list[str]) -> None:
+    def __init__(self, path: str, source: Iterator[tuple[int, str]]) -> None:
         self.path = path
-        self.rows = rows
+        self.source = source
+        self.rows: list[str] = []
         self.row = 0
         self.col = 0
 
+    def _has_row(self) -> bool:
+        """True when row ``self.row`` exists (pulling it from the file if needed)."""
+        while self.row >= len(self.rows):
+            pulled = next(self.source, None)
+            if pulled is None:
+                return False
+            line = pulled[1]
+            self.rows.append(line[: line.index("#")] if "#" in line else line)
+        return True
+
     def skip_space(self) -> bool:
         """Move to the next non-blank character; False at the end of the text."""
-        while self.row < len(self.rows):
+        while self._has_row():
             text = self.rows[self.row]
             while self.col < len(text) and text[self.col].isspace():
                 self.col += 1
@@ -78,20 +98,26 @@ class _Unwrapper:
         return text[self.col : end]
 
     def _blank_block(self) -> None:
-        """Blank a balanced ``{ … }`` starting at the cursor."""
+        """Blank a balanced ``{ … }`` starting at the cursor (each row blanked at once:
+        blanking character by character was quadratic in a long row)."""
         start_line = self.row + 1
         depth = 0
         while self.skip_space():
             text = self.rows[self.row]
-            char = text[self.col]
-            self._blank(self.col, self.col + 1)
-            self.col += 1
-            if char == "{":
-                depth += 1
-            elif char == "}":
-                depth -= 1
-                if depth == 0:
-                    return
+            end = self.col
+            while end < len(text):
+                char = text[end]
+                end += 1
+                if char == "{":
+                    depth += 1
+                elif char == "}":
+                    depth -= 1
+                    if depth == 0:
+                        break
+            self._blank(self.col, end)
+            self.col = end
+            if depth == 0:
+                return
         raise FormatError(self.path, start_line, "the '{' of this block is never closed")
 
     def unwrap(self) -> int:
@@ -108,9 +134,15 @@ class _Unwrapper:
                 return 0
             word = self._word()
             if word.lower() == "appearance":
+                line = self.row + 1
                 self._blank(self.col, self.col + len(word))
                 self.col += len(word)
-                if not self.skip_space() or self.rows[self.row][self.col] != "{":
+                if not self.skip_space():
+                    raise FormatError(
+                        self.path, line, "'appearance' must be followed by '{ … }', but the "
+                        "file ends"
+                    )
+                if self.rows[self.row][self.col] != "{":
                     raise FormatError(
                         self.path, self.row + 1, "'appearance' must be followed by '{ … }'"
                     )
@@ -122,47 +154,64 @@ class _Unwrapper:
                 break
         return opened
 
-    def close(self, opened: int, opening_line: int) -> None:
-        """Blank the ``opened`` closing braces at the end of the text."""
-        row = len(self.rows) - 1
-        while opened and row >= 0:
-            text = self.rows[row]
-            col = len(text) - 1
-            while col >= 0 and opened:
-                char = text[col]
-                if char == "}":
-                    text = text[:col] + " " + text[col + 1 :]
-                    opened -= 1
-                elif not char.isspace():
-                    raise FormatError(
-                        self.path,
-                        row + 1,
-                        f"expected '}}' closing the Geomview block opened on line "
-                        f"{opening_line}, found {char!r}",
-                    )
-                col -= 1
-            self.rows[row] = text
-            row -= 1
-        if opened:  # pragma: no cover - the opening braces are in the text too
-            raise FormatError(self.path, opening_line, "the Geomview block is never closed")
+
+def _closed(
+    path: str, lines: Iterator[NumberedLine], opened: int, opening_line: int
+) -> Iterator[NumberedLine]:
+    """``lines`` without the ``opened`` braces that close the Geomview block: the last
+    ``}`` characters of the text (only blanks and comments after them).  Earlier braces
+    are data (the reader reports them); too few closing braces are an error naming the
+    last other character."""
+    trailing: list[tuple[int, int]] = []  # (line, braces) of the text's trailing braces
+    last: tuple[int, str] | None = None  # the last data line and its last character
+    for number, tokens in lines:
+        text = " ".join(tokens)
+        data = text.rstrip("} ")
+        if not data:
+            trailing.append((number, text.count("}")))
+            continue
+        for brace_line, braces in trailing:  # data follows them: they close nothing
+            yield brace_line, ["}"] * braces
+        trailing = []
+        yield number, data.split()
+        last = (number, data[-1])
+        braces = text.count("}", len(data))
+        if braces:
+            trailing.append((number, braces))
+    count = sum(braces for _, braces in trailing)
+    if count < opened:
+        line, char = last if last is not None else (opening_line, "")
+        raise FormatError(
+            path,
+            line,
+            f"expected '}}' closing the Geomview block opened on line {opening_line}, "
+            f"found {char!r}" if char else "the Geomview block is never closed",
+        )
+    extra = count - opened  # the first braces beyond the closing ones are data
+    for number, braces in trailing:
+        if extra <= 0:
+            break
+        yield number, ["}"] * min(extra, braces)
+        extra -= braces
 
 
-def _off_lines(path: str, text: str, notes: list[str]) -> list[NumberedLine]:
-    text = text.removeprefix("\ufeff")  # a byte-order mark is not data
-    rows = [line[: line.index("#")] if "#" in line else line for line in text.split("\n")]
-    unwrapper = _Unwrapper(path, rows)
+def _off_lines(path: Path, notes: list[str]) -> Iterator[NumberedLine]:
+    """The data lines of an OFF file, streamed, through any Geomview wrapper."""
+    name = str(path)
+    source = read_lines(path)
+    unwrapper = _Unwrapper(name, source)
+    opened = 0
+    opening_line = 0
     if unwrapper.skip_space():
         opening_line = unwrapper.row + 1
         opened = unwrapper.unwrap()
         if opened:
-            unwrapper.close(opened, opening_line)
             notes.append("read the OFF object inside a Geomview '{ … }' wrapper")
-    result: list[NumberedLine] = []
-    for number, row in enumerate(rows, start=1):
-        tokens = row.split()
-        if tokens:
-            result.append((number, tokens))
-    return result
+    head = ((number, row) for number, row in enumerate(unwrapper.rows, start=1))
+    lines = token_lines(itertools.chain(head, source))
+    if opened:
+        return _closed(name, lines, opened, opening_line)
+    return lines
 
 
 # -----------------------------------------------------------------------------------------
@@ -182,15 +231,38 @@ def _keyword(path: str, number: int, token: str) -> bool:
     for part in ("ST", "C", "N"):
         rest = rest.replace(part, "", 1)
     if rest:
-        raise FormatError(path, number, f"unknown OFF keyword {token!r}")
+        raise FormatError(path, number, f"unknown OFF keyword {quoted(token)}")
     return True
 
 
+def _face_shaped(tokens: list[str]) -> bool:
+    """True when a line has the shape of a face, ``k v1 … vk [colour]`` of integers with
+    k >= 3 (which a vertex line ``x y 0`` does not have)."""
+    if not all(token.isdigit() for token in tokens):
+        return False
+    size = int(tokens[0]) if len(tokens[0]) < 10 else 0
+    return size >= 3 and len(tokens) >= size + 1
+
+
+def _vertex_shaped(tokens: list[str]) -> bool:
+    """True when a line reads as a planar vertex ``x y 0`` whose x is no integer (which a
+    face line ``k v1 … vk`` cannot be)."""
+    if len(tokens) < 3 or tokens[0].lstrip("+-").isdigit():
+        return False
+    try:
+        return all(parse_rational(token) is not None for token in tokens[:2]) and (
+            parse_rational(tokens[2]) == 0
+        )
+    except RationalParseError:
+        return False
+
+
 def read_off(path: Path) -> tuple[Value, list[str]]:
-    """An OFF file as a Mesh2 (all faces triangles) or a PolygonMesh."""
+    """An OFF file as a Mesh2 (all faces triangles) or a PolygonMesh.  The file is
+    streamed: a bad line stops the reading there."""
     name = str(path)
     notes: list[str] = []
-    lines = Lines(name, _off_lines(name, read_text(path), notes))
+    lines = Lines(name, _off_lines(path, notes))
     number, tokens = lines.next("the OFF header")
     if _keyword(name, number, tokens[0]):
         tokens = tokens[1:]
@@ -203,27 +275,55 @@ def read_off(path: Path) -> tuple[Value, list[str]]:
     face_count = parse_count(name, number, tokens[1], "face count")
     if len(tokens) == 3:
         parse_count(name, number, tokens[2], "edge count")
+    counts_line = number
     points: list[Point2] = []
     point_lines: list[int | None] = []
     for index in range(vertex_count):
-        number, tokens = lines.next(f"vertex {index} (of {vertex_count})")
-        expect_fields(name, number, tokens, 3, f"vertex {index} 'x y z'")
-        x = parse_number(name, number, tokens[0], f"x of vertex {index}")
-        y = parse_number(name, number, tokens[1], f"y of vertex {index}")
-        z = parse_number(name, number, tokens[2], f"z of vertex {index}")
+        number, tokens = lines.next_item(
+            index, vertex_count, f"vertex {index}", "vertices"
+        )
+        try:
+            expect_fields(name, number, tokens, 3, f"vertex {index} 'x y z'")
+            x = parse_number(name, number, tokens[0], f"x of vertex {index}")
+            y = parse_number(name, number, tokens[1], f"y of vertex {index}")
+            z = parse_number(name, number, tokens[2], f"z of vertex {index}")
+        except FormatError as error:
+            if index and _face_shaped(tokens):
+                raise section_too_short(
+                    name, number, vertex_count, index, "vertices", counts_line,
+                    f"{quoted_tokens(tokens)} is a face"
+                ) from error
+            raise
         if z != 0:
+            if index and _face_shaped(tokens):
+                raise section_too_short(
+                    name, number, vertex_count, index, "vertices", counts_line,
+                    f"{quoted_tokens(tokens)} is a face"
+                )
             raise FormatError(
                 name,
                 number,
-                f"vertex {index} has z = {tokens[2]}; only planar meshes (z = 0 for every "
-                "vertex) are supported",
+                f"vertex {index} has z = {clipped(tokens[2])}; only planar meshes (z = 0 "
+                "for every vertex) are supported",
             )
         points.append(point2(x, y))
         point_lines.append(number)
     faces: list[tuple[int, ...]] = []
     face_lines: list[int | None] = []
+    triangles: list[tuple[int, int, int]] = []
+    table = TriangleTable(path=name, triangles=triangles, lines=face_lines)
+    orienter = Orienter(table, points, individually=False, vertices=(name, point_lines))
+    all_triangles = True
     for index in range(face_count):
-        number, tokens = lines.next(f"face {index} (of {face_count})")
+        number, tokens = lines.next_item(index, face_count, f"face {index}", "faces")
+        if _vertex_shaped(tokens):
+            raise FormatError(
+                name,
+                number,
+                f"face {index}: {quoted_tokens(tokens)} is a vertex, but the header (line "
+                f"{counts_line}) announces {counted(vertex_count, 'vertex', 'vertices')}; "
+                "is the vertex count right?",
+            )
         size = parse_int(name, number, tokens[0], f"vertex count of face {index}")
         if size < 3:
             raise FormatError(
@@ -243,14 +343,16 @@ def read_off(path: Path) -> tuple[Value, list[str]]:
             face.append(vertex)
         faces.append(tuple(face))
         face_lines.append(number)
+        if size != 3:
+            all_triangles = False
+        elif all_triangles:  # a degenerate or mixed triangle stops the reading here
+            triangles.append((face[0], face[1], face[2]))
+            orienter.add(index)
     lines.expect_end(f"the {counted(face_count, 'face')}")
-    if all(len(face) == 3 for face in faces):
-        table = TriangleTable(
-            path=name,
-            triangles=[(face[0], face[1], face[2]) for face in faces],
-            lines=face_lines,
+    if all_triangles:
+        mesh = build_mesh(
+            points, point_lines, table, point_path=name, notes=notes, orienter=orienter
         )
-        mesh = build_mesh(points, point_lines, table, point_path=name, notes=notes)
         return mesh, notes
     polygons = _orient_polygons(name, points, faces, face_lines, notes)
     note_duplicate_points(points, point_lines, notes)

@@ -20,22 +20,24 @@ Records may come in any order; ids refer to vertices anywhere in the file.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 import attrs
 
 from geomexact.errors import FormatError, UnsupportedValueError
-from geomexact.io.files import read_text
+from geomexact.io.files import read_lines
 from geomexact.io.registry import (
+    NumberedLine,
     NumberStyle,
     NumberText,
+    Reading,
+    SourceLines,
     TriangleTable,
     Value,
     WriteReport,
     build_mesh,
     check_index,
-    data_lines,
     expect_exact_fields,
     expect_field_range,
     expect_fields,
@@ -43,6 +45,9 @@ from geomexact.io.registry import (
     note_duplicate_points,
     parse_int,
     parse_number,
+    quoted,
+    quoted_tokens,
+    token_lines,
     uniform_attributes,
     write_files,
 )
@@ -77,9 +82,9 @@ def _attributes(
     return tuple(parse_number(name, number, token, f"attribute of {owner}") for token in tokens)
 
 
-def _parse(name: str, text: str) -> _Records:
+def _parse(name: str, lines: Iterable[NumberedLine]) -> _Records:
     records = _Records()
-    for number, tokens in data_lines(text):
+    for number, tokens in lines:
         tag = tokens[0]
         if tag == "v":
             expect_fields(name, number, tokens, 3, "a vertex record 'v x y [marker [attributes]]'")
@@ -117,7 +122,7 @@ def _parse(name: str, text: str) -> _Records:
                     name,
                     number,
                     "a region record is 'r x y attribute [max_area]', found "
-                    f"{' '.join(tokens)!r}",
+                    f"{quoted_tokens(tokens)}",
                 )
             point = point2(
                 parse_number(name, number, tokens[1], "x of region"),
@@ -149,7 +154,7 @@ def _parse(name: str, text: str) -> _Records:
             )
             records.neighbours.append((n0, n1, n2, number))
         else:
-            raise FormatError(name, number, f"unknown record {tag!r}; expected {_TAGS}")
+            raise FormatError(name, number, f"unknown record {quoted(tag)}; expected {_TAGS}")
     return records
 
 
@@ -172,10 +177,18 @@ def _uniform(
 
 
 def read_pslg_text(path: Path) -> tuple[Value, list[str]]:
-    """A ``.pslg`` file as a Mesh2 (with ``t`` records) or a PSLG."""
+    """A ``.pslg`` file as a Mesh2 (with ``t`` records) or a PSLG
+    (:func:`pslg_text_reading` without the lines)."""
+    reading = pslg_text_reading(path)
+    return reading.value, reading.notes
+
+
+def pslg_text_reading(path: Path) -> Reading:
+    """A ``.pslg`` file as a Mesh2 (with ``t`` records) or a PSLG, with the line of each
+    vertex, segment, hole and region; streamed."""
     name = str(path)
     notes: list[str] = []
-    records = _parse(name, read_text(path))
+    records = _parse(name, token_lines(read_lines(path)))
     count = len(records.points)
     vertex_markers = (
         [marker or 0 for marker in records.markers]
@@ -206,7 +219,11 @@ def read_pslg_text(path: Path) -> tuple[Value, list[str]]:
             vertex_markers=tuple(vertex_markers) if vertex_markers is not None else (),
             vertex_attributes=tuple(vertex_attributes) if vertex_attributes is not None else (),
         )
-        return pslg, notes
+        sources = SourceLines(
+            name, tuple(records.point_lines), name, tuple(segment_lines),
+            tuple(records.hole_lines), tuple(records.region_lines),
+        )
+        return Reading(pslg, notes, sources)
     if records.holes or records.regions:
         line = (records.hole_lines + records.region_lines)[0]
         raise FormatError(
@@ -239,7 +256,8 @@ def read_pslg_text(path: Path) -> tuple[Value, list[str]]:
     if records.neighbours:
         _check_neighbours(name, table, records.neighbours)
         notes.append("the neighbour records agree with the adjacency")
-    return mesh, notes
+    return Reading(mesh, notes, SourceLines(name, tuple(records.point_lines), name,
+                                            tuple(segment_lines)))
 
 
 def _check_neighbours(

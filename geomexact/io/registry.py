@@ -23,7 +23,7 @@ written once (``specs/formats/registry.md``):
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any, Literal, Protocol, TypeAlias
 
@@ -31,8 +31,14 @@ import attrs
 import gmpy2
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
-from geomexact.io.files import write_text_atomic
-from geomexact.kernel.numbers import ZERO, Rational, floor_log2, parse_rational, to_float
+from geomexact.io.files import read_lines, write_text_atomic
+from geomexact.kernel.numbers import (
+    ZERO,
+    Rational,
+    floor_log2,
+    parse_rational,
+    to_float,
+)
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
@@ -89,58 +95,166 @@ class Format:
 # -----------------------------------------------------------------------------------------
 # reading text
 # -----------------------------------------------------------------------------------------
-def data_lines(text: str) -> list[NumberedLine]:
-    """The non-blank lines of ``text`` as (1-based line number, tokens), with everything
-    from a ``#`` to the end of its line removed.  Lines are split on ``\\n`` only (so line
-    numbers agree with ``read_text``'s and with editors'); tokens on any whitespace."""
-    result: list[NumberedLine] = []
-    text = text.removeprefix("\ufeff")  # a byte-order mark is not data
-    for number, line in enumerate(text.split("\n"), start=1):
+QUOTE_LIMIT = 200
+"""The most characters of a line or token that a message quotes."""
+
+
+def quoted(text: str, limit: int = QUOTE_LIMIT) -> str:
+    """``repr(text)``, or for a text longer than ``limit`` characters the repr of its
+    start, ``…`` and its length: a message never copies a huge line."""
+    if len(text) <= limit:
+        return repr(text)
+    return f"{text[:limit]!r}… ({len(text):,} characters)"
+
+
+def clipped(text: str, limit: int = QUOTE_LIMIT) -> str:
+    """``text`` itself, or for a text longer than ``limit`` characters its start, ``…``
+    and its length (for numbers shown as they are written, without quotes)."""
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit]}… ({len(text):,} characters)"
+
+
+def quoted_tokens(tokens: Sequence[str], limit: int = QUOTE_LIMIT) -> str:
+    """:func:`quoted` of the tokens joined by spaces, joining only as many as it shows."""
+    shown: list[str] = []
+    size = 0
+    for token in tokens:
+        shown.append(token)
+        size += len(token) + 1
+        if size > limit:
+            break
+    text = " ".join(shown)
+    if len(shown) == len(tokens):
+        return quoted(text, limit)
+    total = sum(len(token) for token in tokens) + len(tokens) - 1
+    return f"{text[:limit]!r}… ({total:,} characters)"
+
+
+def token_lines(rows: Iterable[tuple[int, str]]) -> Iterator[NumberedLine]:
+    """The non-blank rows as (line number, tokens), everything from a ``#`` to the end of
+    its row removed; tokens split on any whitespace.  Lazy: a file is read as far as its
+    reader asks."""
+    for number, line in rows:
         if "#" in line:
             line = line[: line.index("#")]
         tokens = line.split()
         if tokens:
-            result.append((number, tokens))
-    return result
+            yield number, tokens
+
+
+def data_lines(text: str) -> list[NumberedLine]:
+    """The non-blank lines of ``text`` as (1-based line number, tokens), with everything
+    from a ``#`` to the end of its line removed.  Lines are split on ``\\n`` only (so line
+    numbers agree with ``read_text``'s and with editors'); tokens on any whitespace."""
+    text = text.removeprefix("\ufeff")  # a byte-order mark is not data
+    return list(token_lines(enumerate(text.split("\n"), start=1)))
+
+
+def file_lines(path: Path) -> Lines:
+    """The data lines of the file ``path`` (:func:`token_lines` of
+    :func:`geomexact.io.files.read_lines`), streamed."""
+    return Lines(str(path), token_lines(read_lines(path)))
 
 
 class Lines:
-    """A cursor over numbered lines of one file; running out is a :class:`FormatError`
-    saying what was expected (a truncated file)."""
+    """A cursor over the numbered lines of one file, pulled one at a time (a reader never
+    holds the file's text); running out is a :class:`FormatError` saying what was
+    expected (a truncated file)."""
 
-    __slots__ = ("_index", "_lines", "last_line", "path")
+    __slots__ = ("_lines", "_pending", "last_line", "path")
 
-    def __init__(self, path: str, lines: list[NumberedLine]) -> None:
+    def __init__(self, path: str, lines: Iterable[NumberedLine]) -> None:
         self.path = path
-        self._lines = lines
-        self._index = 0
-        self.last_line: int | None = lines[-1][0] if lines else None
+        self._lines = iter(lines)
+        self._pending: NumberedLine | None = None
+        self.last_line: int | None = None  # the last line handed out
+
+    def _peek(self) -> NumberedLine | None:
+        if self._pending is None:
+            self._pending = next(self._lines, None)
+        return self._pending
 
     def next(self, what: str) -> NumberedLine:
         """The next line, or a FormatError "file ends before <what>"."""
-        if self._index >= len(self._lines):
+        line = self._peek()
+        if line is None:
             raise FormatError(self.path, self.last_line, f"the file ends before {what}")
-        line = self._lines[self._index]
-        self._index += 1
+        self._pending = None
+        self.last_line = line[0]
         return line
+
+    def next_item(self, index: int, count: int, item: str, plural: str) -> NumberedLine:
+        """The line of item ``index`` (0-based) of a section announcing ``count`` items
+        (``item``: how a message names it, e.g. ``"vertex 3"``); at the end of the file a
+        FormatError "expected <count> <plural>, found <index>"."""
+        line = self._peek()
+        if line is None:
+            raise FormatError(
+                self.path,
+                self.last_line,
+                f"expected {clipped(str(count), 40)} {plural}, found {index}: the file ends "
+                f"before {clipped(item, 80)}",
+            )
+        return self.next(item)
 
     def at_end(self) -> bool:
         """True when every line was consumed."""
-        return self._index >= len(self._lines)
+        return self._peek() is None
 
     def rest(self) -> list[NumberedLine]:
         """The lines not consumed yet (and consume them)."""
-        remaining = self._lines[self._index :]
-        self._index = len(self._lines)
+        remaining = [] if self._peek() is None else [self.next("the rest")]
+        remaining.extend(self._lines)
         return remaining
 
     def expect_end(self, what: str) -> None:
         """FormatError when lines remain after the last section ``what``."""
-        if not self.at_end():
-            number, tokens = self._lines[self._index]
+        line = self._peek()
+        if line is not None:
+            number, tokens = line
             raise FormatError(
-                self.path, number, f"unexpected data after {what}: {' '.join(tokens)!r}"
+                self.path, number, f"unexpected data after {what}: {quoted_tokens(tokens)}"
             )
+
+
+def is_count_line(tokens: Sequence[str], most: int) -> bool:
+    """True when ``tokens`` are 1 to ``most`` integers: the shape of a section header
+    (``count [markers]``), which a line of a section's items never has."""
+    return 0 < len(tokens) <= most and all(token.lstrip("+-").isdigit() for token in tokens)
+
+
+def section_too_short(
+    path: str, line: int, count: int, found: int, plural: str, header: int | None,
+    problem: str,
+) -> FormatError:
+    """The error of a section whose header (on line ``header``) announces ``count`` items
+    when the file has ``found``: line ``line`` already has the shape of what follows
+    (``problem`` says why it is not an item)."""
+    where = f" on line {header}" if header is not None else ""
+    return FormatError(
+        path,
+        line,
+        f"expected {clipped(str(count), 40)} {plural}, found {found}: this line is not one "
+        f"of them ({problem}); is the count{where} right?",
+    )
+
+
+PROBLEM_LIMIT = 1000
+"""The longest problem text of a reader's FormatError (:func:`bounded`)."""
+
+
+def bounded(error: FormatError) -> FormatError:
+    """``error``, or when its problem is longer than :data:`PROBLEM_LIMIT` characters (an
+    absurd number quoted whole, e.g. a 4000-digit vertex label) the same error with the
+    middle of the problem cut: the safety net behind every reader's quoting."""
+    problem = error.problem
+    if len(problem) <= PROBLEM_LIMIT:
+        return error
+    head, tail = problem[: PROBLEM_LIMIT * 2 // 3], problem[-PROBLEM_LIMIT // 4 :]
+    return FormatError(
+        error.path, error.line, f"{head}… ({len(problem):,} characters) …{tail}"
+    )
 
 
 def counted(count: int, singular: str, plural: str | None = None) -> str:
@@ -161,17 +275,22 @@ def parse_int(path: str, line: int, token: str, what: str) -> int:
         if token.isascii():
             return int(token)
     except ValueError:
-        pass
-    raise FormatError(path, line, f"{what}: {token!r} is not an integer")
+        if token.lstrip("+-").isdigit():  # more digits than int() converts
+            raise FormatError(
+                path, line, f"{what}: {quoted(token)} is too large ({len(token):,} digits)"
+            ) from None
+    raise FormatError(path, line, f"{what}: {quoted(token)} is not an integer")
 
 
 def parse_number(path: str, line: int, token: str, what: str) -> Rational:
-    """``token`` parsed exactly (:func:`geomexact.kernel.numbers.parse_rational`), or a FormatError
-    embedding the parser's message."""
+    """``token`` parsed exactly (:func:`geomexact.kernel.numbers.parse_rational`), or a
+    FormatError embedding the parser's reason."""
     try:
         return parse_rational(token)
     except RationalParseError as error:
-        raise FormatError(path, line, f"{what}: {error}") from error
+        raise FormatError(
+            path, line, f"{what}: cannot read {quoted(token)} as a number: {error.problem}"
+        ) from error
 
 
 def parse_count(path: str, line: int, token: str, what: str) -> int:
@@ -188,7 +307,7 @@ def expect_fields(path: str, line: int, tokens: Tokens, least: int, what: str) -
         raise FormatError(
             path,
             line,
-            f"{what} needs {least} fields, found {len(tokens)}: {' '.join(tokens)!r}",
+            f"{what} needs {least} fields, found {len(tokens)}: {quoted_tokens(tokens)}",
         )
 
 
@@ -198,7 +317,7 @@ def expect_exact_fields(path: str, line: int, tokens: Tokens, count: int, what: 
         raise FormatError(
             path,
             line,
-            f"{what} needs {count} fields, found {len(tokens)}: {' '.join(tokens)!r}",
+            f"{what} needs {count} fields, found {len(tokens)}: {quoted_tokens(tokens)}",
         )
 
 
@@ -208,7 +327,7 @@ def expect_field_range(
     """FormatError naming ``what`` (the record's expected form) when ``tokens`` has fewer
     than ``low`` or more than ``high`` fields."""
     if not low <= len(tokens) <= high:
-        raise FormatError(path, line, f"expected {what}, found {' '.join(tokens)!r}")
+        raise FormatError(path, line, f"expected {what}, found {quoted_tokens(tokens)}")
 
 
 def check_numbering(path: str, line: int, label: int, index: int, base: int, noun: str) -> int:
@@ -235,6 +354,53 @@ def check_index(path: str, line: int, index: int, count: int, base: int, what: s
         allowed = "there are none" if count == 0 else f"expected {base}..{count - 1 + base}"
         raise FormatError(path, line, f"{what} {index} is out of range ({allowed})")
     return value
+
+
+@attrs.frozen(slots=True)
+class SourceLines:
+    """Where the items of a value came from: the file and line of each vertex, segment,
+    hole and region seed (None: no line, e.g. a binary file), and the file's numbering
+    base of vertices — for messages in the words of the input, such as
+    ``"x.poly:12 and x.poly:16: segments (3, 4) and (7, 8) cross"``."""
+
+    vertex_file: str
+    vertex_lines: tuple[int | None, ...]
+    segment_file: str = ""
+    segment_lines: tuple[int | None, ...] = ()
+    hole_lines: tuple[int | None, ...] = ()
+    region_lines: tuple[int | None, ...] = ()
+    base: int = 0
+
+    @staticmethod
+    def _where(path: str, lines: Sequence[int | None], index: int) -> str:
+        line = lines[index] if 0 <= index < len(lines) else None
+        return f"{path}:{line}" if line is not None else path
+
+    def vertex(self, index: int) -> str:
+        """``file:line`` of vertex ``index`` (0-based)."""
+        return self._where(self.vertex_file, self.vertex_lines, index)
+
+    def segment(self, index: int) -> str:
+        """``file:line`` of segment ``index`` (0-based, in file order)."""
+        return self._where(self.segment_file or self.vertex_file, self.segment_lines, index)
+
+    def hole(self, index: int) -> str:
+        """``file:line`` of hole seed ``index``."""
+        return self._where(self.segment_file or self.vertex_file, self.hole_lines, index)
+
+    def region(self, index: int) -> str:
+        """``file:line`` of region seed ``index``."""
+        return self._where(self.segment_file or self.vertex_file, self.region_lines, index)
+
+
+@attrs.frozen(slots=True)
+class Reading:
+    """What a reader read: the value, its notes and, for the readers that keep them, the
+    :class:`SourceLines` of its items."""
+
+    value: Value
+    notes: list[str]
+    sources: SourceLines | None = None
 
 
 # -----------------------------------------------------------------------------------------
@@ -328,6 +494,92 @@ def note_duplicate_points(
         )
 
 
+class Orienter:
+    """Orients the triangles of a table one at a time (exact ``orient2d``), by the rules
+    of :func:`orient_triangles`, so that a reader can stop at the line of the first
+    degenerate or mixed triangle instead of after reading the whole file.
+
+    ``vertices``: the vertex file and the line of each vertex.  With it, before reporting
+    an orientation problem, the vertices used so far are checked for duplicates (as
+    :func:`build_mesh` does first): two corners at one point make a triangle degenerate
+    or turn it, and the duplicate is the problem to name."""
+
+    __slots__ = (
+        "first_ccw", "first_cw", "individually", "oriented", "points", "reversed_count",
+        "table", "vertices",
+    )
+
+    def __init__(
+        self,
+        table: TriangleTable,
+        points: Sequence[Point2],
+        *,
+        individually: bool,
+        vertices: tuple[str, Sequence[int | None]] | None = None,
+    ) -> None:
+        self.table = table
+        self.points = points
+        self.individually = individually
+        self.vertices = vertices
+        self.oriented: list[tuple[int, int, int]] = []
+        self.first_cw: int | None = None
+        self.first_ccw: int | None = None
+        self.reversed_count = 0
+
+    def _problem(self, index: int, problem: str) -> FormatError:
+        """The error of triangle ``index`` (or of a duplicate vertex behind it)."""
+        table = self.table
+        if self.vertices is not None:
+            path, lines = self.vertices
+            used = {v for triangle in table.triangles[: index + 1] for v in triangle}
+            check_distinct_points(path, self.points, lines, used, [], table.vertex_base)
+        return FormatError(table.path, table.lines[index], problem)
+
+    def add(self, index: int) -> None:
+        """Orient triangle ``index`` of the table (the next one); FormatError for a
+        repeated or collinear corner and for the first triangle that mixes orientations."""
+        table, points = self.table, self.points
+        a, b, c = table.triangles[index]
+        if a in (b, c) or b == c:
+            raise FormatError(
+                table.path, table.lines[index], f"{table.describe(index)} repeats a vertex"
+            )
+        orientation = orient2d(points[a], points[b], points[c])
+        if orientation == Orientation.COLLINEAR:
+            raise self._problem(
+                index, f"{table.describe(index)} is degenerate: its corners are collinear"
+            )
+        if orientation == Orientation.CLOCKWISE:
+            if self.first_cw is None:
+                self.first_cw = index
+            self.oriented.append((a, c, b))
+            self.reversed_count += 1
+        else:
+            if self.first_ccw is None:
+                self.first_ccw = index
+            self.oriented.append((a, b, c))
+        first_cw, first_ccw = self.first_cw, self.first_ccw
+        if not self.individually and first_cw is not None and first_ccw is not None:
+            raise self._problem(
+                max(first_cw, first_ccw),
+                f"{table.noun}s have mixed orientations: {table.describe(first_cw)} is "
+                f"clockwise but {table.describe(first_ccw)} is counter-clockwise",
+            )
+
+    def finish(self, notes: list[str]) -> list[tuple[int, int, int]]:
+        """The oriented triangles (all added), noting how many were reversed."""
+        total, reversed_count, noun = len(self.oriented), self.reversed_count, self.table.noun
+        if reversed_count:
+            if reversed_count == total:
+                notes.append(all_clockwise_note(total, noun))
+            else:
+                notes.append(
+                    f"{reversed_count} of {counted(total, noun)} were clockwise; reversed "
+                    f"{'it' if reversed_count == 1 else 'them'}"
+                )
+        return self.oriented
+
+
 def orient_triangles(
     table: TriangleTable, points: Sequence[Point2], *, individually: bool, notes: list[str]
 ) -> list[tuple[int, int, int]]:
@@ -338,52 +590,10 @@ def orient_triangles(
     consistent: all clockwise is reversed (and noted), a mix is a FormatError naming the
     first clockwise and the first counter-clockwise triangle.
     """
-    clockwise = Orientation.CLOCKWISE
-    collinear = Orientation.COLLINEAR
-    path = table.path
-    result: list[tuple[int, int, int]] = []
-    first_cw: int | None = None
-    first_ccw: int | None = None
-    reversed_count = 0
-    for index, (a, b, c) in enumerate(table.triangles):
-        if a in (b, c) or b == c:
-            raise FormatError(
-                path, table.lines[index], f"{table.describe(index)} repeats a vertex"
-            )
-        orientation = orient2d(points[a], points[b], points[c])
-        if orientation == collinear:
-            raise FormatError(
-                path,
-                table.lines[index],
-                f"{table.describe(index)} is degenerate: its corners are collinear",
-            )
-        if orientation == clockwise:
-            if first_cw is None:
-                first_cw = index
-            result.append((a, c, b))
-            reversed_count += 1
-        else:
-            if first_ccw is None:
-                first_ccw = index
-            result.append((a, b, c))
-        if not individually and first_cw is not None and first_ccw is not None:
-            later = max(first_cw, first_ccw)
-            raise FormatError(
-                path,
-                table.lines[later],
-                f"{table.noun}s have mixed orientations: {table.describe(first_cw)} is "
-                f"clockwise but {table.describe(first_ccw)} is counter-clockwise",
-            )
-    total = len(result)
-    if reversed_count:
-        if reversed_count == total:
-            notes.append(all_clockwise_note(total, table.noun))
-        else:
-            notes.append(
-                f"{reversed_count} of {counted(total, table.noun)} were clockwise; reversed "
-                f"{'it' if reversed_count == 1 else 'them'}"
-            )
-    return result
+    orienter = Orienter(table, points, individually=individually)
+    for index in range(len(table.triangles)):
+        orienter.add(index)
+    return orienter.finish(notes)
 
 
 def build_mesh(
@@ -399,18 +609,23 @@ def build_mesh(
     segment_lines: Sequence[int | None] = (),
     segment_path: str | None = None,
     orient_individually: bool = False,
+    orienter: Orienter | None = None,
 ) -> Mesh2:
     """A :class:`Mesh2` from checked tables (indices already 0-based and in range).
 
     Checks, each a FormatError naming the file and line: duplicate vertices, degenerate
     triangles, orientation (see :func:`orient_triangles`), two triangles on the same side
     of an edge (overlap), segments with equal ends.  Notes vertices in no triangle.
+    ``orienter``: the reader's, which oriented every triangle as it was read.
     """
     used = {vertex for triangle in table.triangles for vertex in triangle}
     check_distinct_points(point_path, points, point_lines, used, notes, table.vertex_base)
-    oriented = orient_triangles(
-        table, points, individually=orient_individually, notes=notes
-    )
+    if orienter is not None and len(orienter.oriented) == len(table.triangles):
+        oriented = orienter.finish(notes)
+    else:
+        oriented = orient_triangles(
+            table, points, individually=orient_individually, notes=notes
+        )
     transient = Transient2(empty_mesh())
     for index, point in enumerate(points):
         marker = vertex_markers[index] if vertex_markers is not None else 0

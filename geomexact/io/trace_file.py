@@ -2,7 +2,8 @@
 
 Line 1 is the header
 ``{"format": "geomexact-trace", "version": 1, "geomexact": "...", "input_digest": "<hex>",
-"parameters": {...}, "steps": n}``; each further line is one step
+"parameters": {...}, "steps": n}`` (and ``"input_name"``, the input's file name, when the
+run knows it); each further line is one step
 ``{"i": k, "op": "flip", "args": [3, 5, "1/2"], "digest": "<hex>"}`` where integer
 arguments are vertex ids and string arguments are exact rationals ``"p/q"``.  Keys are
 sorted and separators fixed, so the same run gives byte-identical files on every machine.
@@ -12,12 +13,14 @@ Specification: ``specs/trace.md``.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator, Mapping
+import re
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from geomexact.errors import FormatError
-from geomexact.io.files import read_text, write_lines_atomic
+from geomexact.errors import FormatError, RationalParseError
+from geomexact.io.files import read_lines, write_lines_atomic
+from geomexact.io.registry import bounded, clipped, quoted
 from geomexact.kernel.numbers import Rational, parse_rational
 from geomexact.trace.record import Trace
 from geomexact.trace.step import Step, StepArgument
@@ -38,16 +41,17 @@ def _dumps(record: Mapping[str, Any]) -> str:
 
 def trace_lines(trace: Trace) -> Iterator[str]:
     """The lines of the trace file (without newlines)."""
-    yield _dumps(
-        {
-            "format": FORMAT_NAME,
-            "version": FORMAT_VERSION,
-            "geomexact": trace.version,
-            "input_digest": f"{trace.input_digest:032x}",
-            "parameters": dict(trace.parameters),
-            "steps": len(trace.steps),
-        }
-    )
+    header: dict[str, Any] = {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "geomexact": trace.version,
+        "input_digest": f"{trace.input_digest:032x}",
+        "parameters": dict(trace.parameters),
+        "steps": len(trace.steps),
+    }
+    if trace.input_name:  # only when known: traces without it keep their old bytes
+        header["input_name"] = trace.input_name
+    yield _dumps(header)
     for index, (step, digest) in enumerate(zip(trace.steps, trace.digests, strict=True)):
         yield _dumps(
             {
@@ -65,38 +69,66 @@ def trace_text(trace: Trace) -> str:
 
 
 def parse_trace(text: str, path: str = "<trace>") -> Trace:
-    """Read a trace file's text; raises :class:`FormatError` naming the line and problem."""
-    lines = text.splitlines()
-    if not lines:
+    """Read a trace file's text; raises :class:`FormatError` naming the line and problem.
+    Lines are split on ``\\n`` (as :func:`read_trace` splits a file)."""
+    try:
+        return _parse_lines(enumerate(text.removeprefix("\ufeff").split("\n"), start=1), path)
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
+
+
+def _parse_lines(lines: Iterable[tuple[int, str]], path: str) -> Trace:
+    rows = (row for row in lines if row[1].strip())
+    first = next(rows, None)
+    if first is None:
         raise FormatError(path, None, "empty trace file")
-    header = _json_line(lines[0], path, 1)
+    number, line = first
+    header = _json_line(line, path, number)
     if header.get("format") != FORMAT_NAME:
-        raise FormatError(path, 1, f"not a geomexact trace (format is {header.get('format')!r})")
+        raise FormatError(
+            path, number, f"not a geomexact trace (format is {_shown(header.get('format'))})"
+        )
     if header.get("version") != FORMAT_VERSION:
-        raise FormatError(path, 1, f"unsupported trace version {header.get('version')!r}")
-    input_digest = _hex(header.get("input_digest"), path, 1)
+        raise FormatError(
+            path, number, f"unsupported trace version {_shown(header.get('version'))}"
+        )
+    input_digest = _hex(header.get("input_digest"), path, number)
     parameters = header.get("parameters", {})
     if not isinstance(parameters, dict):
-        raise FormatError(path, 1, "parameters must be a JSON object")
+        raise FormatError(path, number, "parameters must be a JSON object")
+    input_name = header.get("input_name", "")
+    if not isinstance(input_name, str):
+        raise FormatError(path, number, "input_name must be a JSON string")
+    expected = header.get("steps")
+    if expected is not None and (isinstance(expected, bool) or not isinstance(expected, int)
+                                 or expected < 0):
+        raise FormatError(path, number, f"steps must be a count, not {_shown(expected)}")
+    version = header.get("geomexact", "")
+    if not isinstance(version, str):
+        raise FormatError(path, number, "geomexact (the version) must be a JSON string")
     steps: list[Step] = []
     digests: list[int] = []
-    for number, line in enumerate(lines[1:], start=2):
-        if not line.strip():
-            continue
+    last = number
+    for number, line in rows:
+        last = number
         record = _json_line(line, path, number)
         if record.get("i") != len(steps) + 1:
             raise FormatError(path, number, f"expected step number {len(steps) + 1}, "
-                              f"found {record.get('i')!r}")
+                              f"found {_shown(record.get('i'))}")
         op, args = record.get("op"), record.get("args")
         if not isinstance(op, str) or not isinstance(args, list):
             raise FormatError(path, number, "a step needs a string 'op' and a list 'args'")
         steps.append(Step(op, tuple(_argument(a, path, number) for a in args)))
         digests.append(_hex(record.get("digest"), path, number))
-    expected = header.get("steps")
     if expected is not None and expected != len(steps):
-        raise FormatError(path, len(lines), f"truncated trace: the header announces "
+        raise FormatError(path, last, f"truncated trace: the header announces "
                           f"{expected} steps, the file has {len(steps)}")
-    return Trace(input_digest, steps, digests, parameters, str(header.get("geomexact", "")))
+    return Trace(input_digest, steps, digests, parameters, version, input_name)
+
+
+def _shown(value: object) -> str:
+    """A JSON value for a message, at most about 200 characters of it."""
+    return quoted(value) if isinstance(value, str) else clipped(repr(value))
 
 
 def _json_line(line: str, path: str, number: int) -> dict[str, Any]:
@@ -104,30 +136,38 @@ def _json_line(line: str, path: str, number: int) -> dict[str, Any]:
         record = json.loads(line)
     except json.JSONDecodeError as error:
         raise FormatError(path, number, f"not valid JSON ({error.msg})") from error
+    except RecursionError as error:
+        raise FormatError(path, number, "not valid JSON here (nested too deeply)") from error
+    except ValueError as error:  # e.g. an integer of more digits than int() converts
+        raise FormatError(path, number, f"not valid JSON here ({clipped(str(error))})") from error
     if not isinstance(record, dict):
         raise FormatError(path, number, "each line must be a JSON object")
     return record
 
 
+_HEX = re.compile(r"[0-9a-fA-F]{32}")
+
+
 def _hex(value: object, path: str, number: int) -> int:
-    if not isinstance(value, str) or len(value) != 32:
-        raise FormatError(path, number, f"a digest must be 32 hexadecimal digits, got {value!r}")
-    try:
-        return int(value, 16)
-    except ValueError as error:
-        raise FormatError(path, number, f"bad digest {value!r}") from error
+    if not isinstance(value, str) or not _HEX.fullmatch(value):
+        raise FormatError(
+            path, number, f"a digest must be 32 hexadecimal digits, got {_shown(value)}"
+        )
+    return int(value, 16)
 
 
 def _argument(value: object, path: str, number: int) -> int | Rational:
     if isinstance(value, bool) or not isinstance(value, int | str):
-        raise FormatError(path, number, f"step argument {value!r} is neither a vertex id "
-                          "nor a rational 'p/q'")
+        raise FormatError(path, number, f"step argument {_shown(value)} is neither a vertex "
+                          "id nor a rational 'p/q'")
     if isinstance(value, int):
         return value
     try:
         return parse_rational(value)
-    except ValueError as error:
-        raise FormatError(path, number, str(error)) from error
+    except RationalParseError as error:
+        raise FormatError(
+            path, number, f"step argument {quoted(value)}: {error.problem}"
+        ) from error
 
 
 def write_trace(path: str | Path, trace: Trace, *, overwrite: bool = False) -> None:
@@ -137,6 +177,9 @@ def write_trace(path: str | Path, trace: Trace, *, overwrite: bool = False) -> N
 
 
 def read_trace(path: str | Path) -> Trace:
-    """Read a trace file (see :func:`parse_trace`)."""
-    return parse_trace(read_text(path), str(path))
+    """Read a trace file (see :func:`parse_trace`), line by line."""
+    try:
+        return _parse_lines(read_lines(path), str(path))
+    except FormatError as error:
+        raise bounded(error) from error.__cause__
 

@@ -21,11 +21,13 @@ from pathlib import Path
 import attrs
 
 from geomexact.errors import FormatError, UnsupportedValueError
-from geomexact.io.files import read_text
 from geomexact.io.registry import (
     Lines,
     NumberStyle,
     NumberText,
+    Orienter,
+    Reading,
+    SourceLines,
     TriangleTable,
     Value,
     WriteReport,
@@ -33,16 +35,19 @@ from geomexact.io.registry import (
     check_index,
     check_numbering,
     counted,
-    data_lines,
     dropped_parts,
     expect_exact_fields,
     expect_fields,
     expected_neighbours,
+    file_lines,
     file_stem,
+    is_count_line,
     note_duplicate_points,
     parse_count,
     parse_int,
     parse_number,
+    quoted_tokens,
+    section_too_short,
     uniform_attributes,
     with_extension,
     write_files,
@@ -96,23 +101,39 @@ def _read_vertex_header(path: str, number: int, tokens: list[str]) -> tuple[int,
 
 
 def _read_vertices(
-    path: str, lines: Lines, count: int, attribute_count: int, has_markers: bool
+    path: str,
+    lines: Lines,
+    count: int,
+    attribute_count: int,
+    has_markers: bool,
+    *,
+    header_line: int | None = None,
+    followed: bool = False,
 ) -> VertexTable:
+    """The vertex lines after a vertex header (on ``header_line``); ``followed``: a
+    segment header comes next (a ``.poly``), so a line of that shape ends the section."""
     fields = 3 + attribute_count + (1 if has_markers else 0)
     points: list[Point2] = []
     point_lines: list[int | None] = []
     markers: list[int] = []
     attributes: list[Attributes] = []
     base = 0
+    shape = (
+        "a vertex line 'number x y"
+        + " attributes" * bool(attribute_count)
+        + " marker" * has_markers
+        + "'"
+    )
     for index in range(count):
-        number, tokens = lines.next(f"vertex {index + base} (of {count})")
-        expect_exact_fields(
-            path, number, tokens, fields,
-            "a vertex line 'number x y"
-            + " attributes" * bool(attribute_count)
-            + " marker" * has_markers
-            + "'",
+        number, tokens = lines.next_item(
+            index, count, f"vertex {index + base} (of {count})", "vertices"
         )
+        if len(tokens) != fields and followed and index and is_count_line(tokens, 2):
+            raise section_too_short(
+                path, number, count, index, "vertices", header_line,
+                f"{quoted_tokens(tokens)} is the segment header 'count markers'",
+            )
+        expect_exact_fields(path, number, tokens, fields, shape)
         label = parse_int(path, number, tokens[0], "vertex number")
         base = check_numbering(path, number, label, index, base, "vertex")
         x = parse_number(path, number, tokens[1], f"x of vertex {label}")
@@ -134,12 +155,14 @@ def _read_vertices(
 
 
 def read_node_table(path: Path) -> VertexTable:
-    """The vertices of a ``.node`` file (nothing may follow them)."""
+    """The vertices of a ``.node`` file (nothing may follow them), streamed."""
     name = str(path)
-    lines = Lines(name, data_lines(read_text(path)))
+    lines = file_lines(path)
     number, tokens = lines.next("the header 'count dimension attributes markers'")
     count, attribute_count, markers = _read_vertex_header(name, number, tokens)
-    table = _read_vertices(name, lines, count, attribute_count, bool(markers))
+    table = _read_vertices(
+        name, lines, count, attribute_count, bool(markers), header_line=number
+    )
     lines.expect_end(f"the {counted(count, 'vertex', 'vertices')}")
     return table
 
@@ -159,13 +182,21 @@ def _note_duplicate_vertices(table: VertexTable, notes: list[str]) -> None:
 # -----------------------------------------------------------------------------------------
 # format "node": a point set
 # -----------------------------------------------------------------------------------------
-def read_node(path: Path) -> tuple[Value, list[str]]:
-    """A ``.node`` file as a PSLG without segments (markers and attributes kept)."""
+def node_reading(path: Path) -> Reading:
+    """A ``.node`` file as a PSLG without segments (markers and attributes kept), with the
+    line of each vertex."""
     table = read_node_table(path)
     notes: list[str] = []
     _note_duplicate_vertices(table, notes)
     markers, attributes = _pslg_vertex_tables(table)
-    return PSLG(vertices=table.points, vertex_markers=markers, vertex_attributes=attributes), notes
+    pslg = PSLG(vertices=table.points, vertex_markers=markers, vertex_attributes=attributes)
+    return Reading(pslg, notes, SourceLines(str(path), tuple(table.lines), base=table.base))
+
+
+def read_node(path: Path) -> tuple[Value, list[str]]:
+    """A ``.node`` file as a PSLG (:func:`node_reading` without the lines)."""
+    reading = node_reading(path)
+    return reading.value, reading.notes
 
 
 def _node_text(
@@ -223,11 +254,17 @@ class PolySections:
     segment_lines: list[int | None]
     holes: list[Point2]
     regions: list[RegionSeed]
+    hole_lines: list[int | None] = attrs.Factory(list)
+    region_lines: list[int | None] = attrs.Factory(list)
 
 
 def _read_poly_sections(
-    path: str, lines: Lines, vertex_count: int, base: int
+    path: str, lines: Lines, vertex_count: int, base: int, notes: list[str] | None = None
 ) -> PolySections:
+    """Segments, then the optional holes and regions.  As Triangle does, a hole or region
+    header is read by its first number and a hole or region line by its first 3 or 5
+    fields: what follows them is ignored (and noted in ``notes``)."""
+    ignored: list[int] = []  # lines whose extra fields were ignored
     number, tokens = lines.next("the segment header 'count markers'")
     if len(tokens) > 2:
         raise FormatError(
@@ -237,11 +274,19 @@ def _read_poly_sections(
     markers = parse_int(path, number, tokens[1], "segment marker count") if len(tokens) > 1 else 0
     if markers not in (0, 1):
         raise FormatError(path, number, f"segment marker count must be 0 or 1, not {markers}")
+    header_line = number
     segments: list[tuple[int, int, int]] = []
     segment_lines: list[int | None] = []
     fields = 3 + markers
     for index in range(count):
-        number, tokens = lines.next(f"segment {index + base} (of {count})")
+        number, tokens = lines.next_item(
+            index, count, f"segment {index + base} (of {count})", "segments"
+        )
+        if len(tokens) != fields and is_count_line(tokens, 1):
+            raise section_too_short(
+                path, number, count, index, "segments", header_line,
+                f"{quoted_tokens(tokens)} is the hole header 'count'",
+            )
         expect_exact_fields(
             path, number, tokens, fields,
             "a segment line 'number endpoint endpoint" + " marker" * markers + "'",
@@ -261,14 +306,26 @@ def _read_poly_sections(
         segments.append((ends[0], ends[1], marker))
         segment_lines.append(number)
     holes: list[Point2] = []
+    hole_lines: list[int | None] = []
     regions: list[RegionSeed] = []
+    region_lines: list[int | None] = []
     if not lines.at_end():
         number, tokens = lines.next("the hole count")
-        expect_exact_fields(path, number, tokens, 1, "the hole header 'count'")
+        if len(tokens) > 1:
+            ignored.append(number)
         count = parse_count(path, number, tokens[0], "hole count")
+        header_line = number
         for index in range(count):
-            number, tokens = lines.next(f"hole {index + 1} (of {count})")
-            expect_exact_fields(path, number, tokens, 3, "a hole line 'number x y'")
+            number, tokens = lines.next_item(index, count, f"hole {index + 1} (of {count})",
+                                             "holes")
+            if len(tokens) < 3 and is_count_line(tokens, 1):
+                raise section_too_short(
+                    path, number, count, index, "holes", header_line,
+                    f"{quoted_tokens(tokens)} is the region header 'count'",
+                )
+            expect_fields(path, number, tokens, 3, "a hole line 'number x y'")
+            if len(tokens) > 3:
+                ignored.append(number)
             label = parse_int(path, number, tokens[0], "hole number")
             holes.append(
                 point2(
@@ -276,42 +333,51 @@ def _read_poly_sections(
                     parse_number(path, number, tokens[2], f"y of hole {label}"),
                 )
             )
+            hole_lines.append(number)
     if not lines.at_end():
         number, tokens = lines.next("the region count")
-        expect_exact_fields(path, number, tokens, 1, "the region header 'count'")
+        if len(tokens) > 1:
+            ignored.append(number)
         count = parse_count(path, number, tokens[0], "region count")
         for index in range(count):
-            number, tokens = lines.next(f"region {index + 1} (of {count})")
+            number, tokens = lines.next_item(
+                index, count, f"region {index + 1} (of {count})", "regions"
+            )
             expect_fields(path, number, tokens, 4, "a region line 'number x y attribute [area]'")
             if len(tokens) > 5:
-                raise FormatError(
-                    path,
-                    number,
-                    f"a region line is 'number x y attribute [area]', found {len(tokens)} "
-                    "fields",
-                )
+                ignored.append(number)
             label = parse_int(path, number, tokens[0], "region number")
             x = parse_number(path, number, tokens[1], f"x of region {label}")
             y = parse_number(path, number, tokens[2], f"y of region {label}")
             attribute = parse_number(path, number, tokens[3], f"attribute of region {label}")
             area: Rational | None = None
-            if len(tokens) == 5:
+            if len(tokens) >= 5:
                 area = parse_number(path, number, tokens[4], f"maximum area of region {label}")
                 if area <= 0:
                     area = None  # Triangle: a non-positive area means "no constraint"
             regions.append(RegionSeed(point2(x, y), attribute, area))
+            region_lines.append(number)
     lines.expect_end("the last section (holes, then regions)")
-    return PolySections(segments, segment_lines, holes, regions)
+    if ignored and notes is not None:
+        shown = ", ".join(map(str, ignored[:5])) + (", …" if len(ignored) > 5 else "")
+        notes.append(
+            f"ignored the fields after the ones Triangle reads on "
+            f"{counted(len(ignored), 'line')} of the holes and regions (line {shown})"
+        )
+    return PolySections(
+        segments, segment_lines, holes, regions, hole_lines, region_lines
+    )
 
 
-def read_poly(path: Path) -> tuple[Value, list[str]]:
+def poly_reading(path: Path) -> Reading:
     """A ``.poly`` file as a PSLG (vertices from the ``.node`` beside it when its vertex
-    count is 0)."""
+    count is 0), with the line of each item; streamed."""
     name = str(path)
     notes: list[str] = []
-    lines = Lines(name, data_lines(read_text(path)))
+    lines = file_lines(path)
     number, tokens = lines.next("the header 'count dimension attributes markers'")
     count, attribute_count, markers = _read_vertex_header(name, number, tokens)
+    vertex_file = name
     if count == 0:
         node_path = with_extension(file_stem(path, POLY), NODE)
         if not node_path.exists():
@@ -322,10 +388,14 @@ def read_poly(path: Path) -> tuple[Value, list[str]]:
                 "is no such file",
             )
         table = read_node_table(node_path)
+        vertex_file = str(node_path)
         notes.append(f"vertices read from {node_path}")
     else:
-        table = _read_vertices(name, lines, count, attribute_count, bool(markers))
-    sections = _read_poly_sections(name, lines, len(table.points), table.base)
+        table = _read_vertices(
+            name, lines, count, attribute_count, bool(markers), header_line=number,
+            followed=True,
+        )
+    sections = _read_poly_sections(name, lines, len(table.points), table.base, notes)
     _note_duplicate_vertices(table, notes)
     vertex_markers, vertex_attributes = _pslg_vertex_tables(table)
     pslg = PSLG(
@@ -336,7 +406,17 @@ def read_poly(path: Path) -> tuple[Value, list[str]]:
         vertex_markers=vertex_markers,
         vertex_attributes=vertex_attributes,
     )
-    return pslg, notes
+    sources = SourceLines(
+        vertex_file, tuple(table.lines), name, tuple(sections.segment_lines),
+        tuple(sections.hole_lines), tuple(sections.region_lines), table.base,
+    )
+    return Reading(pslg, notes, sources)
+
+
+def read_poly(path: Path) -> tuple[Value, list[str]]:
+    """A ``.poly`` file as a PSLG (:func:`poly_reading` without the lines)."""
+    reading = poly_reading(path)
+    return reading.value, reading.notes
 
 
 def _poly_sections_text(
@@ -385,11 +465,14 @@ class ElementTable:
 
     table: TriangleTable
     first_number: int
+    orienter: Orienter | None = None  # each triangle oriented as it was read
 
 
 def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
+    """The triangles of an ``.ele`` file, streamed, each oriented as it is read (a
+    degenerate or mixed triangle stops the reading at its line)."""
     name = str(path)
-    lines = Lines(name, data_lines(read_text(path)))
+    lines = file_lines(path)
     number, tokens = lines.next("the header 'count corners attributes'")
     if len(tokens) > 3:
         raise FormatError(
@@ -414,8 +497,11 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
     triangle_lines: list[int | None] = []
     attributes: list[Attributes] = []
     first = 0
+    orienter: Orienter | None = None
     for index in range(count):
-        number, tokens = lines.next(f"triangle {index + first} (of {count})")
+        number, tokens = lines.next_item(
+            index, count, f"triangle {index + first} (of {count})", "triangles"
+        )
         if len(tokens) != fields:
             expect_exact_fields(
                 name, number, tokens, fields,
@@ -443,6 +529,13 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
                     for token in tokens[4:]
                 )
             )
+        if orienter is None:  # the first line sets the numbering the messages use
+            orienter = Orienter(
+                TriangleTable(name, triangles, triangle_lines, first_number=first,
+                              vertex_base=base),
+                nodes.points, individually=False, vertices=(nodes.path, nodes.lines),
+            )
+        orienter.add(index)
     lines.expect_end(f"the {counted(count, 'triangle')}")
     table = TriangleTable(
         path=name,
@@ -452,7 +545,7 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
         first_number=first,
         vertex_base=base,
     )
-    return ElementTable(table, first)
+    return ElementTable(table, first, orienter)
 
 
 def _check_neigh(path: Path, elements: ElementTable) -> None:
@@ -460,7 +553,7 @@ def _check_neigh(path: Path, elements: ElementTable) -> None:
     triangles = elements.table.triangles
     count = len(triangles)
     first = elements.first_number
-    lines = Lines(name, data_lines(read_text(path)))
+    lines = file_lines(path)
     number, tokens = lines.next("the header 'count 3'")
     if len(tokens) > 2:
         raise FormatError(
@@ -475,7 +568,9 @@ def _check_neigh(path: Path, elements: ElementTable) -> None:
         raise FormatError(name, number, f"neighbours per triangle is {tokens[1]}, not 3")
     expected = expected_neighbours(triangles)
     for index in range(count):
-        number, tokens = lines.next(f"the neighbours of triangle {index + first}")
+        number, tokens = lines.next_item(
+            index, count, f"the neighbours of triangle {index + first}", "neighbour lines"
+        )
         if len(tokens) == 4:
             try:
                 label, n0, n1, n2 = (
@@ -536,13 +631,13 @@ def _read_mesh_segments(
     path: Path, nodes: VertexTable, notes: list[str]
 ) -> tuple[list[tuple[int, int, int]], list[int | None]]:
     name = str(path)
-    lines = Lines(name, data_lines(read_text(path)))
+    lines = file_lines(path)
     number, tokens = lines.next("the header 'count dimension attributes markers'")
     count, _, _ = _read_vertex_header(name, number, tokens)
     if count != 0:
         notes.append(f"{path} lists its own vertices; did not use its segments for the mesh")
         return [], []
-    sections = _read_poly_sections(name, lines, len(nodes.points), nodes.base)
+    sections = _read_poly_sections(name, lines, len(nodes.points), nodes.base, notes)
     notes.append(f"read {counted(len(sections.segments), 'segment')} from {path}")
     if sections.holes or sections.regions:
         notes.append(f"ignored the holes and regions of {path} (a mesh has no use for them)")
@@ -590,6 +685,7 @@ def read_triangle(path: Path) -> tuple[Value, list[str]]:
         segments=segments,
         segment_lines=segment_lines,
         segment_path=str(poly_path),
+        orienter=elements.orienter,
     )
     if neigh_path.exists():
         _check_neigh(neigh_path, elements)

@@ -12,17 +12,19 @@ from __future__ import annotations
 from pathlib import Path
 
 from geomexact.errors import FormatError, UnsupportedValueError
-from geomexact.io.files import read_text
+from geomexact.io.files import read_lines
 from geomexact.io.registry import (
     NumberStyle,
     NumberText,
+    Orienter,
     TriangleTable,
     Value,
     WriteReport,
     build_mesh,
-    data_lines,
     dropped_parts,
     parse_number,
+    quoted_tokens,
+    token_lines,
     write_files,
 )
 from geomexact.kernel.numbers import Rational
@@ -41,13 +43,15 @@ def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
     point_lines: list[int | None] = []
     triangles: list[tuple[int, int, int]] = []
     triangle_lines: list[int | None] = []
-    for number, tokens in data_lines(read_text(path)):
+    table = TriangleTable(path=name, triangles=triangles, lines=triangle_lines)
+    orienter = Orienter(table, points, individually=True)
+    for number, tokens in token_lines(read_lines(path)):  # streamed
         if len(tokens) != 6:
             raise FormatError(
                 name,
                 number,
                 f"a triangle line is 'x1 y1 x2 y2 x3 y3', found {len(tokens)} fields: "
-                f"{' '.join(tokens)!r}",
+                f"{quoted_tokens(tokens)}",
             )
         values = [
             parse_number(name, number, token, field)
@@ -63,11 +67,12 @@ def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
             corners.append(vertex)
         triangles.append((corners[0], corners[1], corners[2]))
         triangle_lines.append(number)
+        orienter.add(len(triangles) - 1)  # a degenerate triangle stops the reading here
     if not triangles:
         notes.append("the file lists no triangles")
-    table = TriangleTable(path=name, triangles=triangles, lines=triangle_lines)
     mesh = build_mesh(
-        points, point_lines, table, point_path=name, notes=notes, orient_individually=True
+        points, point_lines, table, point_path=name, notes=notes, orient_individually=True,
+        orienter=orienter,
     )
     return mesh, notes
 

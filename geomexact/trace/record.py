@@ -34,13 +34,16 @@ def _freeze(
 @attrs.frozen(slots=True)
 class Trace:
     """A run: the digest of the mesh it started from, its parameters (JSON values), its
-    steps and the mesh digest after each step (``len(digests) == len(steps)``)."""
+    steps and the mesh digest after each step (``len(digests) == len(steps)``), the
+    version that recorded it and the name of the input file it was recorded on (``""``:
+    not known, e.g. a run on a value made in memory)."""
 
     input_digest: int
     steps: tuple[Step, ...] = attrs.field(converter=_steps)
     digests: tuple[int, ...] = attrs.field(converter=_digests)
     parameters: tuple[tuple[str, Any], ...] = attrs.field(default=(), converter=_freeze)
     version: str = ""
+    input_name: str = ""
 
     def __attrs_post_init__(self) -> None:
         if len(self.steps) != len(self.digests):

@@ -263,13 +263,14 @@ def test_check_unreadable_mesh_exits_2(
     assert_one_line_error(err, str(path))
 
 
-def test_check_of_pslg_is_usage_error(
+def test_check_of_a_pslg_says_whether_it_triangulates(
     capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """check needs a triangle mesh; a PSLG is bad input."""
-    code, _, err = run(capsys, "check", SUPERIOR)
-    assert code == 2
-    assert_one_line_error(err, "pslg", "triangle mesh")
+    """check of a PSLG: valid when triangulate accepts it and uses every seed (it was a
+    usage error, exit 2)."""
+    code, out, err = run(capsys, "check", SUPERIOR)
+    assert code == 0, err
+    assert out.startswith(f"{SUPERIOR}: valid (518 vertices, 518 segments, 6 holes")
 
 
 TWO_SQUARES_OFF = """OFF
@@ -572,15 +573,16 @@ def test_python_m_geomexact_version() -> None:
         capture_output=True, text=True, check=False,
     )
     assert completed.returncode == 0, completed.stderr
-    first, kernels = completed.stdout.strip().splitlines()
+    first, kernels, *runs = completed.stdout.strip().splitlines()
     assert first == f"geomexact {__version__}"
     from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
     from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 
-    expected = [name for name, built in (("lepp-bisection", compiled_engine.AVAILABLE),
+    expected = [name for name, built in (("lepp", compiled_engine.AVAILABLE),
                                          ("delaunay", delaunay_compiled.AVAILABLE)) if built]
     assert kernels == "compiled kernels: " + (
         ", ".join(expected) if expected else "none (pure-Python engines)")
+    assert [line.split(":")[0].strip() for line in runs] == expected
 
 
 def test_triangulate_superior_writes_mesh_and_a_replayable_trace(

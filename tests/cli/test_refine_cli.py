@@ -173,17 +173,45 @@ def test_refine_pikachu_in_its_polygon(
 def test_min_angle_with_bisection_is_refused_without_a_step_limit(
     capsys: pytest.CaptureFixture[str], pentagon: Path
 ) -> None:
-    """Bisection does not raise angles: exit 2 with the explanation; allowed with a
-    limit, which stops the run with status step-limit (said on stderr)."""
-    code, _, err = run(capsys, "refine", pentagon, "--min-angle", "30")
+    """Bisection does not raise angles: --method bisection exits 2 with the explanation in
+    command-line words; allowed with a limit, which stops the run with status step-limit
+    (said on stderr, with the number of bad triangles not refined yet)."""
+    code, _, err = run(capsys, "refine", pentagon, "--min-angle", "30", "--method", "bisection")
     assert code == 2
-    one_line_error(err, "does not raise angles", "--max-steps")
+    one_line_error(err, "does not raise angles", "--method centroid", "--max-steps N")
+    assert "max_steps" not in err and "method=" not in err
     code, out, err = run(capsys, "refine", pentagon, "--min-angle", "30", "--max-steps", "3",
-                         "--json")
+                         "--method", "bisection", "--json")
     assert code == 0
     report = json.loads(out)
     assert report["status"] == "step-limit" and report["steps"] == 3
-    assert "step limit" in err
+    assert report["waiting"] > 0 and report["left"] == [] and report["notes"] == []
+    assert f"{report['waiting']} not refined yet: the run stopped at the step limit" in err
+
+
+def test_min_angle_without_a_method_chooses_centroid_and_says_so(
+    capsys: pytest.CaptureFixture[str], pentagon: Path
+) -> None:
+    """--min-angle without --method: the centroid method (which can meet it), a note on
+    stderr and in --json, exit 0 (it was exit 2: bisection refused)."""
+    code, out, err = run(capsys, "refine", pentagon, "--min-angle", "30", "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["method"] == "centroid" and report["status"] == "complete"
+    note = "--min-angle without --method: using --method centroid"
+    assert any(note in text for text in report["notes"]) and note in err
+    code, out, err = run(capsys, "refine", pentagon, "--max-area", "1", "--json")
+    assert code == 0 and json.loads(out)["method"] == "bisection" and "--method" not in err
+
+
+def test_no_delaunay_refusal_names_the_options(
+    capsys: pytest.CaptureFixture[str], pentagon: Path
+) -> None:
+    """A minimum angle with --no-delaunay and no step limit: the remedy in options."""
+    code, _, err = run(capsys, "refine", pentagon, "--min-angle", "30", "--no-delaunay")
+    assert code == 2
+    one_line_error(err, "drop --no-delaunay", "--max-steps N")
+    assert "delaunay=True" not in err
 
 
 def test_progress_goes_to_stderr_and_json_stays_one_object(
@@ -296,7 +324,8 @@ def test_factor_and_left_triangles_are_reported(
     assert code == 0, err
     report: dict[str, Any] = json.loads(out)
     assert report["left"] and all(0 in triangle for triangle in report["left"])
-    assert "left below the minimum angle" in err
+    assert report["left_reasons"] == ["sharp-corner"] * len(report["left"])
+    assert "at a sharp input corner" in err and "protected tip" not in err
     code, out, _ = run(capsys, "refine", path, "--factor", "0.5", "--json")
     assert code == 0
     report = json.loads(out)
@@ -334,7 +363,7 @@ def test_every_engine_records_the_same_trace(
         code, _, err = run(capsys, "refine", source, *criterion, "--method", method,
                            "--engine", "compiled")
         assert code == 2
-        assert "engine 'compiled' cannot run this" in err
+        assert "--engine compiled cannot run this" in err  # the option, not engine=
 
 
 def test_triangulate_engines_record_the_same_trace(

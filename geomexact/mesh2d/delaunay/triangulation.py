@@ -99,14 +99,17 @@ def is_delaunay(mesh: Mesh2) -> bool:
 @attrs.frozen(slots=True)
 class Construction:
     """A triangulation run: the mesh of isolated input vertices it started from
-    (``start``), the result (``mesh``), the trace replaying ``start`` to ``mesh``, and the
+    (``start``), the result (``mesh``), the trace replaying ``start`` to ``mesh``, the
     duplicate input points that were merged (pairs ``(dropped id, kept id)``; the dropped
-    vertex stays isolated)."""
+    vertex stays isolated), and the seeds that were ignored because no triangle contains
+    them when their turn comes — outside the domain, or in a hole already carved:
+    ``("hole", index)`` and ``("region", index)`` into the PSLG's holes and regions."""
 
     start: Mesh2
     mesh: Mesh2
     trace: Trace
     duplicates: tuple[tuple[int, int], ...] = ()
+    ignored_seeds: tuple[tuple[str, int], ...] = ()
 
 
 def vertices_mesh(pslg: PSLG) -> Mesh2:
@@ -357,13 +360,14 @@ def triangulate_points(
         raise PreconditionError(
             "triangulate",
             f"{len(duplicates)} duplicate points (vertex = earlier vertex): {shown}{more}; "
-            "pass merge_duplicates=True (--merge-duplicates) to keep only the first copy",
+            "pass merge_duplicates=True to keep only the first copy",
             duplicates=tuple(duplicates),
         )
     dropped = {d for d, _ in duplicates}
     order = [v for v in insertion_order(vertices, seed=seed) if v not in dropped]
     if len(order) < 3:
-        raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3")
+        raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3",
+                                distinct=tuple(sorted(order)))
     a, b = order[0], order[1]
     third = next(
         (k for k in range(2, len(order))
@@ -371,7 +375,8 @@ def triangulate_points(
         None,
     )
     if third is None:
-        raise PreconditionError("triangulate", "all points are collinear: no triangle exists")
+        raise PreconditionError("triangulate", "all points are collinear: no triangle exists",
+                                collinear=tuple(sorted(order)))
     start = vertices_mesh(pslg)
     c = order.pop(third)
     from geomexact._version import __version__
@@ -570,7 +575,9 @@ def triangulate(
        crossing segments at their exact crossing point, a new vertex);
     3. Lawson flips make it constrained Delaunay;
     4. unless ``keep_convex_hull``, triangles outside the segments are removed (when the
-       PSLG has segments), then each hole seed's region, then regional attributes are set.
+       PSLG has segments), then each hole seed's region, then regional attributes are set;
+       a seed in no triangle (outside the domain, or in a hole carved already) is ignored
+       and listed in ``Construction.ignored_seeds``.
 
     Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
     vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1; the
@@ -590,12 +597,17 @@ def triangulate(
         make_delaunay_in(transient)
         if pslg.segments and not keep_convex_hull and exterior_triangles(transient):
             carve_exterior_in(transient)
-        for hole in pslg.holes:
+        ignored: list[tuple[str, int]] = []
+        for index, hole in enumerate(pslg.holes):
             if containing_triangle(transient, hole) is not None:
                 carve_in(transient, hole.x, hole.y)
-        for region in pslg.regions:
+            else:
+                ignored.append(("hole", index))
+        for index, region in enumerate(pslg.regions):
             if containing_triangle(transient, region.point) is not None:
                 set_region_in(transient, region.point.x, region.point.y, (region.attribute,))
+            else:
+                ignored.append(("region", index))
         mesh = transient.seal()
     first = points_run.trace
     trace = Trace(
@@ -606,4 +618,4 @@ def triangulate(
          "split_segments": split_segments},
         first.version,
     )
-    return Construction(points_run.start, mesh, trace, points_run.duplicates)
+    return Construction(points_run.start, mesh, trace, points_run.duplicates, tuple(ignored))

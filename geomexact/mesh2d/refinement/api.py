@@ -54,10 +54,13 @@ import attrs
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.engine_names import ENGINES, Engine, engine_named
 from geomexact.mesh2d.refinement.criteria import Criterion, as_criterion
 from geomexact.mesh2d.refinement.driver import (
+    TIP_DEPTH,
+    LeftReason,
     Method,
     Progress,
     Refinement,
@@ -66,7 +69,7 @@ from geomexact.mesh2d.refinement.driver import (
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
 from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
 from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
-from geomexact.mesh2d.refinement.regions import Region, as_region
+from geomexact.mesh2d.refinement.regions import Region, Whole, as_region
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.record import Trace
 
@@ -95,10 +98,13 @@ class RefineStats:
     legalization and quasi-Delaunay flips; ``targets``: bad triangles taken from the
     queue; ``lepp_searches`` / ``lepp_triangles``: Lepp paths computed and their total
     length in triangles; ``left``: bad triangles of the final mesh left alone at input
-    angles below the minimum angle — those with an angle below it inside such an input
-    angle, and those whose Lepp step would split a constraint edge of such an input angle
-    shorter than 2^-TIP_DEPTH of its input length (sorted, canonical); ``seconds``: wall
-    time."""
+    angles below the minimum angle (sorted, canonical), and ``left_reasons`` why, one per
+    triangle of ``left`` (:data:`~geomexact.mesh2d.refinement.driver.LeftReason`):
+    ``"sharp-corner"`` — an angle below it inside such an input angle — or
+    ``"protected-tip"`` — its Lepp step would split a constraint edge of such an input
+    angle shorter than 2^-TIP_DEPTH of its input length; ``waiting``: after a step limit,
+    the bad triangles of the region not refined yet (sorted; none for a region-wide
+    criterion or a complete run); ``seconds``: wall time."""
 
     status: Status
     steps: int
@@ -110,9 +116,12 @@ class RefineStats:
     lepp_triangles: int
     left: tuple[Triangle, ...]
     seconds: float
+    left_reasons: tuple[LeftReason, ...] = ()
+    waiting: tuple[Triangle, ...] = ()
 
     def as_dict(self) -> dict[str, Any]:
-        """JSON-ready counts (``left`` as a count)."""
+        """JSON-ready counts (``left`` as a count, with ``left_reasons`` counted by
+        reason; ``waiting`` as a count)."""
         return {
             "status": self.status,
             "steps": self.steps,
@@ -123,8 +132,36 @@ class RefineStats:
             "lepp_searches": self.lepp_searches,
             "lepp_triangles": self.lepp_triangles,
             "left": len(self.left),
+            "left_reasons": dict(sorted(Counter(self.left_reasons).items())),
+            "waiting": len(self.waiting),
             "seconds": self.seconds,
         }
+
+    def left_summary(self) -> str | None:
+        """One sentence on the triangles the run did not make good, each group with its
+        reason (None when there are none)."""
+        parts = []
+        reasons = Counter(self.left_reasons)
+        if reasons["sharp-corner"]:
+            parts.append(
+                f"{reasons['sharp-corner']} at a sharp input corner (their small angle lies "
+                "in an input angle below the minimum, which no triangulation improves)"
+            )
+        if reasons["protected-tip"]:
+            parts.append(
+                f"{reasons['protected-tip']} whose refinement would split a protected tip "
+                f"(a segment of such a corner shorter than 2^-{TIP_DEPTH} of its input "
+                "length)"
+            )
+        if self.waiting:
+            parts.append(
+                f"{len(self.waiting)} not refined yet: the run stopped at the step limit "
+                f"({self.steps} steps)"
+            )
+        if not parts:
+            return None
+        count = len(self.left) + len(self.waiting)
+        return f"{count} triangle(s) do not meet the criterion: " + "; ".join(parts)
 
 
 @attrs.frozen(slots=True)
@@ -232,17 +269,16 @@ def refine(
             raise PreconditionError(
                 "refine",
                 "Lepp-bisection does not raise angles (each bisection keeps or halves the "
-                "angles at the split), so a minimum-angle criterion may never be met; use "
-                "method 'centroid' or 'quasi', or give a step limit (max_steps, --max-steps) "
-                "to bisect anyway",
+                "angles at the split), so a minimum-angle criterion may never be met; pass "
+                "method='centroid' or method='quasi', or give a step limit max_steps=N to "
+                "bisect anyway",
             )
         if not delaunay:
             raise PreconditionError(
                 "refine",
                 "without Delaunay flips no angle at an existing vertex ever grows (insertions "
-                "only split angles), so a minimum-angle criterion may never be met; allow "
-                "flips (delaunay=True, no --no-delaunay) or give a step limit (max_steps, "
-                "--max-steps)",
+                "only split angles), so a minimum-angle criterion may never be met; pass "
+                "delaunay=True to allow flips, or give a step limit max_steps=N",
             )
     began = time.perf_counter()
     options: dict[str, Any] = {
@@ -272,6 +308,7 @@ def refine(
             left, targets, searches, hops = (
                 compiled.left, compiled.targets, compiled.searches, compiled.hops
             )
+            reasons: tuple[LeftReason, ...] = ()  # the kernel runs no minimum angle
         else:
             run: Refinement
             if name == "reference":
@@ -281,7 +318,7 @@ def refine(
             run.start_queue(sorted(mesh.iter_triangles()))
             status = run.run()
             result, steps, digests = run.finish(mesh)
-            left = run.left_triangles()
+            left, reasons = run.left_triangles(), run.left_reasons()
             targets, searches, hops = run.targets, run.searches, run.hops
             del run  # its work tables go now, before the collector would scan them
     from geomexact._version import __version__
@@ -310,6 +347,27 @@ def refine(
         lepp_triangles=hops,
         left=left,
         seconds=time.perf_counter() - began,
+        left_reasons=reasons,
+        waiting=_waiting(result, rule, area, left) if status == "step-limit" else (),
     )
     return Result(mesh, result, trace, stats)
+
+
+def _waiting(
+    mesh: Mesh2, criterion: Criterion, region: Region, left: tuple[Triangle, ...]
+) -> tuple[Triangle, ...]:
+    """The triangles of ``region`` that ``criterion`` rates bad and that are not left:
+    what a stopped run had not refined yet (none for a region-wide criterion)."""
+    if criterion.target_mean_area(mpq(1), 1) is not None:
+        return ()
+    whole = isinstance(region, Whole)
+    skip = set(left)
+    found = []
+    for triangle in sorted(mesh.iter_triangles()):
+        corners = [mesh.point(vertex) for vertex in triangle]
+        if triangle in skip or not (whole or any(region.contains(p) for p in corners)):
+            continue
+        if criterion.rate(*corners) is not None:
+            found.append(triangle)
+    return tuple(found)
 

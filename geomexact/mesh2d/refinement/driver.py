@@ -22,6 +22,11 @@ from geomexact.trace.step import Step
 
 Method: TypeAlias = Literal["bisection", "centroid", "quasi"]
 Status: TypeAlias = Literal["complete", "step-limit"]
+LeftReason: TypeAlias = Literal["sharp-corner", "protected-tip"]
+"""Why a bad triangle was left (``specs/refine.md``, small input angles): ``"sharp-corner"``
+— its angle below the threshold lies in an input angle below it, which no triangulation
+can improve; ``"protected-tip"`` — its Lepp step would split a constraint edge of such a
+corner that is already shorter than 2^-TIP_DEPTH of its input length."""
 
 _CCW = Orientation.COUNTERCLOCKWISE
 _LESS = Comparison.LESS
@@ -93,7 +98,7 @@ class Refinement:
         self.created: list[Triangle] = []
         self.removed: list[Triangle] = []
         self.queue = WorkQueue()
-        self.left: dict[Triangle, None] = {}
+        self.left: dict[Triangle, LeftReason] = {}
         self.target_area2: Rational | None = None  # twice the target mean area
         self.area2: Rational = mpq(0)
         self.count = 0
@@ -144,7 +149,7 @@ class Refinement:
         if key is None:
             return
         if self.threshold is not None and self.unimprovable(a, b, c):
-            self.left[(a, b, c)] = None
+            self.left[(a, b, c)] = "sharp-corner"
             return
         self.queue.push(key, (a, b, c))
 
@@ -377,7 +382,7 @@ class Refinement:
                 self.targets += 1
                 while True:
                     if not self.act(*self.terminal(a, b, c)):
-                        self.left[(a, b, c)] = None  # its step would split a protected edge
+                        self.left[(a, b, c)] = "protected-tip"  # its step would split one
                         break
                     self.drain()
                     if get((a, b)) != c:
@@ -389,8 +394,13 @@ class Refinement:
         return "complete"
 
     def left_triangles(self) -> tuple[Triangle, ...]:
+        """The left triangles still in the mesh, sorted."""
         get = self.get
         return tuple(sorted(t for t in self.left if get((t[0], t[1])) == t[2]))
+
+    def left_reasons(self) -> tuple[LeftReason, ...]:
+        """Why each of :meth:`left_triangles` was left, in the same order."""
+        return tuple(self.left[triangle] for triangle in self.left_triangles())
 
 
 def squared_length(p: Point2, q: Point2) -> Rational:
