@@ -73,9 +73,12 @@ def test_rounding_outside_the_doubles_is_correct_to_17_digits(
     assert exact == (written == value)
     if value != 0 and not mpq(2) ** -1030 < abs(value) < mpq(2) ** 1030:
         with localcontext() as context:
-            context.prec = 17  # Decimal division rounds correctly, half-even
-            scaled = Decimal(fraction.numerator) * Decimal(10) ** power
-            expected = scaled / Decimal(fraction.denominator)
+            context.prec = 3000  # far more digits than any rounding tie could need
+            precise = Decimal(fraction.numerator) * Decimal(10) ** power / Decimal(
+                fraction.denominator
+            )
+            context.prec = 17  # then one correct half-even rounding
+            expected = +precise
         assert written == parse_rational(str(expected))
 
 
