@@ -57,6 +57,9 @@ KERNEL_RUNS: tuple[tuple[str, str], ...] = (
              "without triangle attributes; any other run uses the Python engine"),
     ("delaunay", "the Delaunay triangulation of the points in triangulate (and in refine of "
                  "a PSLG); segments, holes and regions are then inserted in Python"),
+    ("cuboid", "the census (census --engine auto or compiled) of boxes whose doubled corners "
+               "are integers up to 2^20; other boxes, and the cuboid command, run the exact "
+               "reference"),
 )
 """What each compiled kernel runs, exactly (``tests/cli`` checks the claim against
 ``unsupported`` of :mod:`geomexact.mesh2d.refinement.engines.compiled`)."""
@@ -68,8 +71,10 @@ def version_text() -> str:
     slower, same results)."""
     from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
     from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
+    from geomexact.mesh3d.cuboid import compiled as cuboid_compiled
 
-    available = {"lepp": compiled_engine.AVAILABLE, "delaunay": delaunay_compiled.AVAILABLE}
+    available = {"lepp": compiled_engine.AVAILABLE, "delaunay": delaunay_compiled.AVAILABLE,
+                 "cuboid": cuboid_compiled.AVAILABLE}
     built = [(name, runs) for name, runs in KERNEL_RUNS if available[name]]
     if not built:
         return f"geomexact {__version__}\ncompiled kernels: none (pure-Python engines)"

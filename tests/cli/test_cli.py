@@ -577,9 +577,11 @@ def test_python_m_geomexact_version() -> None:
     assert first == f"geomexact {__version__}"
     from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
     from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
+    from geomexact.mesh3d.cuboid import compiled as cuboid_compiled
 
     expected = [name for name, built in (("lepp", compiled_engine.AVAILABLE),
-                                         ("delaunay", delaunay_compiled.AVAILABLE)) if built]
+                                         ("delaunay", delaunay_compiled.AVAILABLE),
+                                         ("cuboid", cuboid_compiled.AVAILABLE)) if built]
     assert kernels == "compiled kernels: " + (
         ", ".join(expected) if expected else "none (pure-Python engines)")
     assert [line.split(":")[0].strip() for line in runs] == expected

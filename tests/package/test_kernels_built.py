@@ -18,12 +18,14 @@ import pytest
 
 from geomexact.mesh2d.delaunay import compiled as delaunay_compiled
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
+from geomexact.mesh3d.cuboid import compiled as cuboid_compiled
 
 PACKAGE = Path(__file__).resolve().parents[2] / "geomexact"
 SOURCES = {
     "geomexact.mesh2d.refinement.engines.lepp_kernel": PACKAGE / "mesh2d" / "refinement" / "engines" / "lepp_kernel.pyx",
     "geomexact.mesh2d.delaunay.delaunay_kernel": PACKAGE / "mesh2d" / "delaunay" / "delaunay_kernel.pyx",
     "geomexact.kernel.cfilters": PACKAGE / "kernel" / "cfilters.pyx",
+    "geomexact.mesh3d.cuboid.cuboid_kernel": PACKAGE / "mesh3d" / "cuboid" / "cuboid_kernel.pyx",
 }
 SHARED = [PACKAGE / "kernel" / "ckernel.h", PACKAGE / "kernel" / "ckernel.pxd"]
 
@@ -39,6 +41,7 @@ def can_build() -> bool:
 def test_kernels_are_built_where_they_can_be() -> None:
     assert compiled_engine.AVAILABLE, "the Lepp kernel did not build: see pip's warning"
     assert delaunay_compiled.AVAILABLE, "the Delaunay kernel did not build: see pip's warning"
+    assert cuboid_compiled.AVAILABLE, "the cuboid kernel did not build: see pip's warning"
     try:
         importlib.import_module("geomexact.kernel.cfilters")
     except ImportError as error:
