@@ -106,6 +106,14 @@ def non_negative(text: str) -> int:
     return value
 
 
+def positive_int(text: str) -> int:
+    """An integer argument >= 1."""
+    value = non_negative(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is not >= 1")
+    return value
+
+
 def positive_float(text: str) -> float:
     """A finite number argument > 0."""
     try:

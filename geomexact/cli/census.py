@@ -14,24 +14,19 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any, TextIO
 
-from geomexact.cli.arguments import Subcommands, add_command, add_force_flag, add_json_flag
+from geomexact.cli.arguments import (
+    Subcommands,
+    add_command,
+    add_force_flag,
+    add_json_flag,
+    positive_int,
+)
 from geomexact.cli.cuboid import add_cuboid_options, shape_box
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.reporting import print_json
 from geomexact.errors import OverwriteError
 from geomexact.io.files import write_lines_atomic
 from geomexact.mesh3d.cuboid.census import CENSUS_COLUMNS, CensusRow, CensusSummary, summarize
-
-
-def positive_int(text: str) -> int:
-    """An integer argument >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{value} is not >= 1")
-    return value
 
 
 class ProgressBar:

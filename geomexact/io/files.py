@@ -12,18 +12,23 @@ from pathlib import Path
 from geomexact.errors import FormatError, OverwriteError
 
 
+def _unreadable(name: str, error: OSError) -> FormatError:
+    """The FormatError for a file that cannot be opened."""
+    if isinstance(error, FileNotFoundError):
+        return FormatError(name, None, "no such file")
+    if isinstance(error, IsADirectoryError):
+        return FormatError(name, None, "is a directory, not a file")
+    return FormatError(name, None, f"cannot read: {error.strerror}")
+
+
 def read_text(path: str | Path) -> str:
     """The UTF-8 text of ``path``; :class:`FormatError` for a missing, unreadable or
     non-UTF-8 file (naming the line of the first bad byte)."""
     name = str(path)
     try:
         data = Path(path).read_bytes()
-    except FileNotFoundError as error:
-        raise FormatError(name, None, "no such file") from error
-    except IsADirectoryError as error:
-        raise FormatError(name, None, "is a directory, not a file") from error
     except OSError as error:
-        raise FormatError(name, None, f"cannot read: {error.strerror}") from error
+        raise _unreadable(name, error) from error
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as error:
@@ -40,12 +45,8 @@ def read_lines(path: str | Path) -> Iterator[tuple[int, str]]:
     name = str(path)
     try:
         handle = open(path, "rb")  # noqa: SIM115 - the generator owns it, closed by `with`
-    except FileNotFoundError as error:
-        raise FormatError(name, None, "no such file") from error
-    except IsADirectoryError as error:
-        raise FormatError(name, None, "is a directory, not a file") from error
     except OSError as error:
-        raise FormatError(name, None, f"cannot read: {error.strerror}") from error
+        raise _unreadable(name, error) from error
     number = 0
     offset = 0
     with handle:

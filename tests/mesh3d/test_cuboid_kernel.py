@@ -5,11 +5,7 @@ the improvement's options.  The exhaustive run over every pattern is ``slow``.""
 
 from __future__ import annotations
 
-import os
 import random
-import shutil
-import sysconfig
-from pathlib import Path
 
 import pytest
 
@@ -22,24 +18,7 @@ from geomexact.mesh3d.cuboid.split_order import ORDERS
 from geomexact.mesh3d.transient import mesh3_from_tetrahedra
 
 needs_kernel = pytest.mark.skipif(not compiled.AVAILABLE, reason="the cuboid kernel is not built")
-SOURCE = Path(compiled.__file__).with_name("cuboid_kernel.pyx")
-
-
-def _can_build() -> bool:
-    headers = Path(sysconfig.get_paths()["include"]) / "Python.h"
-    compiler = shutil.which("cc") or shutil.which("gcc")
-    return bool(compiler) and headers.exists() and not os.environ.get("GEOMEXACT_NO_EXTENSION")
-
-
-@pytest.mark.skipif(not _can_build(), reason="no C compiler or Python headers here, or "
-                    "GEOMEXACT_NO_EXTENSION is set")
-def test_the_kernel_is_built_where_it_can_be_and_not_stale() -> None:
-    assert compiled.AVAILABLE, "the cuboid kernel did not build: see pip's warning"
-    built = Path(compiled._cuboid_kernel.__file__)
-    if built.parent == SOURCE.parent:
-        assert built.stat().st_mtime >= SOURCE.stat().st_mtime, (
-            f"{built.name} is older than its source: reinstall (scripts/ensure-venv)")
-
+# built and not stale: tests/package/test_kernels_built.py covers this kernel too
 SAMPLE = sorted(random.Random(2007).sample(range(1, PATTERN_COUNT), 24))
 CI_PATTERNS = [0, *(1 << bit for bit in range(18)), PATTERN_COUNT - 1, *SAMPLE]
 BOXES = [unit_cube(), box_of_extents(1, 2, 4)]
