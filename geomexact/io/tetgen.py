@@ -133,6 +133,12 @@ def _read_tetrahedra(
     corners = (
         parse_int(name, number, tokens[1], "corners per tetrahedron") if len(tokens) > 1 else 4
     )
+    if corners == 3:
+        raise FormatError(
+            name, number,
+            "lists 3-node triangles, but its .node is 3D (dimension 3): only 2D Triangle "
+            "meshes and TetGen meshes of 4-node tetrahedra are supported",
+        )
     if corners != 4:
         raise FormatError(
             name, number, f"tetrahedra have {corners} nodes; only 4-node tetrahedra are supported"
