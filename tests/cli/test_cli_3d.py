@@ -75,3 +75,25 @@ def test_convert_to_tetgen_and_vtu(tmp_path: Path, capsys: pytest.CaptureFixture
     back = io.read(vtu)
     assert isinstance(back, Mesh3)
     assert back.tetrahedra() == _mesh().tetrahedra()
+
+
+def test_check_reports_violations(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Two tetrahedra sharing only an edge: the boundary is not a closed 2-manifold."""
+    (tmp_path / "bow.node").write_text(
+        "6 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 -1 0 0\n5 0 -1 -1\n"
+    )
+    (tmp_path / "bow.ele").write_text("2 4 0\n0 0 1 2 3\n1 0 3 4 5\n")
+    code = main(["check", str(tmp_path / "bow.ele"), "--json"])
+    report = json.loads(capsys.readouterr().out)
+    assert code == 1 and report["valid"] is False and report["violations"]
+
+
+def test_named_formats(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _written(tmp_path)
+    assert main(["info", str(path), "--format", "tetgen", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["format"] == "tetgen"
+    off = tmp_path / "pic.off"
+    assert main(["convert", str(path), str(off), "--to", "geomview3d"]) == 0
+    assert off.read_text().startswith("OFF\n")
+    assert main(["convert", str(path), str(tmp_path / "w.vect")]) == 0
+    assert (tmp_path / "w.vect").read_text().startswith("VECT\n")

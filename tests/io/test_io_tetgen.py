@@ -186,3 +186,26 @@ def test_repeated_vertex_and_numbering(tmp_path: Path) -> None:
     assert error.line == 2 and "repeats a vertex" in str(error)
     error = _error(tmp_path, CUBE_NODE, "2 4 0\n0 0 1 2 4\n3 1 3 2 7\n")
     assert error.line == 3 and "consecutive" in str(error)
+
+
+@settings(suppress_health_check=[HealthCheck.function_scoped_fixture], max_examples=10)
+@given(pattern=st.integers(0, 2**18 - 1), shift=rationals)
+def test_round_trip_one_based_and_decimal(
+    tmp_path_factory: pytest.TempPathFactory, pattern: int, shift: Fraction
+) -> None:
+    """A written mesh renumbered from 1 reads back the same; dyadic boxes need no
+    rounding in the default decimal style."""
+    box = Box((shift, 0, -shift), (shift + Fraction(3, 4), 2, -shift + Fraction(5, 8)))
+    mesh = partition_cuboid(pattern, box).mesh
+    directory = tmp_path_factory.mktemp("one")
+    report = io.write_with_report(directory / "m.ele", mesh, numbers="exact")
+    assert report.rounded == 0
+    for suffix, width in ((".node", 1), (".ele", 5), (".face", 4)):
+        file = directory / f"m{suffix}"
+        rows = file.read_text().splitlines()
+        file.write_text("\n".join([rows[0], *(
+            " ".join([*(str(int(t) + 1) for t in row.split()[:width]), *row.split()[width:]])
+            for row in rows[1:]
+        )]) + "\n")
+    back = io.read(directory / "m.ele")
+    assert back == mesh and back.digest == mesh.digest
