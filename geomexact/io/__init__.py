@@ -1,4 +1,4 @@
-"""Reading and writing meshes, PSLGs and polygon meshes, one module per format behind one
+"""Reading and writing meshes (2D and tetrahedral), PSLGs and polygon meshes, one module per format behind one
 registry.  Spec: ``specs/formats/registry.md`` (and one spec per format beside it).
 
 >>> from geomexact import io
@@ -263,8 +263,8 @@ def read_with_sources(path: str | Path, *, format: str | None = None) -> Reading
 
 
 def read(path: str | Path, *, format: str | None = None) -> Value:
-    """Read ``path`` as a :class:`Mesh2`, :class:`PSLG` or :class:`PolygonMesh`
-    (see :func:`read_with_notes`)."""
+    """Read ``path`` as a :class:`Mesh2`, :class:`PSLG`, :class:`PolygonMesh` or
+    :class:`Mesh3` (see :func:`read_with_notes`)."""
     value, _ = read_with_notes(path, format=format)
     return value
 

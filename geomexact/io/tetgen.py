@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geomexact.errors import FormatError, PreconditionError, UnsupportedValueError
+from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.registry import (
     NumberStyle,
     NumberText,
@@ -34,8 +34,8 @@ from geomexact.io.registry import (
 from geomexact.kernel.points import Point3, point3
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates3d import orient3d
-from geomexact.mesh3d.snapshot import Mesh3
-from geomexact.mesh3d.transient import mesh3_from_tetrahedra
+from geomexact.mesh3d.snapshot import Mesh3, empty_mesh3, tetrahedron_faces
+from geomexact.mesh3d.transient import Transient3
 
 NODE, ELE, FACE = ".node", ".ele", ".face"
 
@@ -244,6 +244,34 @@ def _check_faces(path: Path, mesh: Mesh3, base: int) -> None:
     lines.expect_end(f"the {counted(count, 'face')}")
 
 
+def _build(
+    name: str,
+    points: list[Point3],
+    tetrahedra: list[tuple[int, int, int, int]],
+    numbers: list[int],
+    base: int,
+) -> Mesh3:
+    """The mesh of positive ``tetrahedra``; two on the same side of a face (an overlap) is
+    a FormatError at the later one's line naming the earlier one's."""
+    transient = Transient3(empty_mesh3())
+    for point in points:
+        transient.add_vertex(point)
+    owner: dict[tuple[int, int, int], int] = {}  # oriented face -> line of its tetrahedron
+    for tetrahedron, number in zip(tetrahedra, numbers, strict=True):
+        for face, _ in tetrahedron_faces(*tetrahedron):
+            if face in owner:
+                shown = tuple(vertex + base for vertex in face)
+                raise FormatError(
+                    name, number,
+                    f"the tetrahedra overlap: face {shown} of this tetrahedron is on the "
+                    f"same side as the tetrahedron on line {owner[face]}",
+                )
+        for face, _ in tetrahedron_faces(*tetrahedron):
+            owner[face] = number
+        transient.add_tetrahedron(*tetrahedron)
+    return transient.seal()
+
+
 def read_tetgen(path: Path) -> tuple[Value, list[str]]:
     """A TetGen mesh named by its ``.ele`` file (or its stem) as a :class:`Mesh3`."""
     stem = mesh_stem(path)
@@ -257,11 +285,8 @@ def read_tetgen(path: Path) -> tuple[Value, list[str]]:
         )
     notes: list[str] = []
     points, base = _read_nodes(node_path, notes)
-    tetrahedra, _ = _read_tetrahedra(ele_path, points, base, notes)
-    try:
-        mesh = mesh3_from_tetrahedra(points, tetrahedra)
-    except PreconditionError as error:
-        raise FormatError(str(ele_path), None, str(error)) from error
+    tetrahedra, numbers = _read_tetrahedra(ele_path, points, base, notes)
+    mesh = _build(str(ele_path), points, tetrahedra, numbers, base)
     if face_path.exists():
         _check_faces(face_path, mesh, base)
         notes.append(f"{face_path.name} agrees with the boundary")

@@ -209,3 +209,9 @@ def test_round_trip_one_based_and_decimal(
         )]) + "\n")
     back = io.read(directory / "m.ele")
     assert back == mesh and back.digest == mesh.digest
+
+
+def test_overlap_names_both_lines(tmp_path: Path) -> None:
+    error = _error(tmp_path, CUBE_NODE, _ele([*CUBE_TETS, CUBE_TETS[1]]))
+    assert error.line == 7 and "the tetrahedra overlap" in str(error)
+    assert "tetrahedron on line 3" in str(error)
