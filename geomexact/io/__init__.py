@@ -1,5 +1,6 @@
 """Reading and writing meshes (2D and tetrahedral), PSLGs and polygon meshes, one module
-per format behind one registry.  Spec: ``specs/formats/registry.md`` (and one spec per format beside it).
+per format behind one registry.  Spec: ``specs/formats/registry.md`` (and one spec per
+format beside it).
 
 >>> from geomexact import io
 >>> sorted(io.FORMATS)  # doctest: +NORMALIZE_WHITESPACE
