@@ -1,5 +1,5 @@
-"""``geomexact check``: validate a triangle or polygon mesh, or a PSLG (exit 1 on
-violations)."""
+"""``geomexact check``: validate a triangle, tetrahedral or polygon mesh, or a PSLG (exit 1
+on violations)."""
 
 from __future__ import annotations
 
@@ -26,6 +26,8 @@ from geomexact.mesh2d.polygonal.polygon_mesh import (
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.validation import validate
+from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.mesh3d.validation import validate3
 
 
 def command_check(args: argparse.Namespace) -> int:
@@ -38,6 +40,10 @@ def command_check(args: argparse.Namespace) -> int:
     if isinstance(value, Mesh2):
         violations = validate(value, allow_isolated=not args.strict)
         counts = {"vertices": value.vertex_count, "triangles": value.triangle_count}
+        digest = f", digest {value.digest_text}"
+    elif isinstance(value, Mesh3):
+        violations = validate3(value)
+        counts = {"vertices": value.vertex_count, "tetrahedra": value.tetrahedron_count}
         digest = f", digest {value.digest_text}"
     elif isinstance(value, PolygonMesh):
         violations = validate_polygon_mesh(value, geometric=True)
@@ -54,8 +60,8 @@ def command_check(args: argparse.Namespace) -> int:
             print_warning(warning)
     else:
         raise UsageProblem(
-            f"{args.file}: is a {loaded.kind.replace('_', ' ')}, but check needs a triangle "
-            "mesh, a polygon mesh or a PSLG"
+            f"{args.file}: is a {loaded.kind.replace('_', ' ')}, but check needs a triangle, "
+            "tetrahedral or polygon mesh or a PSLG"
         )
     if args.json:
         print_json(

@@ -7,10 +7,12 @@ from typing import TypeAlias
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.snapshot import Mesh3
 
-Value: TypeAlias = Mesh2 | PSLG | PolygonMesh
+Value: TypeAlias = Mesh2 | PSLG | PolygonMesh | Mesh3
 
-KIND_NAMES = {Mesh2: "triangle_mesh", PSLG: "pslg", PolygonMesh: "polygon_mesh"}
+KIND_NAMES = {Mesh2: "triangle_mesh", PSLG: "pslg", PolygonMesh: "polygon_mesh",
+              Mesh3: "tetrahedral_mesh"}
 
 
 def kind_name(kind: type) -> str:

@@ -10,6 +10,21 @@ from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh, mesh_stats
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
+from geomexact.mesh3d.measures import is_delaunay3, total_volume
+from geomexact.mesh3d.snapshot import Mesh3
+
+
+def mesh3_summary(mesh: Mesh3) -> dict[str, Any]:
+    """Counts, the exact volume (text), the Delaunay property and the digest of a
+    tetrahedral mesh."""
+    return {
+        "vertices": mesh.vertex_count,
+        "tetrahedra": mesh.tetrahedron_count,
+        "boundary_faces": len(mesh.boundary_faces()),
+        "volume": format_rational(total_volume(mesh)),
+        "is_delaunay": is_delaunay3(mesh),
+        "digest": mesh.digest_text,
+    }
 
 
 def pslg_summary(pslg: PSLG) -> dict[str, Any]:
@@ -44,9 +59,12 @@ def polygon_mesh_summary(mesh: PolygonMesh) -> dict[str, Any]:
 
 
 def summary_of(value: Value) -> dict[str, Any]:
-    """The ``info`` statistics of a mesh, PSLG or polygon mesh (JSON-ready)."""
+    """The ``info`` statistics of a mesh (2D or tetrahedral), PSLG or polygon mesh
+    (JSON-ready)."""
     if isinstance(value, Mesh2):
         return mesh_summary(value)
     if isinstance(value, PSLG):
         return pslg_summary(value)
+    if isinstance(value, Mesh3):
+        return mesh3_summary(value)
     return polygon_mesh_summary(value)

@@ -21,6 +21,7 @@ from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
 from geomexact.errors import GeomexactError
 from geomexact.io.trace_file import read_trace
+from geomexact.mesh3d.snapshot import Mesh3
 
 VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
 
@@ -39,22 +40,28 @@ def command_view(args: argparse.Namespace) -> int:
     if args.step is not None and not args.trace:
         raise UsageProblem("--step needs --trace")
     loaded = load(args.input, args.format, args.verbose)
+    value = loaded.value
+    if isinstance(value, Mesh3):
+        raise UsageProblem(
+            f"{args.input}: is a tetrahedral mesh, which view does not draw yet; convert it "
+            "to .vtu, or --to geomview3d / vect, for a 3D viewer"
+        )
     trace = read_trace(args.trace) if args.trace else None
     fill = args.color_by.replace("-", "_")
     try:
         if suffix in (".html", ".htm"):
             text = viewer.viewer_html(
-                loaded.value, trace=trace, title=args.title, source=Path(args.input).name,
+                value, trace=trace, title=args.title, source=Path(args.input).name,
                 trace_source=Path(args.trace).name if args.trace else None, fill=fill,
                 step=args.step, exact_budget=0 if args.no_exact else DEFAULT_EXACT_BUDGET,
                 notes=loaded.notes,
             )
             write_text_atomic(output, text, overwrite=args.force)
         elif trace is not None:
-            pictures.plot_step(loaded.value, trace, args.step, output, overwrite=args.force,
+            pictures.plot_step(value, trace, args.step, output, overwrite=args.force,
                                title=args.title, color_by=fill)
         else:
-            pictures.plot(loaded.value, output, overwrite=args.force, title=args.title,
+            pictures.plot(value, output, overwrite=args.force, title=args.title,
                           color_by=fill)
     except (TypeError, ValueError) as error:
         if isinstance(error, GeomexactError):

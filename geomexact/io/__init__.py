@@ -1,9 +1,11 @@
-"""Reading and writing meshes, PSLGs and polygon meshes, one module per format behind one
-registry.  Spec: ``specs/formats/registry.md`` (and one spec per format beside it).
+"""Reading and writing meshes (2D and tetrahedral), PSLGs and polygon meshes, one module
+per format behind one registry.  Spec: ``specs/formats/registry.md`` (and one spec per
+format beside it).
 
 >>> from geomexact import io
 >>> sorted(io.FORMATS)  # doctest: +NORMALIZE_WHITESPACE
-['meshio', 'node', 'off', 'poly', 'pslg', 'triangle', 'trilist']
+['geomview3d', 'geomview3d-boundary', 'meshio', 'node', 'off', 'poly', 'pslg',
+ 'tetgen', 'triangle', 'trilist', 'vect']
 >>> io.detect_format("pikachu.1.ele")
 'triangle'
 
@@ -26,6 +28,7 @@ from pathlib import Path
 from types import MappingProxyType
 
 from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.io.geomview3d import write_boundary_off, write_tetrahedra_off, write_vect
 from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
@@ -40,6 +43,7 @@ from geomexact.io.registry import (
     WriteReport,
     bounded,
 )
+from geomexact.io.tetgen import node_dimension, read_tetgen, tetgen_output_paths, write_tetgen
 from geomexact.io.triangle import (
     node_reading,
     poly_reading,
@@ -56,17 +60,53 @@ from geomexact.kernel.collector import collector_paused
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.snapshot import Mesh3
 
-_FORMATS = (
+
+def _read_ele(path: Path) -> tuple[Value, list[str]]:
+    """An ``.ele`` mesh: TetGen when the ``.node`` beside it says dimension 3, else
+    Triangle."""
+    if node_dimension(path) == 3:
+        return read_tetgen(path)
+    return read_triangle(path)
+
+
+def _write_ele(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
+    """A :class:`Mesh3` as TetGen files, anything else as Triangle files."""
+    writer = write_tetgen if isinstance(value, Mesh3) else write_triangle
+    return writer(path, value, overwrite=overwrite, numbers=numbers)
+
+
+def _write_only(path: Path) -> tuple[Value, list[str]]:
+    """The reader of a write-only format: a FormatError."""
+    raise FormatError(str(path), None, "this format is write-only (a picture of a Mesh3)")
+
+
+def _ele_outputs(path: Path) -> tuple[Path, ...]:
+    return tuple(dict.fromkeys(triangle_output_paths(path) + tetgen_output_paths(path)))
+
+_FORMATS: tuple[Format, ...] = (
     Format(
         "triangle",
         (".ele",),
         "Triangle mesh: .ele named, .node beside it (required), .neigh checked, "
-        ".poly segments",
-        read_triangle,
-        write_triangle,
-        (Mesh2,),
-        triangle_output_paths,
+        ".poly segments; a 3D .node (dimension 3) or a Mesh3 goes to tetgen",
+        _read_ele,
+        _write_ele,
+        (Mesh2, Mesh3),
+        _ele_outputs,
+    ),
+    Format(
+        "tetgen",
+        (),
+        "TetGen tetrahedral mesh: .ele named, 3D .node beside it (required), .face "
+        "checked; selected for .ele by the .node's dimension 3",
+        read_tetgen,
+        write_tetgen,
+        (Mesh3,),
+        tetgen_output_paths,
     ),
     Format(
         "node",
@@ -112,10 +152,39 @@ _FORMATS = (
     Format(
         "meshio",
         MESHIO_EXTENSIONS,
-        "2D triangle meshes through meshio (VTK, VTU, XDMF, Gmsh, …), doubles",
+        "2D triangle and tetrahedral meshes through meshio (VTK, VTU, XDMF, Gmsh, …), "
+        "doubles",
         read_meshio,
         write_meshio,
-        (Mesh2,),
+        (Mesh2, Mesh3),
+    ),
+)
+
+_FORMATS += (
+    Format(
+        "geomview3d",
+        (),
+        "Geomview OFF of a tetrahedral mesh: 4 faces per tetrahedron, coloured by "
+        "tetrahedron (write-only)",
+        _write_only,
+        write_tetrahedra_off,
+        (Mesh3,),
+    ),
+    Format(
+        "geomview3d-boundary",
+        (),
+        "Geomview OFF of a tetrahedral mesh's boundary faces (write-only)",
+        _write_only,
+        write_boundary_off,
+        (Mesh3,),
+    ),
+    Format(
+        "vect",
+        (".vect",),
+        "Geomview VECT wireframe of a tetrahedral mesh's edges (write-only)",
+        _write_only,
+        write_vect,
+        (Mesh3,),
     ),
 )
 
@@ -195,8 +264,8 @@ def read_with_sources(path: str | Path, *, format: str | None = None) -> Reading
 
 
 def read(path: str | Path, *, format: str | None = None) -> Value:
-    """Read ``path`` as a :class:`Mesh2`, :class:`PSLG` or :class:`PolygonMesh`
-    (see :func:`read_with_notes`)."""
+    """Read ``path`` as a :class:`Mesh2`, :class:`PSLG`, :class:`PolygonMesh` or
+    :class:`Mesh3` (see :func:`read_with_notes`)."""
     value, _ = read_with_notes(path, format=format)
     return value
 

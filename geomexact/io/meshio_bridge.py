@@ -1,5 +1,9 @@
-"""The bridge to meshio (VTK, VTU, XDMF, Gmsh, Medit, …) for 2D triangle meshes.
-Spec: ``specs/formats/meshio.md``.
+"""The bridge to meshio (VTK, VTU, XDMF, Gmsh, Medit, …) for 2D triangle meshes and
+tetrahedral meshes.  Spec: ``specs/formats/meshio.md``.
+
+A file with ``tetra`` cells is read as a :class:`Mesh3` (exact binary values of its 3D
+points; other cells ignored with a note; each negative tetrahedron reversed); a
+:class:`Mesh3` is written as its points (doubles, rounding counted) and ``tetra`` cells.
 
 Reading takes the ``triangle`` cells (``line`` and ``vertex`` cells are ignored, with a
 note; any other cell type is an error), requires z = 0, and converts each float to its
@@ -25,6 +29,7 @@ from geomexact.errors import (
     FormatError,
     MissingDependencyError,
     OverwriteError,
+    PreconditionError,
     RationalParseError,
     UnsupportedValueError,
 )
@@ -39,8 +44,10 @@ from geomexact.io.registry import (
     dropped_parts,
 )
 from geomexact.kernel.numbers import to_float, to_rational
-from geomexact.kernel.points import Point2, point2
+from geomexact.kernel.points import Point2, Point3, point2, point3
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.mesh3d.transient import mesh3_from_tetrahedra
 
 EXTENSIONS = (".vtk", ".vtu", ".xdmf", ".xmf", ".msh", ".mesh", ".obj", ".ply")
 # extension -> meshio's formats (modules) to read it with, first one also to write it
@@ -189,6 +196,8 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
         raise FormatError(name, None, "no such file")
     notes: list[str] = []
     data = _meshio_read(path, notes)
+    if any(block.type == "tetra" for block in data.cells):
+        return _tetrahedral(name, data, notes), notes
     raw_points = data.points
     if raw_points.ndim != 2 or raw_points.shape[1] not in (2, 3):
         raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 2|3")
@@ -240,6 +249,58 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     return mesh, notes
 
 
+def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
+    """The ``tetra`` cells of a meshio mesh as a :class:`Mesh3` (exact 3D points)."""
+    raw_points = data.points
+    if raw_points.ndim != 2 or raw_points.shape[1] != 3:
+        raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 3")
+    points: list[Point3] = []
+    for index, row in enumerate(raw_points.tolist()):
+        try:
+            points.append(point3(*(to_rational(value) for value in row)))
+        except RationalParseError as error:
+            raise FormatError(name, None, f"point {index}: {error}") from error
+    tetrahedra: list[tuple[int, int, int, int]] = []
+    for block in data.cells:
+        if block.type == "tetra":
+            shape: tuple[int, ...] = tuple(getattr(block.data, "shape", ()))
+            if len(shape) != 2 or (shape[0] and shape[1] != 4):
+                raise FormatError(
+                    name, None, f"its tetra cells have shape {shape}; expected n x 4"
+                )
+            tetrahedra.extend(
+                (int(a), int(b), int(c), int(d)) for a, b, c, d in block.data.tolist()
+            )
+        else:
+            notes.append(f"ignored {len(block.data)} {block.type} cells")
+    try:
+        return mesh3_from_tetrahedra(points, tetrahedra, orient=True)
+    except PreconditionError as error:
+        raise FormatError(name, None, str(error)) from error
+
+
+def _doubles3(path: Path, mesh: Mesh3) -> tuple[list[tuple[float, float, float]], int]:
+    """The vertices of a :class:`Mesh3` as doubles and how many coordinates that rounds."""
+    rows: list[tuple[float, float, float]] = []
+    rounded = 0
+    for index in range(mesh.vertex_count):
+        point = mesh.vertices[index]
+        try:
+            x, y, z = to_float(point.x), to_float(point.y), to_float(point.z)
+        except OverflowError:
+            raise FormatError(
+                str(path), None,
+                f"vertex {index} has a coordinate beyond the range of a double, which these "
+                "formats store; write an exact text format (.ele) instead",
+            ) from None
+        rounded += sum(
+            gmpy2.mpq(double) != exact
+            for double, exact in ((x, point.x), (y, point.y), (z, point.z))
+        )
+        rows.append((x, y, z))
+    return rows, rounded
+
+
 def _doubles(path: Path, mesh: Mesh2) -> tuple[list[tuple[float, float, float]], int]:
     """The vertices as doubles (z = 0) and how many coordinates that rounds; a
     FormatError naming the first vertex beyond the range of a double."""
@@ -266,9 +327,9 @@ def write_meshio(
     """A Mesh2 through meshio as doubles (the format is chosen by the extension); every
     coordinate that is not a double is rounded and counted, markers, attributes and
     segments are dropped and reported; numbers ``"exact"`` is refused (FormatError)."""
-    if not isinstance(value, Mesh2):
+    if not isinstance(value, (Mesh2, Mesh3)):
         raise UnsupportedValueError(
-            f"the meshio format writes a Mesh2, not a {type(value).__name__}"
+            f"the meshio format writes a Mesh2 or Mesh3, not a {type(value).__name__}"
         )
     if numbers == "exact":
         raise FormatError(
@@ -281,12 +342,18 @@ def write_meshio(
 
     if path.exists() and not overwrite:
         raise OverwriteError(str(path))
-    rows, rounded = _doubles(path, value)
-    points = numpy.array(rows, dtype=float).reshape(-1, 3)
     # 32-bit indices where they fit: some writers (PLY) warn on 64-bit ones
     index_type = numpy.int32 if value.vertex_count < 2**31 else numpy.int64
-    triangles = numpy.array(value.triangles(), dtype=index_type).reshape(-1, 3)
-    mesh = meshio.Mesh(points, [("triangle", triangles)])
+    if isinstance(value, Mesh3):
+        rows, rounded = _doubles3(path, value)
+        cells = ("tetra", numpy.array(value.tetrahedra(), dtype=index_type).reshape(-1, 4))
+        dropped: tuple[str, ...] = ()
+    else:
+        rows, rounded = _doubles(path, value)
+        cells = ("triangle", numpy.array(value.triangles(), dtype=index_type).reshape(-1, 3))
+        dropped = dropped_parts(value, ())
+    points = numpy.array(rows, dtype=float).reshape(-1, 3)
+    mesh = meshio.Mesh(points, [cells])
     suffix = path.suffix.lower()
     options = dict(_WRITE_OPTIONS.get(suffix, {}))
     if suffix in _MESHIO_FORMATS:
@@ -303,4 +370,4 @@ def write_meshio(
             raise FormatError(str(path), None, f"meshio cannot write it: {error}") from error
         data = temporary.read_bytes()
     write_bytes_atomic(path, data, overwrite=overwrite)
-    return WriteReport((path,), rounded, dropped_parts(value, ()))
+    return WriteReport((path,), rounded, dropped)

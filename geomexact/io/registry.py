@@ -46,8 +46,9 @@ from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Attributes, Mesh2, empty_mesh
 from geomexact.mesh2d.transient import Transient2
+from geomexact.mesh3d.snapshot import Mesh3
 
-Value: TypeAlias = Mesh2 | PSLG | PolygonMesh
+Value: TypeAlias = Mesh2 | PSLG | PolygonMesh | Mesh3
 """What a reader returns and a writer accepts."""
 
 Tokens: TypeAlias = list[str]

@@ -34,7 +34,8 @@ CASES = [
     ("neigh-disagrees.ele", "neigh-disagrees.neigh", 2,
      "the neighbour opposite its vertex 1 is listed as none (-1), but in the mesh it is "
      "triangle 1"),
-    ("node-dimension-3.ele", "node-dimension-3.node", 1, "only 2D files are supported"),
+    ("node-dimension-3.ele", "node-dimension-3.ele", 1,
+     "lists 3-node triangles, but its .node is 3D (dimension 3)"),
     ("node-duplicate-vertex.ele", "node-duplicate-vertex.node", 5,
      "vertex 3 (1, 0) has the same coordinates as vertex 1 (line 3)"),
     ("node-first-number-2.ele", "node-first-number-2.node", 2,

@@ -217,7 +217,7 @@ def test_uneven_attributes_are_padded_with_zeros(tmp_path: Path) -> None:
 def test_writer_refuses_other_kinds(tmp_path: Path) -> None:
     """The triangle format writes meshes, node and poly write PSLGs."""
     pslg = PSLG(vertices=[point2(0, 0)])
-    with pytest.raises(TypeError, match="writes a Mesh2, not a PSLG"):
+    with pytest.raises(TypeError, match="writes a Mesh2 or Mesh3, not a PSLG"):
         io.write(tmp_path / "a.ele", pslg)
     with pytest.raises(TypeError, match="writes a PSLG, not a Mesh2"):
         io.write(tmp_path / "a.poly", SQUARE)

@@ -1,0 +1,331 @@
+"""Hang Si's TetGen files for tetrahedral meshes: ``.node`` (3D), ``.ele`` and ``.face``.
+
+Spec: ``specs/formats/tetgen.md``.  A mesh is named by its ``.ele`` file (or its stem);
+the ``.node`` beside it is required; a ``.face`` beside it, when present, must list
+exactly the boundary faces (any order, any orientation).  Indices are 0- or 1-based as the
+first vertex number says.  Tetrahedra must all have the same orientation: all positive
+(our ``orient3d``) are kept, all negative are reversed with a note, a file mixing them is
+refused naming one line of each.  Vertex attributes and markers and tetrahedron attributes
+are not part of a :class:`Mesh3`: they are dropped with a note.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.io.registry import (
+    NumberStyle,
+    NumberText,
+    Value,
+    WriteReport,
+    check_index,
+    check_numbering,
+    counted,
+    expect_exact_fields,
+    file_lines,
+    file_stem,
+    parse_count,
+    parse_int,
+    parse_number,
+    with_extension,
+    write_files,
+)
+from geomexact.kernel.points import Point3, point3
+from geomexact.kernel.predicate_results import Orientation
+from geomexact.kernel.predicates3d import orient3d
+from geomexact.mesh3d.snapshot import Mesh3, empty_mesh3, tetrahedron_faces
+from geomexact.mesh3d.transient import Transient3
+
+NODE, ELE, FACE = ".node", ".ele", ".face"
+
+
+def mesh_stem(path: Path) -> Path:
+    """The stem of a mesh named by any of its files (``x.1.ele``, ``x.1.node``,
+    ``x.1.face``) or by the stem itself."""
+    for extension in (ELE, NODE, FACE):
+        stem = file_stem(path, extension)
+        if stem != path:
+            return stem
+    return path
+
+
+def node_dimension(path: Path) -> int | None:
+    """The dimension in the header of the ``.node`` beside the mesh ``path`` names (2 when
+    the header omits it), or None when there is no such file or no readable header."""
+    node_path = with_extension(mesh_stem(path), NODE)
+    if not node_path.exists():
+        return None
+    lines = file_lines(node_path)
+    if lines.at_end():
+        return None
+    _, tokens = lines.next("the header")
+    if len(tokens) < 2:
+        return 2
+    try:
+        return int(tokens[1])
+    except ValueError:
+        return None
+
+
+def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
+    """The points of a 3D ``.node`` file and its numbering base."""
+    name = str(path)
+    lines = file_lines(path)
+    number, tokens = lines.next("the header 'count 3 attributes markers'")
+    if len(tokens) > 4:
+        raise FormatError(
+            name, number,
+            f"the vertex header is 'count 3 attributes markers', found {len(tokens)} fields",
+        )
+    count = parse_count(name, number, tokens[0], "vertex count")
+    dimension = parse_int(name, number, tokens[1], "dimension") if len(tokens) > 1 else 2
+    if dimension != 3:
+        raise FormatError(name, number, f"dimension is {dimension}; a TetGen mesh is 3")
+    attributes = parse_count(name, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
+    markers = parse_int(name, number, tokens[3], "boundary marker count") if len(tokens) > 3 else 0
+    if markers not in (0, 1):
+        raise FormatError(name, number, f"boundary marker count must be 0 or 1, not {markers}")
+    fields = 4 + attributes + markers
+    shape = (
+        "a vertex line 'number x y z" + " attributes" * bool(attributes)
+        + " marker" * markers + "'"
+    )
+    points: list[Point3] = []
+    base = 0
+    dropped = 0
+    for index in range(count):
+        number, tokens = lines.next_item(
+            index, count, f"vertex {index + base} (of {count})", "vertices"
+        )
+        expect_exact_fields(name, number, tokens, fields, shape)
+        label = parse_int(name, number, tokens[0], "vertex number")
+        base = check_numbering(name, number, label, index, base, "vertex")
+        x, y, z = (
+            parse_number(name, number, token, f"{axis} of vertex {label}")
+            for token, axis in zip(tokens[1:4], "xyz", strict=True)
+        )
+        for token in tokens[4 : 4 + attributes]:
+            parse_number(name, number, token, f"attribute of vertex {label}")
+        if markers and parse_int(name, number, tokens[-1], f"marker of vertex {label}"):
+            dropped += 1
+        points.append(point3(x, y, z))
+    lines.expect_end(f"the {counted(count, 'vertex', 'vertices')}")
+    if attributes:
+        notes.append(f"dropped the {counted(attributes, 'attribute')} of each vertex")
+    if dropped:
+        notes.append(f"dropped {counted(dropped, 'nonzero vertex marker')}")
+    return points, base
+
+
+def _read_tetrahedra(
+    path: Path, points: list[Point3], base: int, notes: list[str]
+) -> tuple[list[tuple[int, int, int, int]], list[int]]:
+    """The tetrahedra of an ``.ele`` file (0-based), all positive, and their lines."""
+    name = str(path)
+    lines = file_lines(path)
+    number, tokens = lines.next("the header 'count 4 attributes'")
+    if len(tokens) > 3:
+        raise FormatError(
+            name, number, f"the .ele header is 'count 4 attributes', found {len(tokens)} fields"
+        )
+    count = parse_count(name, number, tokens[0], "tetrahedron count")
+    corners = (
+        parse_int(name, number, tokens[1], "corners per tetrahedron") if len(tokens) > 1 else 4
+    )
+    if corners == 3:
+        raise FormatError(
+            name, number,
+            "lists 3-node triangles, but its .node is 3D (dimension 3): only 2D Triangle "
+            "meshes and TetGen meshes of 4-node tetrahedra are supported",
+        )
+    if corners != 4:
+        raise FormatError(
+            name, number, f"tetrahedra have {corners} nodes; only 4-node tetrahedra are supported"
+        )
+    attributes = parse_count(name, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
+    fields = 5 + attributes
+    tetrahedra: list[tuple[int, int, int, int]] = []
+    numbers: list[int] = []
+    positive: int | None = None  # the line of the first of each orientation
+    negative: int | None = None
+    first = 0
+    for index in range(count):
+        number, tokens = lines.next_item(
+            index, count, f"tetrahedron {index + first} (of {count})", "tetrahedra"
+        )
+        expect_exact_fields(
+            name, number, tokens, fields,
+            "a tetrahedron line 'number a b c d" + " attributes" * bool(attributes) + "'",
+        )
+        label = parse_int(name, number, tokens[0], "tetrahedron number")
+        first = check_numbering(name, number, label, index, first, "tetrahedron")
+        a, b, c, d = (
+            check_index(
+                name, number, parse_int(name, number, token, f"corner of tetrahedron {label}"),
+                len(points), base, f"tetrahedron {label}: vertex",
+            )
+            for token in tokens[1:5]
+        )
+        for token in tokens[5:]:
+            parse_number(name, number, token, f"attribute of tetrahedron {label}")
+        if len({a, b, c, d}) < 4:
+            raise FormatError(name, number, f"tetrahedron {label} repeats a vertex")
+        orientation = orient3d(points[a], points[b], points[c], points[d])
+        if orientation == Orientation.COLLINEAR:
+            raise FormatError(name, number, f"tetrahedron {label} is flat (zero volume)")
+        if orientation == Orientation.COUNTERCLOCKWISE:
+            positive = number if positive is None else positive
+        else:
+            negative = number if negative is None else negative
+        if positive is not None and negative is not None:
+            raise FormatError(
+                name, number,
+                f"tetrahedra of both orientations: line {positive} is positive, line "
+                f"{negative} negative (orient3d, specs/predicates.md)",
+            )
+        tetrahedra.append((a, b, c, d))
+        numbers.append(number)
+    lines.expect_end(f"the {counted(count, 'tetrahedron', 'tetrahedra')}")
+    if negative is not None:
+        tetrahedra = [(b, a, c, d) for a, b, c, d in tetrahedra]
+        notes.append(
+            f"all {counted(count, 'tetrahedron', 'tetrahedra')} were negatively oriented; "
+            "reversed them"
+        )
+    if attributes:
+        notes.append(f"dropped the {counted(attributes, 'attribute')} of each tetrahedron")
+    return tetrahedra, numbers
+
+
+def _check_faces(path: Path, mesh: Mesh3, base: int) -> None:
+    """FormatError unless the ``.face`` file lists exactly the boundary faces."""
+    name = str(path)
+    lines = file_lines(path)
+    number, tokens = lines.next("the header 'count markers'")
+    if len(tokens) > 2:
+        raise FormatError(
+            name, number, f"the .face header is 'count markers', found {len(tokens)} fields"
+        )
+    count = parse_count(name, number, tokens[0], "face count")
+    markers = parse_int(name, number, tokens[1], "face marker count") if len(tokens) > 1 else 0
+    if markers not in (0, 1):
+        raise FormatError(name, number, f"face marker count must be 0 or 1, not {markers}")
+    boundary = {frozenset(face) for face in mesh.boundary_faces()}
+    if count != len(boundary):
+        raise FormatError(
+            name, number,
+            f"lists {count} faces, but the mesh has {len(boundary)} boundary faces",
+        )
+    seen: set[frozenset[int]] = set()
+    first = 0
+    for index in range(count):
+        number, tokens = lines.next_item(index, count, f"face {index + first}", "faces")
+        expect_exact_fields(
+            name, number, tokens, 4 + markers,
+            "a face line 'number a b c" + " marker" * markers + "'",
+        )
+        label = parse_int(name, number, tokens[0], "face number")
+        first = check_numbering(name, number, label, index, first, "face")
+        face = frozenset(
+            check_index(
+                name, number, parse_int(name, number, token, f"corner of face {label}"),
+                mesh.vertex_count, base, f"face {label}: vertex",
+            )
+            for token in tokens[1:4]
+        )
+        if markers:
+            parse_int(name, number, tokens[4], f"marker of face {label}")
+        if face not in boundary:
+            raise FormatError(name, number, f"face {label} is not a boundary face of the mesh")
+        if face in seen:
+            raise FormatError(name, number, f"face {label} is listed twice")
+        seen.add(face)
+    lines.expect_end(f"the {counted(count, 'face')}")
+
+
+def _build(
+    name: str,
+    points: list[Point3],
+    tetrahedra: list[tuple[int, int, int, int]],
+    numbers: list[int],
+    base: int,
+) -> Mesh3:
+    """The mesh of positive ``tetrahedra``; two on the same side of a face (an overlap) is
+    a FormatError at the later one's line naming the earlier one's."""
+    transient = Transient3(empty_mesh3())
+    for point in points:
+        transient.add_vertex(point)
+    owner: dict[tuple[int, int, int], int] = {}  # oriented face -> line of its tetrahedron
+    for tetrahedron, number in zip(tetrahedra, numbers, strict=True):
+        for face, _ in tetrahedron_faces(*tetrahedron):
+            if face in owner:
+                shown = tuple(vertex + base for vertex in face)
+                raise FormatError(
+                    name, number,
+                    f"the tetrahedra overlap: face {shown} of this tetrahedron is on the "
+                    f"same side as the tetrahedron on line {owner[face]}",
+                )
+        for face, _ in tetrahedron_faces(*tetrahedron):
+            owner[face] = number
+        transient.add_tetrahedron(*tetrahedron)
+    return transient.seal()
+
+
+def read_tetgen(path: Path) -> tuple[Value, list[str]]:
+    """A TetGen mesh named by its ``.ele`` file (or its stem) as a :class:`Mesh3`."""
+    stem = mesh_stem(path)
+    ele_path, node_path, face_path = (with_extension(stem, e) for e in (ELE, NODE, FACE))
+    if not ele_path.exists():
+        raise FormatError(str(ele_path), None, "no such file")
+    if not node_path.exists():
+        raise FormatError(
+            str(ele_path), None,
+            f"a TetGen mesh needs its vertices in {node_path.name}, which does not exist",
+        )
+    notes: list[str] = []
+    points, base = _read_nodes(node_path, notes)
+    tetrahedra, numbers = _read_tetrahedra(ele_path, points, base, notes)
+    mesh = _build(str(ele_path), points, tetrahedra, numbers, base)
+    if face_path.exists():
+        _check_faces(face_path, mesh, base)
+        notes.append(f"{face_path.name} agrees with the boundary")
+    return mesh, notes
+
+
+def tetgen_output_paths(path: Path) -> tuple[Path, ...]:
+    """The files :func:`write_tetgen` writes for ``path``."""
+    stem = mesh_stem(path)
+    return tuple(with_extension(stem, extension) for extension in (NODE, ELE, FACE))
+
+
+def tetgen_texts(mesh: Mesh3, number: NumberText) -> tuple[str, str, str]:
+    """The ``.node``, ``.ele`` and ``.face`` texts of ``mesh`` (0-based; tetrahedra
+    canonical, positive in our orient3d; boundary faces outward, marker 1)."""
+    node = [f"{mesh.vertex_count} 3 0 0"]
+    for index in range(mesh.vertex_count):
+        p = mesh.vertices[index]
+        node.append(f"{index} {number(p.x)} {number(p.y)} {number(p.z)}")
+    tetrahedra = mesh.tetrahedra()
+    ele = [f"{len(tetrahedra)} 4 0"]
+    ele.extend(f"{i} {a} {b} {c} {d}" for i, (a, b, c, d) in enumerate(tetrahedra))
+    faces = mesh.boundary_faces()
+    face = [f"{len(faces)} 1"]
+    face.extend(f"{i} {a} {b} {c} 1" for i, (a, b, c) in enumerate(faces))
+    return tuple("\n".join(rows) + "\n" for rows in (node, ele, face))  # type: ignore[return-value]
+
+
+def write_tetgen(
+    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
+) -> WriteReport:
+    """A :class:`Mesh3` as ``stem.node``, ``stem.ele`` and ``stem.face``."""
+    if not isinstance(value, Mesh3):
+        raise UnsupportedValueError(
+            f"the tetgen format writes a Mesh3, not a {type(value).__name__}"
+        )
+    number = NumberText(numbers)
+    texts = tetgen_texts(value, number)
+    return write_files(
+        list(zip(tetgen_output_paths(path), texts, strict=True)),
+        overwrite=overwrite, numbers=number,
+    )

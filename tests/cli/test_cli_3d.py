@@ -1,0 +1,99 @@
+"""``info``, ``check`` and ``convert`` on tetrahedral meshes (TetGen files)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from geomexact import io
+from geomexact.cli import main
+from geomexact.mesh3d.cuboid.boxes import box_of_extents
+from geomexact.mesh3d.cuboid.partition import partition_cuboid
+from geomexact.mesh3d.snapshot import Mesh3
+
+
+def _mesh() -> Mesh3:
+    return partition_cuboid(0b101, box_of_extents(1, 2, 3)).mesh
+
+
+def _written(tmp_path: Path) -> Path:
+    path = tmp_path / "box.ele"
+    io.write(path, _mesh())
+    return path
+
+
+def test_info_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _written(tmp_path)
+    assert main(["info", str(path), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    mesh = _mesh()
+    assert report["kind"] == "tetrahedral_mesh"
+    assert report["vertices"] == mesh.vertex_count
+    assert report["tetrahedra"] == mesh.tetrahedron_count
+    assert report["boundary_faces"] == len(mesh.boundary_faces())
+    assert report["volume"] == "6"
+    assert isinstance(report["is_delaunay"], bool)
+    assert report["digest"] == mesh.digest_text
+
+
+def test_info_table(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["info", str(_written(tmp_path))]) == 0
+    out = capsys.readouterr().out
+    assert "tetrahedral mesh" in out and "tetrahedra" in out
+
+
+def test_check_valid(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _written(tmp_path)
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "valid" in out and _mesh().digest_text in out
+    assert main(["check", str(path), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["valid"] is True and report["tetrahedra"] == _mesh().tetrahedron_count
+
+
+def test_check_bad_file_names_the_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _written(tmp_path)
+    text = path.read_text().splitlines()
+    text[2] = text[2].split()[0] + " 0 0 0 0"
+    path.write_text("\n".join(text) + "\n")
+    assert main(["check", str(path)]) != 0
+    assert f"{path}:3" in capsys.readouterr().err
+
+
+def test_convert_to_tetgen_and_vtu(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _written(tmp_path)
+    out = tmp_path / "copy" / "b.ele"
+    out.parent.mkdir()
+    assert main(["convert", str(path), str(out)]) == 0
+    assert io.read(out) == _mesh()
+    vtu = tmp_path / "box.vtu"
+    assert main(["convert", str(path), str(vtu)]) == 0
+    assert vtu.exists()
+    back = io.read(vtu)
+    assert isinstance(back, Mesh3)
+    assert back.tetrahedra() == _mesh().tetrahedra()
+
+
+def test_check_reports_violations(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Two tetrahedra sharing only an edge: the boundary is not a closed 2-manifold."""
+    (tmp_path / "bow.node").write_text(
+        "6 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 -1 0 0\n5 0 -1 -1\n"
+    )
+    (tmp_path / "bow.ele").write_text("2 4 0\n0 0 1 2 3\n1 0 3 4 5\n")
+    code = main(["check", str(tmp_path / "bow.ele"), "--json"])
+    report = json.loads(capsys.readouterr().out)
+    assert code == 1 and report["valid"] is False and report["violations"]
+
+
+def test_named_formats(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _written(tmp_path)
+    assert main(["info", str(path), "--format", "tetgen", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["format"] == "tetgen"
+    off = tmp_path / "pic.off"
+    assert main(["convert", str(path), str(off), "--to", "geomview3d"]) == 0
+    assert off.read_text().startswith("OFF\n")
+    assert main(["convert", str(path), str(tmp_path / "w.vect")]) == 0
+    assert (tmp_path / "w.vect").read_text().startswith("VECT\n")
