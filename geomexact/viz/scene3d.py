@@ -62,7 +62,7 @@ def radius_ratio(a: Point3, b: Point3, c: Point3, d: Point3) -> float:
     if det == 0.0:
         return 0.0
     uu, vv, ww = dot(u, u), dot(v, v), dot(w, w)
-    centre = [(uu * vw[i] + vv * wu[i] + ww * uv[i]) / (2.0 * det) for i in range(3)]
+    centre = tuple((uu * vw[i] + vv * wu[i] + ww * uv[i]) / (2.0 * det) for i in range(3))
     circum = math.sqrt(dot(centre, centre))
     vu = (v[0] - u[0], v[1] - u[1], v[2] - u[2])
     wv = (w[0] - v[0], w[1] - v[1], w[2] - v[2])
