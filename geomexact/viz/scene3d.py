@@ -18,7 +18,6 @@ import html
 import json
 import math
 from array import array
-from collections.abc import Sequence
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -179,5 +178,4 @@ def write_viewer_3d(path: str | Path, mesh: Mesh3, trace: Trace | None = None, *
     return target
 
 
-__all__: Sequence[str] = ("exact_volume", "payload3", "radius_ratio", "viewer_html_3d",
-                          "write_viewer_3d")
+__all__ = ["exact_volume", "payload3", "radius_ratio", "viewer_html_3d", "write_viewer_3d"]
