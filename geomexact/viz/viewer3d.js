@@ -73,9 +73,13 @@
     canvas.width = Math.max(1, Math.round(box.width * ratio));
     canvas.height = Math.max(1, Math.round(box.height * ratio));
   }
+  let cached = null;  // the alive tetrahedra and faces of one (step, all): rotation reuses them
   function draw() {
-    const alive = aliveAt(state.step);
-    const faces = facesToDraw(alive);
+    if (!cached || cached.step !== state.step || cached.all !== state.all) {
+      const alive = aliveAt(state.step);
+      cached = { step: state.step, all: state.all, alive, faces: facesToDraw(alive) };
+    }
+    const alive = cached.alive, faces = cached.faces;
     const w = canvas.width, h = canvas.height;
     context.setTransform(1, 0, 0, 1, 0, 0);
     context.fillStyle = "#ffffff";

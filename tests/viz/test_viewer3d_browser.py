@@ -16,6 +16,8 @@ from geomexact.viz.scene3d import viewer_html_3d
 
 pytestmark = pytest.mark.browser
 
+ARTIFACTS = Path(__file__).resolve().parents[2] / "artifacts" / "browser"
+
 CHROMIUM_FLAGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
@@ -98,5 +100,14 @@ def test_draws_rotates_and_steps(page: tuple[Any, list[str], list[str]]) -> None
     tab.evaluate("""() => { const s = document.getElementById('shrink');
         s.value = '0.5'; s.dispatchEvent(new Event('input')); }""")
     assert _inked(tab) > 100
+    by_quality = _image(tab)
+    tab.select_option("#colour", "step")
+    assert _image(tab) != by_quality
+    legend = tab.inner_text("#legend")
+    assert "split_tetra" in legend and "flip23" in legend
+    tab.check("#all-tets")
+    assert _tetrahedra(tab) == first
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    tab.screenshot(path=str(ARTIFACTS / "viewer3d-cuboid.png"))
     assert errors == []
     assert all(url.startswith("file://") for url in requests), requests
