@@ -7,7 +7,8 @@ little-endian ``Float64Array`` xyz (vertex ids are insertion order, so every ear
 uses a prefix), and every tetrahedron that ever existed during the trace once
 (``Uint32Array`` of 4 ids each) with its ``birth`` and ``death`` step (``Int32Array``:
 alive at step s when ``birth <= s < death``), its radius ratio in doubles (display only)
-and the operation that created it.  Exact statistics (volume as a rational's text,
+and the operation that created it (an index into ``ops``: ``"input"`` first, then the
+sorted operation names).  Exact statistics (volume as a rational's text,
 digests) travel as strings.  Specification: ``specs/viewer.md``.
 """
 
@@ -100,7 +101,7 @@ def payload3(mesh: Mesh3, trace: Trace | None = None, *, title: str = "",
         raise ValueError(f"step {step} is outside 0..{steps}")
     final = meshes[-1]
     ops = ["input"] + ([s.op for s in trace.steps] if trace is not None else [])
-    op_names = sorted(set(ops))
+    op_names = ["input"] + sorted(set(ops) - {"input"})
     born: dict[Tetrahedron, int] = {}
     order: list[Tetrahedron] = []
     death: dict[Tetrahedron, int] = {}

@@ -52,6 +52,7 @@
     for (let c = 0; c < cellCount; c++) if (birth[c] <= step && step < death[c]) alive.push(c);
     return alive;
   }
+  let cached = null;  // the alive tetrahedra and faces of one (step, all): rotation reuses them
   const FACES = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
   function facesToDraw(alive) {
     // [cell, a, b, c] for every face drawn: the boundary faces, or all with "all tetrahedra"
@@ -69,11 +70,14 @@
   }
   function resize() {
     const ratio = window.devicePixelRatio || 1;
-    const box = canvas.getBoundingClientRect();
-    canvas.width = Math.max(1, Math.round(box.width * ratio));
-    canvas.height = Math.max(1, Math.round(box.height * ratio));
+    const box = document.getElementById("stage").getBoundingClientRect();
+    const width = Math.max(1, Math.floor(box.width)), height = Math.max(1, Math.floor(box.height));
+    canvas.width = Math.round(width * ratio);
+    canvas.height = Math.round(height * ratio);
+    canvas.style.width = width + "px";
+    canvas.style.height = height + "px";
+    cached = null;
   }
-  let cached = null;  // the alive tetrahedra and faces of one (step, all): rotation reuses them
   function draw() {
     if (!cached || cached.step !== state.step || cached.all !== state.all) {
       const alive = aliveAt(state.step);
