@@ -101,7 +101,7 @@ def payload3(mesh: Mesh3, trace: Trace | None = None, *, title: str = "",
         raise ValueError(f"step {step} is outside 0..{steps}")
     final = meshes[-1]
     ops = ["input"] + ([s.op for s in trace.steps] if trace is not None else [])
-    op_names = ["input"] + sorted(set(ops) - {"input"})
+    op_names = ["input", *sorted(set(ops) - {"input"})]
     born: dict[Tetrahedron, int] = {}
     order: list[Tetrahedron] = []
     death: dict[Tetrahedron, int] = {}

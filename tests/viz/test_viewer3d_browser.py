@@ -55,6 +55,11 @@ def page(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Any, list[s
         browser.close()
 
 
+def _artifact(name: str) -> Path:
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    return ARTIFACTS / name
+
+
 def _inked(tab: Any) -> int:
     inked: int = tab.evaluate("""() => {
         const c = document.getElementById('view');
@@ -78,7 +83,13 @@ def _tetrahedra(tab: Any) -> int:
 
 def test_draws_rotates_and_steps(page: tuple[Any, list[str], list[str]]) -> None:
     tab, errors, requests = page
-    assert _inked(tab) > 1000
+    filled = tab.evaluate("""() => {
+        const s = document.getElementById('stage').getBoundingClientRect();
+        const c = document.getElementById('view').getBoundingClientRect();
+        return c.width >= s.width - 1 && c.height >= s.height - 1; }""")
+    assert filled, "the canvas fills the stage"
+    assert _inked(tab) > 20_000
+    tab.screenshot(path=str(_artifact("viewer3d-cuboid-last.png")))
     before = _image(tab)
     box = tab.locator("#view").bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
@@ -107,7 +118,6 @@ def test_draws_rotates_and_steps(page: tuple[Any, list[str], list[str]]) -> None
     assert "split_tetra" in legend and "flip23" in legend
     tab.check("#all-tets")
     assert _tetrahedra(tab) == first
-    ARTIFACTS.mkdir(parents=True, exist_ok=True)
-    tab.screenshot(path=str(ARTIFACTS / "viewer3d-cuboid.png"))
+    tab.screenshot(path=str(_artifact("viewer3d-cuboid-first.png")))
     assert errors == []
     assert all(url.startswith("file://") for url in requests), requests
