@@ -88,6 +88,8 @@ def payload3(mesh: Mesh3, trace: Trace | None = None, *, title: str = "",
     otherwise) and the payload holds every step; the shown mesh is the last one."""
     from geomexact._version import __version__
 
+    if not isinstance(mesh, Mesh3):
+        raise TypeError(f"the 3D viewer shows a Mesh3, not {type(mesh).__name__}")
     if colour not in COLOUR_MODES:
         raise ValueError(f"colour must be one of {', '.join(COLOUR_MODES)}, not {colour!r}")
     meshes = [mesh]
@@ -155,7 +157,9 @@ def viewer_html_3d(mesh: Mesh3, trace: Trace | None = None, *, title: str = "mes
     and the page has a step slider over every intermediate mesh, ``step`` first shown,
     default the last).  ``colour``: ``"quality"`` (radius ratio), ``"step"`` (the
     operation that created each tetrahedron) or ``"plain"``.  No network request at any
-    time; byte-identical for equal inputs.  O(total tetrahedra of all steps)."""
+    time; byte-identical for equal inputs.  Time O(the sum over steps of the tetrahedra
+then alive): every step's snapshot is compared with the previous one; the page holds
+each tetrahedron once.  ``TypeError`` for anything but a ``Mesh3``."""
     data = payload3(mesh, trace, title=title, colour=colour, step=step)
     text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
     text = text.replace("<", "\\u003c")

@@ -75,3 +75,12 @@ def test_radius_ratio_of_regular_and_flat() -> None:
     regular = (p(1, 1, 1), p(1, -1, -1), p(-1, 1, -1), p(-1, -1, 1))
     assert radius_ratio(*regular) == pytest.approx(1.0)
     assert radius_ratio(p(0, 0, 0), p(1, 0, 0), p(0, 1, 0), p(1, 1, 0)) == 0.0
+
+
+def test_empty_mesh_and_wrong_type() -> None:
+    from geomexact.mesh3d.snapshot import empty_mesh3
+
+    data = payload3(empty_mesh3())
+    assert data["vertex_count"] == 0 and data["volume"] == "0" and data["cells"] == ""
+    with pytest.raises(TypeError, match="Mesh3"):
+        payload3("not a mesh")  # type: ignore[arg-type]
