@@ -5,7 +5,10 @@
   trace with that step highlighted;
 - :func:`viewer_html` / :func:`write_viewer`: one self-contained HTML file (JavaScript and
   CSS inline, no network request at any time) with pan and zoom, statistics, hover
-  details, a file-open control and, for a trace, a step slider.
+  details, a file-open control and, for a trace, a step slider;
+- :func:`viewer_html_3d` / :func:`write_viewer_3d`: the same for a tetrahedral mesh
+  (``Mesh3``): rotate, zoom, shrink tetrahedra, colour by radius ratio or creating step,
+  boundary faces or all, a step slider over a trace.
 
 The local server that shows a directory in the viewer is :mod:`geomexact.server`.  Names
 load on first use (matplotlib only with the pictures).  Guide: ``docs/viewer.md``; payload
@@ -21,6 +24,7 @@ from geomexact._lazy_exports import lazy_exports
 if TYPE_CHECKING:
     from geomexact.viz.pictures import figure, plot, plot_step
     from geomexact.viz.scene import History, Scene, history_of, scene_of
+    from geomexact.viz.scene3d import viewer_html_3d, write_viewer_3d
     from geomexact.viz.viewer import Download, empty_viewer_html, viewer_html, write_viewer
 
 _HOMES: dict[str, str] = {
@@ -35,6 +39,8 @@ _HOMES: dict[str, str] = {
     "empty_viewer_html": "geomexact.viz.viewer",
     "viewer_html": "geomexact.viz.viewer",
     "write_viewer": "geomexact.viz.viewer",
+    "viewer_html_3d": "geomexact.viz.scene3d",
+    "write_viewer_3d": "geomexact.viz.scene3d",
 }
 
 __all__ = [
@@ -48,7 +54,9 @@ __all__ = [
     "plot_step",
     "scene_of",
     "viewer_html",
+    "viewer_html_3d",
     "write_viewer",
+    "write_viewer_3d",
 ]
 
 __getattr__, __dir__ = lazy_exports(__name__, globals(), _HOMES)

@@ -1,0 +1,123 @@
+"""The 3D viewer page in headless Chromium (Debian's ``chromium`` via Playwright): it
+draws, dragging rotates it, the step slider changes the tetrahedra shown, and nothing is
+logged as an error or requested from the network."""
+
+from __future__ import annotations
+
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from geomexact.mesh3d.cuboid.partition import partition_cuboid
+from geomexact.viz.scene3d import viewer_html_3d
+
+pytestmark = pytest.mark.browser
+
+ARTIFACTS = Path(__file__).resolve().parents[2] / "artifacts" / "browser"
+
+CHROMIUM_FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]
+
+
+def chromium() -> str:
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        found = shutil.which(name)
+        if found:
+            return found
+    pytest.skip("needs a headless chromium on PATH")
+
+
+@pytest.fixture(scope="module")
+def page(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Any, list[str], list[str]]]:
+    sync_api = pytest.importorskip("playwright.sync_api")
+    run = partition_cuboid(0b101101, improve=True)
+    path: Path = tmp_path_factory.mktemp("view3d") / "cuboid.html"
+    path.write_text(viewer_html_3d(run.start, run.trace, title="cuboid"), encoding="utf-8")
+    errors: list[str] = []
+    requests: list[str] = []
+    with sync_api.sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=chromium(), args=CHROMIUM_FLAGS)
+        context = browser.new_context(viewport={"width": 1000, "height": 700})
+        context.route("**/*", lambda route: route.continue_()
+                      if route.request.url.startswith("file://") else route.abort())
+        tab = context.new_page()
+        tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        tab.on("pageerror", lambda e: errors.append(str(e)))
+        tab.on("request", lambda r: requests.append(r.url))
+        tab.goto(path.as_uri())
+        tab.wait_for_selector("#stats-table tr", state="attached")
+        yield tab, errors, requests
+        browser.close()
+
+
+def _artifact(name: str) -> Path:
+    ARTIFACTS.mkdir(parents=True, exist_ok=True)
+    return ARTIFACTS / name
+
+
+def _inked(tab: Any) -> int:
+    inked: int = tab.evaluate("""() => {
+        const c = document.getElementById('view');
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+        let n = 0;
+        for (let i = 0; i < d.length; i += 4)
+            if (d[i] < 250 || d[i + 1] < 250 || d[i + 2] < 250) n++;
+        return n; }""")
+    return inked
+
+
+def _image(tab: Any) -> str:
+    url: str = tab.evaluate("() => document.getElementById('view').toDataURL()")
+    return url
+
+
+def _tetrahedra(tab: Any) -> int:
+    return int(tab.evaluate(
+        "() => document.getElementById('stats-table').dataset.tetrahedra"))
+
+
+def test_draws_rotates_and_steps(page: tuple[Any, list[str], list[str]]) -> None:
+    tab, errors, requests = page
+    filled = tab.evaluate("""() => {
+        const s = document.getElementById('stage').getBoundingClientRect();
+        const c = document.getElementById('view').getBoundingClientRect();
+        return c.width >= s.width - 1 && c.height >= s.height - 1; }""")
+    assert filled, "the canvas fills the stage"
+    assert _inked(tab) > 20_000
+    tab.screenshot(path=str(_artifact("viewer3d-cuboid-last.png")))
+    before = _image(tab)
+    box = tab.locator("#view").bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    tab.mouse.move(x, y)
+    tab.mouse.down()
+    tab.mouse.move(x + 120, y + 40, steps=5)
+    tab.mouse.up()
+    assert _image(tab) != before
+    last = _tetrahedra(tab)
+    tab.evaluate("""() => { const s = document.getElementById('step');
+        s.value = '0'; s.dispatchEvent(new Event('input')); }""")
+    first = _tetrahedra(tab)
+    assert first != last and first > 0
+    assert _inked(tab) > 1000
+    zoomed = _image(tab)
+    tab.mouse.move(x, y)
+    tab.mouse.wheel(0, -300)
+    assert _image(tab) != zoomed
+    tab.evaluate("""() => { const s = document.getElementById('shrink');
+        s.value = '0.5'; s.dispatchEvent(new Event('input')); }""")
+    assert _inked(tab) > 100
+    by_quality = _image(tab)
+    tab.select_option("#colour", "step")
+    assert _image(tab) != by_quality
+    legend = tab.inner_text("#legend")
+    assert "split_tetra" in legend and "flip23" in legend
+    tab.check("#all-tets")
+    assert _tetrahedra(tab) == first
+    tab.screenshot(path=str(_artifact("viewer3d-cuboid-first.png")))
+    assert errors == []
+    assert all(url.startswith("file://") for url in requests), requests
