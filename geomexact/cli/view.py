@@ -41,15 +41,23 @@ def command_view(args: argparse.Namespace) -> int:
         raise UsageProblem("--step needs --trace")
     loaded = load(args.input, args.format, args.verbose)
     value = loaded.value
-    if isinstance(value, Mesh3):
+    if isinstance(value, Mesh3) and suffix not in (".html", ".htm"):
         raise UsageProblem(
-            f"{args.input}: is a tetrahedral mesh, which view does not draw yet; convert it "
-            "to .vtu, or --to geomview3d / vect, for a 3D viewer"
+            f"{args.input}: is a tetrahedral mesh: view draws it only as the HTML viewer "
+            "(OUT.html); convert it to .vtu, or --to geomview3d / vect, for other tools"
         )
     trace = read_trace(args.trace) if args.trace else None
     fill = args.color_by.replace("-", "_")
     try:
-        if suffix in (".html", ".htm"):
+        if isinstance(value, Mesh3):
+            from geomexact.viz.scene3d import viewer_html_3d
+
+            # the 2D fills name triangle measures; in 3D, quality (radius ratio) or plain
+            colour = "plain" if fill in ("area", "region") else "quality"
+            text = viewer_html_3d(value, trace, title=args.title or Path(args.input).name,
+                                  colour=colour, step=args.step)
+            write_text_atomic(output, text, overwrite=args.force)
+        elif suffix in (".html", ".htm"):
             text = viewer.viewer_html(
                 value, trace=trace, title=args.title, source=Path(args.input).name,
                 trace_source=Path(args.trace).name if args.trace else None, fill=fill,

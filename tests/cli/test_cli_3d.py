@@ -97,3 +97,19 @@ def test_named_formats(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     assert off.read_text().startswith("OFF\n")
     assert main(["convert", str(path), str(tmp_path / "w.vect")]) == 0
     assert (tmp_path / "w.vect").read_text().startswith("VECT\n")
+
+
+def test_view_writes_the_3d_viewer_of_a_tetrahedral_mesh(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from geomexact import io
+    from geomexact.cli import main
+    from geomexact.mesh3d.cuboid.partition import partition_cuboid
+
+    mesh = partition_cuboid(70688, improve=True).mesh
+    io.write(tmp_path / "c.ele", mesh)
+    assert main(["view", str(tmp_path / "c.ele"), "-o", str(tmp_path / "c.html")]) == 0
+    page = (tmp_path / "c.html").read_text(encoding="utf-8")
+    assert "http://" not in page and "https://" not in page
+    assert main(["view", str(tmp_path / "c.ele"), "-o", str(tmp_path / "c.png")]) == 2
+    assert "only as the HTML viewer" in capsys.readouterr().err
