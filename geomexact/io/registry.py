@@ -35,6 +35,7 @@ from geomexact.io.files import read_lines, write_text_atomic
 from geomexact.kernel.numbers import (
     ZERO,
     Rational,
+    exact_decimal,
     floor_log2,
     parse_rational,
     to_float,
@@ -774,43 +775,10 @@ def mpz_text(value: Any) -> str:
 
 
 def exact_decimal_text(value: Rational) -> str | None:
-    """The exact decimal text of ``value`` (``"0.125"``, ``"-3"``, ``"1.5e-30"`` when the
-    exponent form is shorter), or None when its decimal expansion does not terminate.
-    Linear in the size of the number: the denominator 2^a 5^b is made 10^max(a, b) in one
-    multiplication."""
-    numerator = gmpy2.mpz(value.numerator)
-    denominator = gmpy2.mpz(value.denominator)
-    if denominator == 1:
-        digits = mpz_text(abs(numerator))
-        stripped = digits.rstrip("0") or "0"
-        return _decimal_text(numerator < 0, stripped, len(stripped) - len(digits))
-    rest, twos = gmpy2.remove(denominator, 2)
-    rest, fives = gmpy2.remove(rest, 5)
-    if rest != 1:
-        return None
-    scale = max(twos, fives)
-    digits_value = abs(numerator) * gmpy2.mpz(2) ** (scale - twos) * gmpy2.mpz(5) ** (
-        scale - fives
-    )
-    return _decimal_text(numerator < 0, mpz_text(digits_value), scale)
-
-
-def _decimal_text(negative: bool, digits: str, scale: int) -> str:
-    """``± digits * 10^-scale`` (digits without leading zeros, the last one nonzero) as
-    the shorter of the plain and the exponent form."""
-    sign = "-" if negative else ""
-    if scale <= 0:
-        plain = digits + "0" * -scale
-    elif len(digits) > scale:
-        plain = f"{digits[:-scale]}.{digits[-scale:]}"
-    else:
-        plain = "0." + "0" * (scale - len(digits)) + digits
-    significant = digits.rstrip("0") or "0"
-    exponent = len(digits) - 1 - scale
-    mantissa = significant[0] + ("." + significant[1:] if len(significant) > 1 else "")
-    scientific = f"{mantissa}e{exponent}"
-    # the plain form reads best; the exponent form only where it saves a run of zeros
-    return sign + (scientific if len(scientific) + _ZEROS_WORTH_AN_EXPONENT < len(plain) else plain)
+    """The exact decimal text a writer uses (:func:`~geomexact.kernel.numbers.
+    exact_decimal`, preferring the plain form unless the exponent saves a run of zeros),
+    or None when the expansion does not terminate."""
+    return exact_decimal(value, plain_within=_ZEROS_WORTH_AN_EXPONENT)
 
 
 def nearest_double_text(value: Rational) -> tuple[str, bool]:
@@ -844,11 +812,10 @@ def _significant_digits_text(value: Rational) -> tuple[str, bool]:
     floor = scaled.numerator // scaled.denominator
     remainder = scaled - floor
     digits_value = floor + 1 if remainder * 2 > 1 or (remainder * 2 == 1 and floor % 2) else floor
-    digits = mpz_text(digits_value)
-    stripped = digits.rstrip("0")
-    return _decimal_text(value < 0, stripped, scale - (len(digits) - len(stripped))), (
-        remainder == 0
-    )
+    rounded = gmpy2.mpq(-digits_value if value < 0 else digits_value) / gmpy2.mpq(10) ** scale
+    text = exact_decimal_text(rounded)
+    assert text is not None  # digits * 10^-scale always terminates
+    return text, remainder == 0
 
 
 _PART_NOUNS = {

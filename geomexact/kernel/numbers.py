@@ -104,16 +104,15 @@ def is_finite_decimal(value: Rational) -> bool:
     return bool(_without_twos_and_fives(value.denominator)[0] == 1)
 
 
-def format_decimal(value: Rational) -> str:
-    """Shortest decimal text of a finite decimal (``1/8`` -> ``"0.125"``, ``-3`` -> ``"-3"``).
-
-    Raises ``ValueError`` when ``value`` is not a finite decimal.  Long expansions use an
-    exponent (``"1.5e-30"``) when that is shorter.  ``parse_rational`` reads it back exactly.
-    Any size (no 4300-digit limit: gmpy2 writes the digits).
-    """
+def exact_decimal(value: Rational, *, plain_within: int = 0) -> str | None:
+    """The exact decimal text of ``value`` (``1/8`` -> ``"0.125"``, ``-3`` -> ``"-3"``), or
+    None when its expansion does not terminate.  The exponent form (``"1.5e-30"``) is used
+    when it is shorter than the plain one by more than ``plain_within`` characters (0: the
+    shortest text).  Linear in the size of the number, any size (gmpy2 writes the digits:
+    no 4300-digit limit); ``parse_rational`` reads it back exactly."""
     rest, twos, fives = _without_twos_and_fives(value.denominator)
     if rest != 1:
-        raise ValueError(f"{approximate_text(value)} has no finite decimal expansion")
+        return None
     numerator = gmpy2.mpz(value.numerator)
     if numerator == 0:
         return "0"
@@ -132,7 +131,16 @@ def format_decimal(value: Rational) -> str:
     exponent = len(digits) - 1 - scale
     mantissa = significant[0] + ("." + significant[1:] if len(significant) > 1 else "")
     scientific = f"{mantissa}e{exponent}"
-    return sign + (scientific if len(scientific) < len(plain) else plain)
+    return sign + (scientific if len(scientific) + plain_within < len(plain) else plain)
+
+
+def format_decimal(value: Rational) -> str:
+    """The shortest exact decimal text of a finite decimal (:func:`exact_decimal`);
+    ``ValueError`` when ``value`` is not one."""
+    text = exact_decimal(value)
+    if text is None:
+        raise ValueError(f"{approximate_text(value)} has no finite decimal expansion")
+    return text
 
 
 def format_rational(value: Rational) -> str:
