@@ -251,19 +251,29 @@ def _apply_split_tetra(t: Transient3, step: Step) -> None:
     split_tetra_in(t, u, v)
 
 
+def _apply_insert_cuboid(t: Transient3, step: Step) -> None:
+    # the cuboid partition lives in ``cuboid/``, which builds on this module
+    from geomexact.mesh3d.cuboid.insertion import insert_cuboid_in
+
+    values = _ints(step, 27)
+    insert_cuboid_in(t, values[0], values[1:9], values[9:])
+
+
 def _apply_flip(t: Transient3, step: Step) -> None:
     a, b, c = _ints(step, 3)
     flip_in(t, step.op, (a, b, c))
 
 
 def _ints(step: Step, count: int) -> tuple[int, ...]:
-    if len(step.args) != count or not all(isinstance(arg, int) for arg in step.args):
+    if len(step.args) != count or not all(
+            isinstance(arg, int) and not isinstance(arg, bool) for arg in step.args):
         raise PreconditionError(step.op, f"{step.op} takes {count} vertex ids, not {step.args}")
     return tuple(int(arg) for arg in step.args)
 
 
 OPERATIONS: Mapping[str, Callable[[Transient3, Step], None]] = MappingProxyType({
     "split_tetra": _apply_split_tetra,
+    "insert_cuboid": _apply_insert_cuboid,
     **{op: _apply_flip for op in FLIP_OPS},
 })
 """The 3D step table (:data:`geomexact.trace.protocols.OperationTable` of ``mesh3d``)."""

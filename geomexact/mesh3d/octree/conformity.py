@@ -1,0 +1,147 @@
+"""The exact conformity check of an octree's tetrahedral mesh, on its integer lattice.
+
+On the lattice every coordinate is an integer, so orientations, volumes and areas are
+exact int64 / Python-int arithmetic (no float, no tolerance).  Checked, for every
+generated mesh: every tetrahedron is positive; each face is used by one tetrahedron
+(boundary) or by two with opposite orientations (interior), never more; every boundary
+face lies on the box surface, and those on each of the six box faces add up to exactly
+its area; the boundary is closed (each directed boundary edge is met once each way);
+the volumes add up to exactly the box's; every vertex is used.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import attrs
+import numpy as np
+
+from geomexact.errors import PreconditionError
+from geomexact.kernel.numbers import Rational, mpq
+
+__all__ = ["ConformityReport", "lattice_conformity"]
+
+
+@attrs.frozen(slots=True)
+class ConformityReport:
+    """The result of :func:`lattice_conformity`: ``conforming`` when ``problems`` is empty;
+    the face counts; ``volume6`` (six times the lattice volume of the tetrahedra)."""
+
+    tetrahedra: int
+    interior_faces: int
+    boundary_faces: int
+    volume6: int
+    problems: tuple[str, ...]
+
+    @property
+    def conforming(self) -> bool:
+        return not self.problems
+
+    def volume(self, unit_volume: Rational) -> Rational:
+        """The exact volume, given the exact volume of one lattice cell."""
+        return mpq(self.volume6, 6) * unit_volume  # type: ignore[no-any-return]
+
+
+def _det6(points: Any, tetrahedra: Any) -> Any:
+    p = points[tetrahedra]  # T x 4 x 3
+    b, c, d = (p[:, n] - p[:, 0] for n in (1, 2, 3))
+    return (b[:, 0] * (c[:, 1] * d[:, 2] - c[:, 2] * d[:, 1])
+            - b[:, 1] * (c[:, 0] * d[:, 2] - c[:, 2] * d[:, 0])
+            + b[:, 2] * (c[:, 0] * d[:, 1] - c[:, 1] * d[:, 0]))
+
+
+def _sorted_with_parity(faces: Any) -> tuple[Any, Any]:
+    """Each face's ids sorted, and whether the sorting permutation is odd."""
+    order = np.argsort(faces, axis=1, kind="stable")
+    ordered = np.take_along_axis(faces, order, axis=1)
+    # a permutation of three is odd when it is a transposition: (0 2 1), (1 0 2), (2 1 0)
+    odd = ((order[:, 0] == 0) & (order[:, 1] == 2)) | ((order[:, 0] == 1) & (order[:, 1] == 0)) \
+        | ((order[:, 0] == 2) & (order[:, 1] == 1))
+    return ordered, odd
+
+
+def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
+                       limit: int = 10) -> ConformityReport:
+    """Check the mesh of lattice ``points`` (V x 3 ints, fewer than 2**21) and
+    ``tetrahedra`` (T x 4 ids) against the box [0, size]; at most ``limit`` examples of
+    each problem are named."""
+    points = np.asarray(points, dtype=np.int64)
+    tetrahedra = np.asarray(tetrahedra, dtype=np.int64)
+    problems: list[str] = []
+    if len(points) >= 1 << 21:
+        raise PreconditionError("octree", f"{len(points)} vertices: the conformity check "
+                                "takes fewer than 2**21")
+    det = _det6(points, tetrahedra)
+    bad = np.flatnonzero(det <= 0)
+    if bad.size:
+        problems.append(f"{bad.size} tetrahedra are not positive, e.g. "
+                        f"{tetrahedra[bad[:limit]].tolist()}")
+    volume6 = int(det.astype(object).sum())
+    nx, ny, nz = size
+    if volume6 != 6 * nx * ny * nz:
+        problems.append(f"the volumes add up to {mpq(volume6, 6)} lattice cells, not "
+                        f"{nx * ny * nz}")
+    a, b, c, d = tetrahedra.T
+    faces = np.concatenate([np.stack(f, axis=1) for f in
+                            ((a, b, c), (a, c, d), (a, d, b), (b, d, c))])
+    ordered, odd = _sorted_with_parity(faces)
+    base = max(len(points), 1)
+    _, inverse, counts = np.unique((ordered[:, 0] * base + ordered[:, 1]) * base
+                                   + ordered[:, 2], return_inverse=True, return_counts=True)
+    first = np.zeros(len(counts), dtype=np.int64)
+    first[inverse[::-1]] = np.arange(len(inverse))[::-1]
+    keys = ordered[first]
+    if (counts > 2).any():
+        over = keys[counts > 2]
+        problems.append(f"{len(over)} faces have more than two tetrahedra, e.g. "
+                        f"{over[:limit].tolist()}")
+    odd_count = np.bincount(inverse, weights=odd, minlength=len(keys))
+    same_side = (counts == 2) & (odd_count != 1)
+    if same_side.any():
+        problems.append(f"{int(same_side.sum())} faces have both tetrahedra on one side, "
+                        f"e.g. {keys[same_side][:limit].tolist()}")
+    boundary = counts == 1
+    problems.extend(_boundary_problems(points, faces, inverse, boundary, size, limit))
+    used = np.zeros(len(points), dtype=bool)
+    used[tetrahedra.ravel()] = True
+    if not used.all():
+        problems.append(f"{int((~used).sum())} vertices are in no tetrahedron, e.g. "
+                        f"{np.flatnonzero(~used)[:limit].tolist()}")
+    return ConformityReport(len(tetrahedra), int((counts == 2).sum()),
+                            int(boundary.sum()), volume6, tuple(problems))
+
+
+def _boundary_problems(points: Any, faces: Any, inverse: Any, boundary: Any,
+                       size: tuple[int, int, int], limit: int) -> list[str]:
+    problems = []
+    outer = faces[boundary[inverse]]  # oriented inward (their tetrahedron is positive)
+    corners = points[outer]  # F x 3 x 3
+    on_plane = np.zeros(len(outer), dtype=bool)
+    for axis in range(3):
+        other = [n for n in range(3) if n != axis]
+        for side, value in ((0, 0), (1, size[axis])):
+            mask = (corners[:, :, axis] == value).all(axis=1)
+            on_plane |= mask
+            u = corners[mask][:, :, other[0]]
+            v = corners[mask][:, :, other[1]]
+            area2 = np.abs((u[:, 1] - u[:, 0]) * (v[:, 2] - v[:, 0])
+                           - (u[:, 2] - u[:, 0]) * (v[:, 1] - v[:, 0]))
+            wanted = 2 * size[other[0]] * size[other[1]]
+            total = int(area2.astype(object).sum())
+            if total != wanted:
+                problems.append(f"the boundary triangles on box face {'xyz'[axis]}="
+                                f"{'low' if side == 0 else 'high'} cover {mpq(total, 2)} "
+                                f"lattice units, not {wanted // 2}")
+    if not on_plane.all():
+        inside = outer[~on_plane]
+        problems.append(f"{len(inside)} boundary triangles are inside the box (a face not "
+                        f"matched: a hanging vertex), e.g. {inside[:limit].tolist()}")
+    # closed: each directed edge of the (inward) boundary once, and its reverse once
+    edges = np.concatenate([outer[:, [0, 1]], outer[:, [1, 2]], outer[:, [2, 0]]])
+    forward = np.unique(edges, axis=0, return_counts=True)
+    reverse = np.unique(edges[:, ::-1], axis=0)
+    if (forward[1] > 1).any() or len(forward[0]) != len(reverse) or not np.array_equal(
+            forward[0], reverse):
+        problems.append("the boundary is not a closed surface (a boundary edge is not met "
+                        "exactly once in each direction)")
+    return problems

@@ -1,0 +1,108 @@
+"""The octree's integer lattice: every leaf corner and Steiner point as an integer point, the
+vertex table (leaf corners, lexicographic), each leaf's Steiner pattern and template.
+
+With D = depth + 1, a leaf of level L spans s = 2**(D - L) lattice units per axis, so its
+edge midpoints and face centres are lattice points too.  Lattice point (X, Y, Z) is the
+exact point ``low + extents * (X / (nx 2**D), Y / (ny 2**D), Z / (nz 2**D))``: a translation
+and a positive scaling per axis, which keep orient3d signs and the lexicographic order of
+points (so the conforming split order can be read on the lattice).  Vectorised with numpy
+on int64 (exact: lattice coordinates are integers below 2**21 per axis here).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Final
+
+import attrs
+import numpy as np
+
+from geomexact.errors import PreconditionError
+from geomexact.kernel.numbers import Rational, mpq
+from geomexact.kernel.points import Point3, point3
+from geomexact.mesh3d.cuboid.numbering import CORNER_POSITIONS, steiner_position2
+from geomexact.mesh3d.octree.tree import Octree
+
+__all__ = ["CODE_OFFSETS2", "MAX_LATTICE_POINTS", "OctreeLattice", "octree_lattice"]
+
+CODE_OFFSETS2: Final = np.array(
+    [tuple(2 * c for c in CORNER_POSITIONS[k]) for k in range(8)]
+    + [steiner_position2(bit) for bit in range(18)], dtype=np.int64)
+"""Point code (corner k: k; Steiner point of bit i: 8 + i) -> its position in half-units of
+the leaf's edge (26 x 3)."""
+
+MAX_LATTICE_POINTS: Final = 1 << 62
+"""The lattice's point count must stay below this (one int64 key per point)."""
+
+
+@attrs.frozen(slots=True, eq=False)
+class OctreeLattice:
+    """The octree on its lattice (arrays are read only; rows follow ``octree.leaves``):
+
+    - ``size``: lattice points per axis minus one (nx 2**D, ...);
+    - ``vertices``: (V, 3) lattice points of the leaf corners, lexicographic (vertex id =
+      row);
+    - ``codes``: (leaves, 26) vertex id of each leaf's corners and present Steiner points
+      (-1 for an absent one), by point code;
+    - ``patterns``: each leaf's Steiner pattern (bit i: the midpoint of its edge i or the
+      centre of its face i is a vertex);
+    - ``templates``: each leaf's 5-tetrahedron template, the parity of i + j + k at its own
+      level."""
+
+    octree: Octree
+    depth: int
+    size: tuple[int, int, int]
+    vertices: Any
+    codes: Any
+    patterns: Any
+    templates: Any
+
+    @property
+    def vertex_count(self) -> int:
+        return int(self.vertices.shape[0])
+
+    def unit(self, axis: int) -> Rational:
+        """The exact length of one lattice unit along ``axis``."""
+        return self.octree.domain.extents[axis] / self.size[axis]  # type: ignore[no-any-return]
+
+    def exact_points(self) -> list[Point3]:
+        """The vertices' exact coordinates, by id."""
+        low = self.octree.domain.low
+        extents = self.octree.domain.extents
+        per_axis = [[lo + e * mpq(int(value), n) for value in column]
+                    for lo, e, n, column in zip(low, extents, self.size,
+                                                self.vertices.T.tolist(), strict=True)]
+        return [point3(x, y, z) for x, y, z in zip(*per_axis, strict=True)]
+
+
+def _keys(points: Any, size: tuple[int, int, int]) -> Any:
+    """One int64 per lattice point, increasing with its lexicographic (x, y, z) order."""
+    _, ny, nz = size
+    return (points[..., 0] * (ny + 1) + points[..., 1]) * (nz + 1) + points[..., 2]
+
+
+def octree_lattice(octree: Octree) -> OctreeLattice:
+    """The lattice, vertices, patterns and templates of ``octree`` (whose leaves must tile
+    its domain; the patterns are only meaningful when every leaf is 1-irregular)."""
+    depth = octree.depth + 1
+    size = (octree.grid[0] << depth, octree.grid[1] << depth, octree.grid[2] << depth)
+    if (size[0] + 1) * (size[1] + 1) * (size[2] + 1) >= MAX_LATTICE_POINTS:
+        raise PreconditionError("octree", f"the lattice {size} is too fine: lower the level "
+                                "or the grid")
+    cells = np.array(octree.leaves, dtype=np.int64).reshape(-1, 4)
+    levels = cells[:, 0]
+    half = np.left_shift(np.int64(1), depth - levels - 1)  # half a leaf edge, >= 1
+    low = cells[:, 1:] * (2 * half)[:, None]
+    positions = low[:, None, :] + half[:, None, None] * CODE_OFFSETS2[None, :, :]
+    keys = _keys(positions, size)
+    vertex_keys, first = np.unique(keys[:, :8].ravel(), return_index=True)
+    vertices = positions[:, :8].reshape(-1, 3)[first]
+    found = np.searchsorted(vertex_keys, keys)
+    found_clipped = np.minimum(found, len(vertex_keys) - 1)
+    present = vertex_keys[found_clipped] == keys
+    codes = np.where(present, found_clipped, -1)
+    weights = np.left_shift(np.int64(1), np.arange(18, dtype=np.int64))
+    patterns = (present[:, 8:] * weights).sum(axis=1)
+    templates = (cells[:, 1] + cells[:, 2] + cells[:, 3]) & 1
+    for array in (vertices, codes, patterns, templates):
+        array.setflags(write=False)
+    return OctreeLattice(octree, depth, size, vertices, codes, patterns, templates)

@@ -1,0 +1,301 @@
+"""The octree mesher: regions and criteria (exact), refinement, 2:1 balance across faces and
+edges, the final partition's conformity (checked exactly on every mesh), replay = result,
+the fast assembly equal to the reference steps, and every stage swappable for its
+identity."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from geomexact.errors import InvalidMeshError, PreconditionError
+from geomexact.kernel.numbers import mpq
+from geomexact.mesh3d.cuboid.boxes import Box, box_of_extents, unit_cube
+from geomexact.mesh3d.octree.balance import (
+    balance_two_to_one,
+    irregular_leaves,
+    tiling_problems,
+)
+from geomexact.mesh3d.octree.conformity import lattice_conformity
+from geomexact.mesh3d.octree.criteria import (
+    AllOf,
+    AspectRatio,
+    MaxEdgeLength,
+    MinEdgeLength,
+    RadiusEdgeRatio,
+    RefineToMaxLevel,
+    ScalarFieldVariation,
+    VolumeEdgeRatio,
+)
+from geomexact.mesh3d.octree.lattice import octree_lattice
+from geomexact.mesh3d.octree.leaf_partition import assemble_tetrahedra
+from geomexact.mesh3d.octree.pipeline import generate
+from geomexact.mesh3d.octree.refinement import refine_octree
+from geomexact.mesh3d.octree.regions import (
+    BallRegion,
+    BoxRegion,
+    PointRegion,
+    SegmentRegion,
+    SphereSurfaceRegion,
+    UnionRegion,
+    WholeDomain,
+)
+from geomexact.mesh3d.octree.stages import (
+    BalanceTwoToOne,
+    BoxGrid,
+    DelaunayPartition,
+    NoImprovement,
+    NoRefinement,
+    PatternPartition,
+    RefineWhere,
+    SingleBox,
+)
+from geomexact.mesh3d.octree.tree import Octree, cell_children, octree_of_grid
+from geomexact.mesh3d.validation import validate3
+from geomexact.trace.playback import replay
+
+CENTRE = ("1/2", "1/2", "1/2")
+
+
+def sphere_run(level: int, *, surface: bool = True, final: object = None, trace: bool = True,
+               domain: Box | None = None, grid: tuple[int, int, int] = (1, 1, 1)):
+    region = (SphereSurfaceRegion if surface else BallRegion)(CENTRE, "0.3")
+    return generate(domain or unit_cube(), initial=BoxGrid(*grid),
+                    refinement=RefineWhere(level, region=region),
+                    final=final or PatternPartition(), trace=trace)
+
+
+# -- regions and criteria ------------------------------------------------------------------
+class TestRegions:
+    def test_ball_meets_a_box_through_its_nearest_point(self) -> None:
+        ball = BallRegion((0, 0, 0), 1)
+        assert ball(Box((1, 0, 0), (2, 1, 1)))  # touches at (1, 0, 0): closed
+        assert not ball(Box(("1.01", 0, 0), (2, 1, 1)))
+        assert ball(Box(("-0.5", "-0.5", "-0.5"), ("0.5", "0.5", "0.5")))
+
+    def test_surface_misses_a_box_strictly_inside_or_outside(self) -> None:
+        sphere = SphereSurfaceRegion((0, 0, 0), 1)
+        assert not sphere(Box(("-0.1", "-0.1", "-0.1"), ("0.1", "0.1", "0.1")))
+        assert not sphere(Box((2, 2, 2), (3, 3, 3)))
+        assert sphere(Box(("0.5", 0, 0), ("1.5", "0.1", "0.1")))
+
+    def test_exact_tangency_counts(self) -> None:
+        # the box [1/3, 1] x .. touches the ball of radius 1/3 at the origin's distance exactly
+        assert BallRegion((0, "0.5", "0.5"), "1/3")(Box(("1/3", 0, 0), (1, 1, 1)))
+        assert not BallRegion((0, "0.5", "0.5"), "1/3")(Box(("0.33333334", 0, 0), (1, 1, 1)))
+
+    def test_point_segment_box_union_whole(self) -> None:
+        cell = Box((0, 0, 0), (1, 1, 1))
+        assert PointRegion((1, 1, 1))(cell) and not PointRegion((1, 1, "1.5"))(cell)
+        assert SegmentRegion((2, 2, 2), ("0.5", "0.5", "0.5"))(cell)
+        assert not SegmentRegion((2, 0, 0), (2, 1, 1))(cell)
+        assert not SegmentRegion((2, 2, 0), (3, "1.5", 0))(cell)  # its line crosses, it does not
+        assert BoxRegion((1, 1, 1), (2, 2, 2))(cell)  # shares a corner
+        assert not BoxRegion(("1.5", 0, 0), (2, 1, 1))(cell)
+        assert UnionRegion([PointRegion((5, 5, 5)), BoxRegion((0, 0, 0), (0, 0, 0))])(cell)
+        assert WholeDomain()(cell)
+
+    def test_bad_regions_are_refused(self) -> None:
+        with pytest.raises(PreconditionError):
+            BallRegion((0, 0, 0), 0)
+        with pytest.raises(PreconditionError):
+            BoxRegion((1, 0, 0), (0, 1, 1))
+
+
+class TestCriteria:
+    def test_edge_lengths(self) -> None:
+        box = box_of_extents(1, 2, 4)
+        assert MaxEdgeLength(4)(box) and not MaxEdgeLength("3.99")(box)
+        assert MinEdgeLength(1)(box) and not MinEdgeLength("0.99")(box)
+
+    def test_shape_ratios_exact(self) -> None:
+        cube = unit_cube()
+        # the cube's radius-edge ratio is sqrt(3)/2 = 0.866..: 0.866 fails, 0.867 holds
+        assert not RadiusEdgeRatio("0.866")(cube) and RadiusEdgeRatio("0.867")(cube)
+        assert AspectRatio(1)(cube) and not AspectRatio(3)(box_of_extents(1, 2, 4))
+        assert VolumeEdgeRatio(1)(cube) and not VolumeEdgeRatio("0.2")(box_of_extents(1, 2, 4))
+
+    def test_scalar_field_and_combinations(self) -> None:
+        field = ScalarFieldVariation(lambda x, y, z: 10 * x, "5")
+        assert field(box_of_extents("0.5", 1, 1)) and not field(box_of_extents("0.6", 1, 1))
+        assert not RefineToMaxLevel()(unit_cube())
+        assert not AllOf([MaxEdgeLength(2), MaxEdgeLength("0.5")])(unit_cube())
+
+
+# -- refinement and balance ----------------------------------------------------------------
+def test_refinement_splits_only_where_the_region_meets_and_the_criterion_fails() -> None:
+    tree = refine_octree(octree_of_grid(unit_cube()), MaxEdgeLength("0.25"),
+                         PointRegion((0, 0, 0)), 5)
+    assert sorted({cell[0] for cell in tree.leaves}) == [1, 2]
+    assert tree.leaf_count == 1 + 7 + 7
+    assert tiling_problems(tree) == []
+
+
+def test_refining_toward_a_point_grades_itself() -> None:
+    graded = refine_octree(octree_of_grid(unit_cube()), RefineToMaxLevel(),
+                           PointRegion(("0.01", "0.01", "0.01")), 4)
+    assert irregular_leaves(graded) == []
+
+
+def test_balance_splits_coarse_face_and_edge_neighbours() -> None:
+    # next to the plane x = 1/2, level-4 leaves face the level-1 octant beyond it
+    deep = refine_octree(octree_of_grid(unit_cube()), RefineToMaxLevel(),
+                         PointRegion(("0.49", "0.01", "0.01")), 4)
+    assert irregular_leaves(deep)
+    balanced = balance_two_to_one(deep)
+    assert irregular_leaves(balanced) == [] and tiling_problems(balanced) == []
+    assert set(deep.leaves) - set(balanced.leaves)  # something was split
+    assert balance_two_to_one(balanced) == balanced
+
+
+def test_edge_only_neighbours_are_balanced_too() -> None:
+    # octants (1,0,0,0), (1,1,0,0), (1,0,1,0) at level 2, and the level-2 cell (2,1,1,0)
+    # at level 3: its corner cell (3,3,3,0) has fine face neighbours everywhere, but touches
+    # the level-1 octant (1,1,1,0) along the edge x = y = 1/2 only
+    refined = {(1, 0, 0, 0), (1, 1, 0, 0), (1, 0, 1, 0)}
+    leaves = [c for c in cell_children((0, 0, 0, 0)) if c not in refined]
+    for octant in sorted(refined):
+        leaves += [c for c in cell_children(octant) if c != (2, 1, 1, 0)]
+    leaves += cell_children((2, 1, 1, 0))
+    tree = Octree(unit_cube(), (1, 1, 1), leaves)
+    assert tiling_problems(tree) == []
+    assert irregular_leaves(tree) == [((3, 3, 3, 0), (2, 2, 2, 0)),
+                                      ((3, 3, 3, 1), (2, 2, 2, 0))]
+    balanced = balance_two_to_one(tree)
+    assert irregular_leaves(balanced) == []
+    assert (1, 1, 1, 0) not in balanced.leaves
+    run = generate(unit_cube(), initial=lambda domain: tree, improvement=NoImprovement())
+    assert run.leaf_mesh.forced_splits == 1 and run.conformity.conforming
+
+
+def test_tiling_problems_name_overlaps_and_gaps() -> None:
+    assert tiling_problems(Octree(unit_cube(), (1, 1, 1), [(0, 0, 0, 0), (1, 0, 0, 0)]))
+    assert tiling_problems(Octree(unit_cube(), (1, 1, 1), [(1, 0, 0, 0)]))
+    assert tiling_problems(Octree(unit_cube(), (1, 1, 1), [(0, 1, 0, 0)]))
+
+
+# -- the final mesh ------------------------------------------------------------------------
+@pytest.mark.parametrize("surface", [True, False])
+def test_sphere_level3_conforms_with_the_exact_volume(surface: bool) -> None:
+    run = sphere_run(3, surface=surface)
+    assert run.conformity.conforming and run.volume == 1
+    assert validate3(run.mesh, volume=1) == []
+    assert irregular_leaves(run.octree) == []
+    assert replay(run.start, run.trace) == run.mesh
+
+
+@pytest.mark.parametrize("final", [PatternPartition(), DelaunayPartition()])
+def test_fast_assembly_equals_the_reference_steps(final: object) -> None:
+    reference = sphere_run(3, final=final, trace=True)
+    fast = sphere_run(3, final=final, trace=False)
+    assert fast.mesh == reference.mesh and fast.trace is None
+    assert np.array_equal(np.sort(np.sort(fast.leaf_mesh.tetrahedra, axis=1), axis=0),
+                          np.sort(np.sort(reference.leaf_mesh.tetrahedra, axis=1), axis=0))
+
+
+def test_delaunay_variant_flips_inside_leaves_only() -> None:
+    run = sphere_run(3, final=DelaunayPartition())
+    plain = sphere_run(3)
+    flips = [step for step in run.trace.steps if step.op.startswith("flip")]
+    assert flips and all(step.op != "flip22" for step in flips)
+    assert run.mesh.boundary_faces() == plain.mesh.boundary_faces()
+    assert validate3(run.mesh, volume=1) == []
+
+
+def test_a_stretched_rational_domain_with_a_grid() -> None:
+    domain = Box(("-1/3", 0, 2), (1, 2, "6.5"))  # x extent 4/3, y 2, z 9/2
+    run = generate(domain, initial=BoxGrid(1, 2, 3),
+                   refinement=RefineWhere(2, region=BallRegion((0, 1, 4), "0.7")))
+    assert run.conformity.conforming and run.volume == domain.volume
+    assert validate3(run.mesh, volume=domain.volume) == []
+    assert replay(run.start, run.trace) == run.mesh
+
+
+@pytest.mark.parametrize("stage", ["initial", "refinement", "improvement"])
+def test_each_stage_swapped_for_its_identity_still_conforms(stage: str) -> None:
+    stages = {"initial": BoxGrid(2, 1, 1),
+              "refinement": RefineWhere(3, region=PointRegion(("0.3", "0.2", "0.1"))),
+              "improvement": BalanceTwoToOne()}
+    stages[stage] = {"initial": SingleBox(), "refinement": NoRefinement(),
+                     "improvement": NoImprovement()}[stage]
+    run = generate(unit_cube(), **stages)
+    assert run.conformity.conforming and validate3(run.mesh, volume=1) == []
+    if stage == "improvement":
+        assert run.leaf_mesh.forced_splits > 0  # the final stage balanced it itself
+
+
+def test_user_stages_are_plain_callables() -> None:
+    def halves(domain: Box) -> Octree:
+        return octree_of_grid(domain, (2, 1, 1))
+
+    def first_octant(octree: Octree) -> Octree:
+        return Octree(octree.domain, octree.grid,
+                      [*octree.leaves[1:], *cell_children(octree.leaves[0])])
+
+    run = generate(unit_cube(), initial=halves, refinement=first_octant)
+    assert run.octree.leaf_count == 9 and run.conformity.conforming
+
+
+def test_a_broken_user_stage_is_reported_not_meshed() -> None:
+    def gap(octree: Octree) -> Octree:
+        return Octree(octree.domain, octree.grid, octree.leaves[1:])
+
+    with pytest.raises(InvalidMeshError):
+        generate(unit_cube(), initial=BoxGrid(2, 1, 1), refinement=gap, trace=False)
+
+
+def test_conformity_check_catches_a_missing_or_inverted_tetrahedron() -> None:
+    run = sphere_run(2, trace=False)
+    lattice = run.leaf_mesh.lattice
+    tetrahedra = np.array(run.leaf_mesh.tetrahedra)
+    assert lattice_conformity(lattice.vertices, tetrahedra, lattice.size).conforming
+    assert not lattice_conformity(lattice.vertices, tetrahedra[1:], lattice.size).conforming
+    inverted = tetrahedra.copy()
+    inverted[0, [0, 1]] = inverted[0, [1, 0]]
+    report = lattice_conformity(lattice.vertices, inverted, lattice.size)
+    assert not report.conforming and "not positive" in report.problems[0]
+
+
+def test_unbalanced_leaves_do_not_conform_without_the_balance() -> None:
+    deep = refine_octree(octree_of_grid(unit_cube()), RefineToMaxLevel(),
+                         PointRegion(("0.49", "0.01", "0.01")), 3)
+    assert irregular_leaves(deep)
+    lattice = octree_lattice(deep)
+    report = lattice_conformity(lattice.vertices, assemble_tetrahedra(lattice), lattice.size)
+    assert not report.conforming
+
+
+def test_volume_report_is_exact_rational() -> None:
+    run = generate(box_of_extents("1/3", 1, 1), refinement=RefineWhere(1), trace=False)
+    assert run.volume == mpq(1, 3) and run.octree.leaf_count == 8
+
+
+# -- property tests ------------------------------------------------------------------------
+coordinates = st.fractions(0, 1, max_denominator=8).map(str)
+
+
+@settings(max_examples=15)
+@given(
+    centre=st.tuples(coordinates, coordinates, coordinates),
+    radius=st.fractions("1/16", "3/4", max_denominator=16).map(str),
+    level=st.integers(0, 3),
+    grid=st.tuples(st.integers(1, 2), st.integers(1, 2), st.integers(1, 2)),
+    surface=st.booleans(),
+    delaunay=st.booleans(),
+)
+def test_random_refinements_conform_and_replay(centre, radius, level, grid, surface,
+                                                delaunay) -> None:
+    region = (SphereSurfaceRegion if surface else BallRegion)(centre, radius)
+    domain = box_of_extents(*grid)
+    final = DelaunayPartition() if delaunay else PatternPartition()
+    run = generate(domain, initial=BoxGrid(*grid), refinement=RefineWhere(level, region=region),
+                   final=final)
+    assert run.conformity.conforming and run.volume == domain.volume
+    assert irregular_leaves(run.octree) == [] and tiling_problems(run.octree) == []
+    assert validate3(run.mesh, volume=domain.volume) == []
+    assert replay(run.start, run.trace) == run.mesh
+    fast = generate(domain, initial=BoxGrid(*grid), refinement=RefineWhere(level, region=region),
+                    final=final, trace=False)
+    assert fast.mesh == run.mesh
