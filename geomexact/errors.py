@@ -93,11 +93,16 @@ class DoubleRangeError(GeomexactError, OverflowError):
 
 class TraceError(GeomexactError, ValueError):
     """A trace that does not belong to the mesh it is replayed on (``step`` is None), or
-    that diverges at step number ``step`` (1-based)."""
+    that diverges at step number ``step`` (1-based): ``expected`` is the digest the trace
+    recorded after it and ``found`` the one the replay gave (both None when the step could
+    not be applied at all)."""
 
-    def __init__(self, message: str, step: int | None = None) -> None:
+    def __init__(self, message: str, step: int | None = None, *,
+                 expected: int | None = None, found: int | None = None) -> None:
         super().__init__(message)
         self.step = step
+        self.expected = expected
+        self.found = found
 
 
 class TransientSealedError(GeomexactError, RuntimeError):

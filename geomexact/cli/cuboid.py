@@ -7,10 +7,22 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from geomexact.cli.arguments import Subcommands, add_command, add_force_flag, add_json_flag
+import attrs
+
+from geomexact import io
+from geomexact.cli.arguments import (
+    Subcommands,
+    add_command,
+    add_force_flag,
+    add_json_flag,
+    add_number_flags,
+    add_to_option,
+)
+from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.errors import OverwriteError
+from geomexact.cli.writing import check_outputs, write
+from geomexact.io.registry import NumberStyle, nearest_double_text
 from geomexact.kernel.numbers import format_rational, parse_rational
 from geomexact.mesh3d.cuboid.boxes import Box, box_of_extents
 from geomexact.mesh3d.cuboid.numbering import FACE_NAMES, PATTERN_COUNT
@@ -79,8 +91,9 @@ def command_cuboid(args: argparse.Namespace) -> int:
     from geomexact.mesh3d.validation import validate3
 
     box = shape_box(args)
-    if args.trace and Path(args.trace).exists() and not args.force:
-        raise OverwriteError(str(args.trace))
+    check_outputs([("-o", args.output, args.to), ("--start", args.start, None),
+                   ("--trace", args.trace, "file")], Mesh3, force=args.force)
+    start_numbers = _start_numbers(args.start, box)
     run = partition_cuboid(args.pattern, box, order=args.order, template=args.template,
                            improve=args.improve,
                            allow_boundary_flips=args.allow_boundary_flips)
@@ -114,10 +127,24 @@ def command_cuboid(args: argparse.Namespace) -> int:
         "faces": faces,
         "steps": len(run.trace),
         "digest": mesh.digest_text,
+        "start_digest": run.start.digest_text,
         "trace": args.trace,
+        "written": [],
     }
+    written: list[Path] = []
+    if args.start:
+        written += write(args.start, run.start, None, overwrite=args.force,
+                         numbers=start_numbers)
+    if args.output:
+        written += write(args.output, mesh, args.to, overwrite=args.force,
+                         numbers=args.numbers)
     if args.trace:
-        write_trace(args.trace, run.trace, overwrite=args.force)
+        trace = run.trace
+        if args.start:  # the trace names the file it replays on
+            trace = attrs.evolve(trace, input_name=Path(args.start).name)
+        write_trace(args.trace, trace, overwrite=args.force)
+        written.append(Path(args.trace))
+    report_json["written"] = [str(path) for path in written]
     if args.json:
         report_json["violations"] = violation_reports(violations)
         print_json(report_json)
@@ -126,6 +153,21 @@ def command_cuboid(args: argparse.Namespace) -> int:
         for violation in violations:
             print(f"  {violation}")
     return EXIT_FAILED if violations else EXIT_OK
+
+
+def _start_numbers(path: str | None, box: Box) -> NumberStyle:
+    """How ``--start`` writes numbers: always losslessly (a rounded start would not be the
+    trace's input): ``exact`` in a text format; in a format of doubles (VTK, …) only
+    when every corner of the box is a double, else a :class:`UsageProblem`."""
+    if path is None or io.detect_format(path) != "meshio":
+        return "exact"
+    for value in (*box.low, *box.high):
+        if not nearest_double_text(value)[1]:
+            raise UsageProblem(
+                f"{path} (--start): this format stores doubles and the box corner "
+                f"coordinate {format_rational(value)} is not one, so the start would not be "
+                "the trace's input; write it as TetGen files (START.ele), which are exact")
+    return "decimal"
 
 
 def _print_text(report: dict[str, Any]) -> None:
@@ -145,8 +187,8 @@ def _print_text(report: dict[str, Any]) -> None:
     print("  box faces (triangles by point: cK corner, eI edge midpoint, fJ face centre):")
     for name, triangles in report["faces"].items():
         print(f"    {name}: " + "  ".join("-".join(t) for t in triangles))
-    if report["trace"]:
-        print(f"wrote {report['trace']}")
+    for path in report["written"]:
+        print(f"wrote {path}")
 
 
 def add_parser(commands: Subcommands) -> None:
@@ -158,7 +200,15 @@ def add_parser(commands: Subcommands) -> None:
                         help="0 .. 262143: bit i marks a Steiner point on cube edge i "
                         "(0-11) or face i (12-17); see docs/cuboid.md")
     add_cuboid_options(cuboid)
+    cuboid.add_argument("-o", "--output", metavar="OUT",
+                        help="write the final mesh (TetGen OUT.ele with OUT.node and "
+                        "OUT.face, or .vtu, …)")
+    add_to_option(cuboid)
+    cuboid.add_argument("--start", metavar="FILE",
+                        help="write the 5-tetrahedron start mesh, exactly: the INPUT of "
+                        "'geomexact replay FILE TRACE'")
     cuboid.add_argument("--trace", metavar="FILE",
                         help="write the trace (from the 5-tetrahedron start) to FILE")
-    add_force_flag(cuboid, "an existing trace file")
+    add_number_flags(cuboid)
+    add_force_flag(cuboid, "existing output files")
     add_json_flag(cuboid)

@@ -1,9 +1,12 @@
-"""``geomexact replay``: replay a trace on its input mesh, checking every digest."""
+"""``geomexact replay``: replay a trace on its input mesh, checking every digest: a 2D
+trace on its triangle mesh (or the PSLG it triangulated), a 3D trace on its tetrahedral
+mesh, and a cuboid trace also on the start mesh rebuilt from its own parameters."""
 
 from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from geomexact.cli.arguments import (
     Subcommands,
@@ -16,86 +19,179 @@ from geomexact.cli.errors import UsageProblem, cli_wording
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
-from geomexact.cli.writing import write
-from geomexact.errors import TraceError
+from geomexact.cli.writing import check_outputs, write
+from geomexact.errors import PreconditionError, TraceError
 from geomexact.io.trace_file import read_trace
+from geomexact.kernel.digest import digest_text
 from geomexact.mesh2d.delaunay.triangulation import vertices_mesh
+from geomexact.mesh2d.ops import OPERATIONS as OPERATIONS_2D
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.cuboid.partition import recorded_start
+from geomexact.mesh3d.ops import OPERATIONS as OPERATIONS_3D
+from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.playback import replay
 from geomexact.trace.record import Trace
 
+_ALGORITHM_DIMENSIONS = {"delaunay": 2, "lepp": 2, "lawson": 2, "cuboid": 3}
+"""The dimension of the mesh each recording algorithm (the trace's ``algorithm``
+parameter) works on."""
+
+_DIMENSION_WORDS = {2: "a 2D trace (of a triangle mesh)", 3: "a 3D trace (of a tetrahedral mesh)"}
+
+
+def trace_dimension(trace: Trace) -> int | None:
+    """2 or 3: the dimension of the mesh ``trace`` replays on, from its ``algorithm``
+    parameter, else from its step names (each step table's own); None when neither
+    tells (no steps and no known algorithm)."""
+    known = _ALGORITHM_DIMENSIONS.get(trace.parameter("algorithm"))
+    if known is not None:
+        return known
+    ops = {step.op for step in trace.steps}
+    if ops and ops <= OPERATIONS_3D.keys():
+        return 3
+    if ops and ops <= OPERATIONS_2D.keys():
+        return 2
+    return None
+
 
 def command_replay(args: argparse.Namespace) -> int:
-    """Replay a trace on its input mesh (or on the PSLG a triangulation trace started
-    from), checking every digest, and write the result."""
-    loaded = load(args.input, args.format, args.verbose)
-    if isinstance(loaded.value, PSLG):
-        start = vertices_mesh(loaded.value)
-    elif isinstance(loaded.value, Mesh2):
-        start = loaded.value
-    else:
-        raise UsageProblem(f"{args.input}: replay needs a triangle mesh or a PSLG")
+    """Replay a trace on its input mesh (on the PSLG a triangulation trace started from;
+    on the start a cuboid trace records when INPUT is not given), checking every digest,
+    and write the result."""
     trace = read_trace(args.trace)
+    dimension = trace_dimension(trace)
+    rebuilt = args.input is None
+    if rebuilt:
+        start: Mesh2 | Mesh3 = _rebuilt_start(args.trace, trace)
+        value: Any = start
+    else:
+        loaded = load(args.input, args.format, args.verbose)
+        value = loaded.value
+        start = _start_of(args.input, value, args.trace, dimension)
+    check_outputs([("-o", args.output, args.to)], type(start), force=args.force)
     if start.digest != trace.input_digest:
-        raise UsageProblem(wrong_input(args.input, loaded.value, start, args.trace, trace))
+        raise UsageProblem(wrong_input(args.input, value, start, args.trace, trace))
     try:
         result = replay(start, trace, until=args.until)
     except TraceError as error:
         if args.until is not None and not 0 <= args.until <= len(trace):
             raise  # the inputs do not belong together: bad input, exit 2
-        print(f"geomexact: trace diverged: {cli_wording(str(error))}", file=sys.stderr)
+        message = f"{args.trace}: {cli_wording(str(error))}"
+        print(f"geomexact: trace diverged: {message}", file=sys.stderr)
         if args.json:
             print_json(
                 {"input": args.input, "trace": args.trace, "diverged": True,
-                 "error": cli_wording(str(error))}
+                 "error": message, "step": error.step,
+                 "expected_digest": _digest_or_none(error.expected),
+                 "found_digest": _digest_or_none(error.found)}
             )
         return EXIT_FAILED
     applied = len(trace) if args.until is None else args.until
     written = write(args.output, result, args.to, overwrite=args.force, numbers=args.numbers)
+    cells, count = (("tetrahedra", result.tetrahedron_count) if isinstance(result, Mesh3)
+                    else ("triangles", result.triangle_count))
     if args.json:
         print_json(
             {
                 "input": args.input,
                 "trace": args.trace,
                 "diverged": False,
+                "dimension": 3 if isinstance(result, Mesh3) else 2,
+                "rebuilt_start": rebuilt,
                 "trace_steps": len(trace),
                 "steps_applied": applied,
                 "input_digest": start.digest_text,
                 "final_digest": result.digest_text,
                 "vertices": result.vertex_count,
-                "triangles": result.triangle_count,
+                cells: count,
                 "written": [str(path) for path in written],
             }
         )
     else:
+        if rebuilt:
+            print(f"rebuilt the start mesh from the parameters of {args.trace}: "
+                  f"digest {start.digest_text}")
         print(
             f"replayed {applied} of {len(trace)} steps: {result.vertex_count} vertices, "
-            f"{result.triangle_count} triangles, digest {result.digest_text} (all digests match)"
+            f"{count} {cells}, digest {result.digest_text} (all digests match)"
         )
         for path in written:
             print(f"wrote {path}")
     return EXIT_OK
 
 
+def _digest_or_none(value: int | None) -> str | None:
+    return None if value is None else digest_text(value)
+
+
+def _rebuilt_start(trace_path: str, trace: Trace) -> Mesh3:
+    """The start mesh of a cuboid trace given without INPUT (exit 2 for any other)."""
+    try:
+        return recorded_start(trace)
+    except PreconditionError as error:
+        raise UsageProblem(
+            f"{trace_path}: give the INPUT mesh the trace was recorded on "
+            f"(geomexact replay INPUT {trace_path} -o OUT); {error.problem}"
+        ) from error
+
+
+def _start_of(input_path: str, value: Any, trace_path: str, dimension: int | None
+              ) -> Mesh2 | Mesh3:
+    """The mesh to replay on: ``value`` itself (the isolated vertices of a PSLG); a
+    :class:`UsageProblem` for another kind of value or a trace of the other dimension."""
+    start: Mesh2 | Mesh3
+    if isinstance(value, Mesh3):
+        found, start = 3, value
+    elif isinstance(value, PSLG):
+        found, start = 2, vertices_mesh(value)
+    elif isinstance(value, Mesh2):
+        found, start = 2, value
+    else:
+        raise UsageProblem(f"{input_path}: replay needs a triangle mesh, a PSLG or a "
+                           "tetrahedral mesh")
+    if dimension is not None and dimension != found:
+        what = "a tetrahedral mesh (3D)" if found == 3 else (
+            "a PSLG (2D)" if isinstance(value, PSLG) else "a triangle mesh (2D)")
+        hint = ("; a cuboid trace also replays without INPUT: geomexact replay "
+                f"{trace_path} -o OUT" if dimension == 3 else "")
+        raise UsageProblem(
+            f"{trace_path} is {_DIMENSION_WORDS[dimension]}, but {input_path} is {what}: "
+            f"a trace replays only on a mesh of its own dimension{hint}"
+        )
+    return start
+
+
 def wrong_input(
-    input_path: str, value: PSLG | Mesh2, start: Mesh2, trace_path: str, trace: Trace
+    input_path: str | None, value: Any, start: Mesh2 | Mesh3, trace_path: str, trace: Trace
 ) -> str:
     """Why ``trace`` does not replay on ``input_path``: the input it was recorded on (its
-    name when the trace header has it, and digest), this one's digest, and what kind of
-    input the trace wants."""
+    name when the trace header has it, and digest), this one's digest, which step of the
+    trace ``start`` is when it is one of its meshes, and what kind of input the trace
+    wants."""
     recorded = f"{trace.input_name!r} " if trace.input_name else ""
+    given = input_path if input_path is not None else "the start rebuilt from its parameters"
     wants = ""
     algorithm = trace.parameter("algorithm")
+    if start.digest in trace.digests:
+        step = trace.digests.index(start.digest) + 1
+        last = " (its final mesh)" if step == len(trace) else ""
+        wants = (f"; {given} is the mesh after step {step} of {len(trace)}{last}, "
+                 "not the one it starts from")
     if algorithm == "delaunay" and not isinstance(value, PSLG):
-        wants = ("; it is a triangulation trace, which replays on the PSLG or point set it "
-                 "triangulated (the .poly or .node), not on a mesh")
+        wants += ("; it is a triangulation trace, which replays on the PSLG or point set it "
+                  "triangulated (the .poly or .node), not on a mesh")
     elif algorithm in ("lepp", "lawson") and isinstance(value, PSLG):
-        wants = (f"; it is a {'refinement' if algorithm == 'lepp' else 'Lawson flip'} "
-                 "trace, which replays on the mesh it started from, not on a PSLG")
+        wants += (f"; it is a {'refinement' if algorithm == 'lepp' else 'Lawson flip'} "
+                  "trace, which replays on the mesh it started from, not on a PSLG")
+    elif algorithm == "cuboid" and input_path is not None:
+        wants += ("; it is a cuboid trace, which replays on the start mesh that "
+                  "'geomexact cuboid --start FILE' writes, or with no INPUT at all (the "
+                  "start rebuilt from the trace's parameters)")
     return (
         f"{trace_path} was recorded on {recorded}(digest {trace.input_digest:032x}), but "
-        f"{input_path} gives digest {start.digest_text}: not the trace's input{wants}"
+        f"{given} gives digest {start.digest_text}: not the trace's input (step 0 "
+        f"differs){wants}"
     )
 
 
@@ -105,7 +201,11 @@ def add_parser(commands: Subcommands) -> None:
     names = ", ".join(formats)
     replay_ = add_command(commands, "replay", command_replay,
                           "replay a trace on its input mesh, checking digests")
-    replay_.add_argument("input", metavar="INPUT", help="the mesh the trace was recorded on")
+    replay_.add_argument(
+        "input", metavar="INPUT", nargs="?",
+        help="the mesh the trace was recorded on (2D or tetrahedral); may be left out for "
+        "a cuboid trace, whose start is rebuilt from the trace's parameters",
+    )
     replay_.add_argument("trace", metavar="TRACE", help="trace file (JSON Lines)")
     replay_.add_argument(
         "--until", type=non_negative, metavar="K", help="replay only the first K steps"

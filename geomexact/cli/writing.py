@@ -11,7 +11,7 @@ from geomexact import io
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.kinds import Value, kind_name
 from geomexact.cli.summaries import summary_of
-from geomexact.errors import FormatError
+from geomexact.errors import FormatError, OverwriteError
 from geomexact.io.registry import NumberStyle, WriteReport
 
 # the exact properties a command reports that rounding can break
@@ -104,3 +104,33 @@ def distinct_outputs(outputs: Sequence[tuple[str, str | None, str | None]]) -> N
                     "give them different paths"
                 )
             claimed.setdefault(resolved, option)
+
+
+def check_outputs(
+    outputs: Sequence[tuple[str, str | None, str | None]], value_type: type, *, force: bool
+) -> None:
+    """Refuse, before anything is written, outputs that cannot all be written: ``outputs``
+    are (option, path or None, format) triples as for :func:`distinct_outputs` (the mesh
+    outputs all of one ``value_type``; ``"file"``: a plain file such as a trace).  Each
+    mesh format must hold ``value_type`` (:class:`UsageProblem`) and, without ``force``,
+    none of the files an output would write may exist
+    (:class:`~geomexact.errors.OverwriteError`, companions included)."""
+    distinct_outputs(outputs)
+    for option, path, format in outputs:
+        if not path:
+            continue
+        if format == "file":
+            if not force and Path(path).exists():
+                raise OverwriteError(str(path))
+            continue
+        name = format or io.detect_format(path)
+        kinds = io.FORMATS[name].kinds
+        if not issubclass(value_type, kinds):
+            held = " or ".join(kind_name(kind).replace("_", " ") for kind in kinds)
+            kind = kind_name(value_type).replace("_", " ")
+            raise UsageProblem(f"{path} ({option}): the {name} format holds a {held}, not a "
+                               f"{kind}")
+        if not force:
+            for file in io.output_paths(path, name):
+                if file.exists():
+                    raise OverwriteError(str(file))

@@ -1,12 +1,14 @@
 """Hang Si's TetGen files for tetrahedral meshes: ``.node`` (3D), ``.ele`` and ``.face``.
 
-Spec: ``specs/formats/tetgen.md``.  A mesh is named by its ``.ele`` file (or its stem);
-the ``.node`` beside it is required; a ``.face`` beside it, when present, must list
-exactly the boundary faces (any order, any orientation).  Indices are 0- or 1-based as the
-first vertex number says.  Tetrahedra must all have the same orientation: all positive
-(our ``orient3d``) are kept, all negative are reversed with a note, a file mixing them is
-refused naming one line of each.  Vertex attributes and markers and tetrahedron attributes
-are not part of a :class:`Mesh3`: they are dropped with a note.
+Spec: ``specs/formats/tetgen.md``.  Written in TetGen's own orientations: every
+tetrahedron positive in our ``orient3d``, every boundary face inward.  A mesh is named by
+its ``.ele`` file (or its stem); the ``.node`` beside it is required; a ``.face`` beside
+it, when present, must list exactly the boundary faces (any order, any orientation).
+Indices are 0- or 1-based as the first vertex number says.  Tetrahedra must all have the
+same orientation: all positive (our ``orient3d``) are kept, all negative are reversed
+with a note, a file mixing them is refused naming one line of each.  Vertex attributes
+and markers and tetrahedron attributes are not part of a :class:`Mesh3`: they are dropped
+with a note.
 """
 
 from __future__ import annotations
@@ -300,8 +302,10 @@ def tetgen_output_paths(path: Path) -> tuple[Path, ...]:
 
 
 def tetgen_texts(mesh: Mesh3, number: NumberText) -> tuple[str, str, str]:
-    """The ``.node``, ``.ele`` and ``.face`` texts of ``mesh`` (0-based; tetrahedra
-    canonical, positive in our orient3d; boundary faces outward, marker 1)."""
+    """The ``.node``, ``.ele`` and ``.face`` texts of ``mesh`` in the orientations TetGen
+    itself writes (``specs/formats/tetgen.md``): 0-based; tetrahedra canonical, each
+    positive in our orient3d (``det[b - a, c - a, d - a] > 0``); boundary faces inward
+    (counter-clockwise seen from inside the mesh: each outward face reversed), marker 1."""
     node = [f"{mesh.vertex_count} 3 0 0"]
     for index in range(mesh.vertex_count):
         p = mesh.vertices[index]
@@ -311,7 +315,7 @@ def tetgen_texts(mesh: Mesh3, number: NumberText) -> tuple[str, str, str]:
     ele.extend(f"{i} {a} {b} {c} {d}" for i, (a, b, c, d) in enumerate(tetrahedra))
     faces = mesh.boundary_faces()
     face = [f"{len(faces)} 1"]
-    face.extend(f"{i} {a} {b} {c} 1" for i, (a, b, c) in enumerate(faces))
+    face.extend(f"{i} {a} {c} {b} 1" for i, (a, b, c) in enumerate(faces))  # inward
     return tuple("\n".join(rows) + "\n" for rows in (node, ele, face))  # type: ignore[return-value]
 
 

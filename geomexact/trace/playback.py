@@ -70,7 +70,7 @@ def apply_checked(transient: Transient, trace: Trace, index: int) -> None:
         raise TraceError(
             f"step {index + 1} ({step}) gave digest {transient.digest:032x}, "
             f"the trace recorded {trace.digests[index]:032x}",
-            index + 1,
+            index + 1, expected=trace.digests[index], found=transient.digest,
         )
 
 

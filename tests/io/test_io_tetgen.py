@@ -215,3 +215,68 @@ def test_overlap_names_both_lines(tmp_path: Path) -> None:
     error = _error(tmp_path, CUBE_NODE, _ele([*CUBE_TETS, CUBE_TETS[1]]))
     assert error.line == 7 and "the tetrahedra overlap" in str(error)
     assert "tetrahedron on line 3" in str(error)
+
+
+# -- the orientation written: TetGen's own (specs/formats/tetgen.md, "What TetGen writes") --
+def _rows(path: Path) -> list[list[str]]:
+    return [line.split() for line in path.read_text().splitlines()[1:] if line.strip()]
+
+
+def _det(a: list[Fraction], b: list[Fraction], c: list[Fraction],
+         d: list[Fraction]) -> Fraction:
+    """det[b - a, c - a, d - a], computed here with Fractions (not our orient3d)."""
+    u, v, w = ([q - p for p, q in zip(a, x, strict=True)] for x in (b, c, d))
+    return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+            + u[2] * (v[0] * w[1] - v[1] * w[0]))
+
+
+def _written(tmp_path: Path, mesh: Mesh3) -> tuple[list[list[Fraction]], Path]:
+    path = tmp_path / "w.ele"
+    io.write(path, mesh, numbers="exact")
+    points = [[Fraction(t) for t in row[1:4]] for row in _rows(tmp_path / "w.node")]
+    return points, path
+
+
+@pytest.mark.parametrize(("pattern", "box"), [
+    (0, Box((0, 0, 0), (1, 1, 1))),
+    (70688, Box((0, 0, 0), (1, 2, 4))),
+    (262143, Box((Fraction(-1, 3), 0, 5), (Fraction(1, 7), 2, 6))),
+])
+def test_written_tetrahedra_are_positive_as_tetgen_writes_them(
+    tmp_path: Path, pattern: int, box: Box
+) -> None:
+    """Every .ele line a b c d has det[b - a, c - a, d - a] > 0 (TetGen's convention:
+    positive in our orient3d, negative in Shewchuk's); reading it back needs no reversal."""
+    mesh = partition_cuboid(pattern, box, improve=True).mesh
+    points, path = _written(tmp_path, mesh)
+    tetrahedra = [[int(t) for t in row[1:5]] for row in _rows(path)]
+    assert len(tetrahedra) == mesh.tetrahedron_count
+    assert all(_det(*(points[v] for v in t)) > 0 for t in tetrahedra)
+    back, notes = io.read_with_notes(path)
+    assert back == mesh and not any("negatively oriented" in note for note in notes)
+
+
+def test_written_faces_point_inward_as_tetgen_writes_them(tmp_path: Path) -> None:
+    """Every .face line a b c is counter-clockwise seen from inside: the tetrahedron on it
+    has its fourth vertex on the side (b - a) x (c - a) points to."""
+    mesh = partition_cuboid(70688, Box((0, 0, 0), (1, 2, 4)), improve=True).mesh
+    points, path = _written(tmp_path, mesh)
+    faces = [tuple(int(t) for t in row[1:4]) for row in _rows(tmp_path / "w.face")]
+    assert len(faces) == len(mesh.boundary_faces())
+    tetrahedra = [[int(t) for t in row[1:5]] for row in _rows(path)]
+    for a, b, c in faces:
+        (apex,) = next(set(t) - {a, b, c} for t in tetrahedra if {a, b, c} <= set(t))
+        assert _det(points[a], points[b], points[c], points[apex]) > 0
+
+
+def test_a_file_in_tetgens_orientation_reads_without_a_note(tmp_path: Path) -> None:
+    """A hand-made cube in TetGen's convention (positive tetrahedra, inward faces) reads
+    with no reversal note, its .face agreeing with the boundary."""
+    (tmp_path / "seed").mkdir()
+    outward = _cube(tmp_path / "seed").boundary_faces()
+    face = f"{len(outward)} 1\n" + "".join(
+        f"{i} {a} {c} {b} 1\n" for i, (a, b, c) in enumerate(outward))
+    value, notes = io.read_with_notes(_files(tmp_path, CUBE_NODE, _ele(CUBE_TETS), face))
+    assert isinstance(value, Mesh3) and value.tetrahedron_count == 5
+    assert not any("negatively oriented" in note for note in notes)
+    assert any("agrees with the boundary" in note for note in notes)

@@ -6,14 +6,17 @@ of it, terminates and leaves no transformable face failing its sphere test."""
 
 from __future__ import annotations
 
+import attrs
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from geomexact.errors import PreconditionError
 from geomexact.kernel.predicates3d import orient3d
 from geomexact.mesh3d.cuboid.boxes import Box, box_of_extents, unit_cube
 from geomexact.mesh3d.cuboid.improvement import improve
 from geomexact.mesh3d.cuboid.numbering import FACE_EDGES, PATTERN_COUNT
-from geomexact.mesh3d.cuboid.partition import CuboidMesh, partition_cuboid
+from geomexact.mesh3d.cuboid.partition import CuboidMesh, partition_cuboid, recorded_start
 from geomexact.mesh3d.cuboid.split_order import ORDERS
 from geomexact.mesh3d.measures import total_volume
 from geomexact.mesh3d.ops import FaceKind, classify_face
@@ -142,3 +145,18 @@ def test_the_full_pattern_on_both_shapes() -> None:
             assert_valid(run)
             assert run.partition.tetrahedron_count == 40
             assert replay(run.start, run.trace) == run.mesh
+
+
+def test_recorded_start_rebuilds_the_start_from_the_trace_alone() -> None:
+    """recorded_start(trace) is the run's start for any box and template; a trace of
+    another algorithm, a malformed box or template is a PreconditionError."""
+    for template in (0, 1):
+        run = partition_cuboid(70688, Box(("-1/3", 0, 2), (1, "0.5", 7)), template=template,
+                               improve=True)
+        assert recorded_start(run.trace) == run.start
+        assert recorded_start(run.trace).digest == run.trace.input_digest
+    parameters = dict(run.trace.parameters)
+    for bad in ({"algorithm": "lepp"}, {"box": {"low": [0, 0]}}, {"template": 2},
+                {"box": {"low": [1, 0, 0], "high": [0, 1, 1]}}, {"box": {"low": "x"}}):
+        with pytest.raises(PreconditionError):
+            recorded_start(attrs.evolve(run.trace, parameters={**parameters, **bad}))

@@ -16,6 +16,7 @@ from typing import Any, Final
 import attrs
 
 from geomexact._version import __version__
+from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import format_rational
 from geomexact.mesh3d.cuboid.boxes import Box, unit_cube
 from geomexact.mesh3d.cuboid.improvement import ImprovementReport, improve_in
@@ -32,7 +33,7 @@ from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.mesh3d.transient import mesh3_from_tetrahedra
 from geomexact.trace.record import Trace
 
-__all__ = ["CuboidMesh", "initial_mesh", "partition_cuboid", "point_label"]
+__all__ = ["CuboidMesh", "initial_mesh", "partition_cuboid", "point_label", "recorded_start"]
 
 POINT_CODES: Final = 8 + BIT_COUNT
 """Point codes: corner k is k (0..7), the Steiner point of bit i is 8 + i."""
@@ -116,6 +117,34 @@ def initial_mesh(box: Box, template: int = 0) -> Mesh3:
     check_template(template)
     return mesh3_from_tetrahedra([box.corner(k) for k in range(8)],
                                  TEMPLATE_TETRAHEDRA[template])
+
+
+def recorded_start(trace: Trace) -> Mesh3:
+    """The start mesh of a cuboid trace, rebuilt from the trace's own parameters (its
+    ``box`` and ``template``): :func:`initial_mesh` of them.  A
+    :class:`~geomexact.errors.PreconditionError` when ``trace`` was not written by
+    :func:`partition_cuboid` or its parameters are malformed.  The caller still checks the
+    digest (``trace.playback.replay`` does)."""
+    algorithm = trace.parameter("algorithm")
+    if algorithm != "cuboid":
+        shown = "none" if algorithm is None else repr(algorithm)
+        raise PreconditionError(
+            "recorded_start", f"not a cuboid trace (its algorithm is {shown}): only a "
+            "cuboid trace records how to rebuild its start mesh")
+    box, template = trace.parameter("box"), trace.parameter("template")
+    try:
+        low, high = box["low"], box["high"]
+        if len(low) != 3 or len(high) != 3:
+            raise ValueError("three coordinates each")
+        start_box = Box(tuple(low), tuple(high))
+    except (TypeError, KeyError, ValueError) as error:  # RationalParseError is one
+        raise PreconditionError(
+            "recorded_start", "the trace's box is not {'low': [x, y, z], 'high': [x, y, z]} "
+            f"of exact numbers with high > low ({error})") from error
+    if isinstance(template, bool) or template not in (0, 1):
+        raise PreconditionError("recorded_start",
+                                f"the trace's template {template!r} is not 0 or 1")
+    return initial_mesh(start_box, template)
 
 
 def _parameters(pattern: int, box: Box, order: str, template: int, improve: bool,
