@@ -8,11 +8,10 @@ import argparse
 import csv
 import importlib
 import io
-import sys
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any
 
 from geomexact.cli.arguments import (
     Subcommands,
@@ -23,34 +22,11 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.cuboid import add_cuboid_options, shape_box
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.progress import add_progress_flags, progress_bar
 from geomexact.cli.reporting import print_json
 from geomexact.errors import OverwriteError
 from geomexact.io.files import write_lines_atomic
 from geomexact.mesh3d.cuboid.census import CENSUS_COLUMNS, CensusRow, CensusSummary, summarize
-
-
-class ProgressBar:
-    """A one-line progress bar on ``stream`` (redrawn at most ten times a second)."""
-
-    def __init__(self, stream: TextIO, label: str) -> None:
-        self.stream = stream
-        self.label = label
-        self.started = time.perf_counter()
-        self.last = 0.0
-
-    def __call__(self, done: int, total: int) -> None:
-        now = time.perf_counter()
-        if done < total and now - self.last < 0.1:
-            return
-        self.last = now
-        width = 30
-        filled = width * done // total if total else width
-        rate = done / (now - self.started) if now > self.started else 0.0
-        self.stream.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] "
-                          f"{done}/{total} ({rate:,.0f}/s)")
-        if done >= total:
-            self.stream.write("\n")
-        self.stream.flush()
 
 
 def csv_lines(rows: Sequence[CensusRow]) -> Iterator[str]:
@@ -140,8 +116,7 @@ def command_census(args: argparse.Namespace) -> int:
                 raise OverwriteError(str(path))
     job = CensusJob(box, args.order, args.template, args.improve, args.allow_boundary_flips,
                     args.engine)
-    show = args.progress if args.progress is not None else sys.stderr.isatty()
-    bar = ProgressBar(sys.stderr, f"census {box.describe()} {args.order}") if show else None
+    bar = progress_bar(args, f"census {box.describe()} {args.order}")
     started = time.perf_counter()
     rows = run_census(patterns, job, workers=args.workers, dask_address=args.dask,
                       chunk_size=args.chunk_size, on_progress=bar)
@@ -194,10 +169,6 @@ def add_parser(commands: Subcommands) -> None:
                         "is installed)")
     census.add_argument("--no-parquet", action="store_true",
                         help="do not write the Parquet file beside the CSV")
-    progress = census.add_mutually_exclusive_group()
-    progress.add_argument("--progress", dest="progress", action="store_true", default=None,
-                          help="show a progress bar on stderr (default: when it is a "
-                          "terminal)")
-    progress.add_argument("--no-progress", dest="progress", action="store_false")
+    add_progress_flags(census)
     add_force_flag(census, "existing output files")
     add_json_flag(census)

@@ -14,10 +14,12 @@ Model, digest and invariants: ``specs/mesh3d.md``.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import TYPE_CHECKING, TypeAlias
+from itertools import chain
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import attrs
 import immutables
+import numpy as np
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
@@ -129,7 +131,27 @@ class Mesh3:
 
     def tetrahedra(self) -> list[Tetrahedron]:
         """Every tetrahedron, canonical, sorted."""
-        return sorted(self.iter_tetrahedra())
+        return [tuple(row) for row in self.tetrahedron_array().tolist()]  # type: ignore[misc]
+
+    def tetrahedron_array(self) -> Any:
+        """Every tetrahedron, canonical, sorted, as a (T x 4) int64 numpy array (one pass
+        over the face table, vectorised)."""
+        faces, apexes = self._face_arrays()
+        if not len(faces):
+            return np.zeros((0, 4), dtype=np.int64)
+        # the face opposite the smallest vertex: (a, b, c) -> d with d smallest; canonical
+        # is (d, *canonical_face(c, b, a)) = (d, a, c, b) since a is the face's smallest
+        mask = apexes < faces[:, 0]
+        rows = np.column_stack((apexes[mask], faces[mask][:, [0, 2, 1]]))
+        return rows[np.lexsort(rows.T[::-1])]
+
+    def _face_arrays(self) -> tuple[Any, Any]:
+        """The face table as arrays: (F x 3) canonical faces and their (F,) apexes."""
+        count = len(self.faces)
+        faces = np.fromiter(chain.from_iterable(self.faces.keys()), dtype=np.int64,
+                            count=3 * count).reshape(-1, 3)
+        apexes = np.fromiter(self.faces.values(), dtype=np.int64, count=count)
+        return faces, apexes
 
     def has_tetrahedron(self, tetrahedron: Tetrahedron) -> bool:
         a, b, c, d = tetrahedron
@@ -138,10 +160,18 @@ class Mesh3:
     def boundary_faces(self) -> list[Face]:
         """The faces with no tetrahedron on their negative side, oriented outward
         (counter-clockwise seen from outside: the reversal of the stored face), sorted."""
-        faces = self.faces
-        return sorted(
-            opposite_face(face) for face in faces if opposite_face(face) not in faces
-        )
+        faces, _ = self._face_arrays()
+        if not len(faces):
+            return []
+        opposite = faces[:, [0, 2, 1]]  # still canonical: a stays the smallest
+        order = np.lexsort(faces.T[::-1])
+        known = faces[order]
+        at = _row_search(known, opposite)
+        found = (at < len(known)) & (known[np.minimum(at, len(known) - 1)] == opposite).all(
+            axis=1)
+        outward = opposite[~found]
+        return [tuple(row) for row in  # type: ignore[misc]
+                outward[np.lexsort(outward.T[::-1])].tolist()]
 
     def interior_faces(self) -> list[Face]:
         """Each face shared by two tetrahedra once, as its sorted vertex triple, sorted."""
@@ -177,6 +207,22 @@ class Mesh3:
             f"Mesh3(vertices={self.vertex_count}, tetrahedra={self.tetrahedron_count}, "
             f"digest={self.digest_text})"
         )
+
+
+def _row_search(sorted_rows: Any, rows: Any) -> Any:
+    """For each of ``rows`` (N x 3), the index where it would be inserted into the
+    lexicographically sorted ``sorted_rows`` (M x 3) to keep them sorted."""
+    top = int(max(sorted_rows.max(initial=0), rows.max(initial=0))) + 1
+    if top < 1 << 21:  # three ids in one int64, in the same order
+        def key(array: Any) -> Any:
+            return (array[:, 0] * top + array[:, 1]) * top + array[:, 2]
+
+        return np.searchsorted(key(sorted_rows), key(rows))
+    # a row's three ids as one structured value compare lexicographically
+    kind = np.dtype([("a", np.int64), ("b", np.int64), ("c", np.int64)])
+    table = np.ascontiguousarray(sorted_rows).view(kind).ravel()
+    wanted = np.ascontiguousarray(rows).view(kind).ravel()
+    return np.searchsorted(table, wanted)
 
 
 def empty_mesh3() -> Mesh3:

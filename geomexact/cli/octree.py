@@ -1,0 +1,230 @@
+"""``geomexact octree``: mesh a box by the octree mixed-element mesher (refine where asked,
+balance 2:1, partition every leaf by its Steiner pattern), check the result's conformity
+exactly, report its statistics and write it."""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import time
+from pathlib import Path
+from typing import Any
+
+import attrs
+
+from geomexact.cli.arguments import (
+    Subcommands,
+    add_command,
+    add_force_flag,
+    add_json_flag,
+    add_number_flags,
+    add_to_option,
+    non_negative,
+    positive_int,
+)
+from geomexact.cli.cuboid import rational_argument
+from geomexact.cli.errors import UsageProblem
+from geomexact.cli.exit_codes import EXIT_OK
+from geomexact.cli.progress import add_progress_flags, progress_bar
+from geomexact.cli.reporting import print_json, print_table
+from geomexact.cli.writing import check_outputs, write
+from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.numbers import format_rational, parse_rational
+from geomexact.mesh3d.snapshot import Mesh3
+
+STAGES = ("initial", "refinement", "improvement", "final", "conformity")
+
+
+def _exact(text: str) -> Any:
+    try:
+        return parse_rational(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def _output_format(path: str | None, to: str | None) -> str | None:
+    """``--to``, or the Geomview OFF of tetrahedra for an ``.off`` output (the 2D OFF
+    format holds triangles only)."""
+    if to is None and path is not None and Path(path).suffix.lower() == ".off":
+        return "geomview3d"
+    return to
+
+
+def _stages(args: argparse.Namespace) -> dict[str, Any]:
+    from geomexact.mesh3d.octree.criteria import MaxEdgeLength, RefineToMaxLevel
+    from geomexact.mesh3d.octree.refinement import MAX_LEVEL
+    from geomexact.mesh3d.octree.regions import (
+        BallRegion,
+        BoxRegion,
+        SphereSurfaceRegion,
+        UnionRegion,
+        WholeDomain,
+    )
+    from geomexact.mesh3d.octree.stages import (
+        BoxGrid,
+        DelaunayPartition,
+        PatternPartition,
+        RefineWhere,
+    )
+
+    regions: list[Any] = []
+    sphere = SphereSurfaceRegion if args.surface else BallRegion
+    for x, y, z, radius in args.refine_sphere or []:
+        if radius <= 0:
+            raise UsageProblem(f"--refine-sphere: the radius is positive, not "
+                               f"{format_rational(radius)}")
+        regions.append(sphere((x, y, z), radius))
+    for values in args.refine_box or []:
+        if not all(values[a] <= values[a + 3] for a in range(3)):
+            raise UsageProblem("--refine-box X0 Y0 Z0 X1 Y1 Z1 needs X0 <= X1, Y0 <= Y1, "
+                               "Z0 <= Z1")
+        regions.append(BoxRegion(values[:3], values[3:]))
+    if args.surface and not args.refine_sphere:
+        raise UsageProblem("--surface applies to --refine-sphere, which was not given")
+    region = (WholeDomain() if not regions else regions[0] if len(regions) == 1
+              else UnionRegion(regions))
+    if args.max_edge is not None:
+        criterion: Any = MaxEdgeLength(args.max_edge)
+        level = MAX_LEVEL if args.level is None else args.level
+    else:
+        criterion = RefineToMaxLevel()
+        level = 3 if args.level is None else args.level
+    if level > MAX_LEVEL:
+        raise UsageProblem(f"--level is at most {MAX_LEVEL}, not {level}")
+    final = DelaunayPartition() if args.final == "delaunay" else PatternPartition()
+    return {"initial": BoxGrid(*args.grid),
+            "refinement": RefineWhere(level, criterion=criterion, region=region),
+            "final": final}
+
+
+def _box(args: argparse.Namespace) -> Any:
+    from geomexact.mesh3d.cuboid.boxes import Box
+
+    values = args.box
+    if not all(values[a] < values[a + 3] for a in range(3)):
+        raise UsageProblem("--box X0 Y0 Z0 X1 Y1 Z1 needs X0 < X1, Y0 < Y1 and Z0 < Z1")
+    return Box(values[:3], values[3:])
+
+
+def command_octree(args: argparse.Namespace) -> int:
+    """Mesh the box, check it, report it, write it (the cyclic collector paused: the
+    command builds a few million small objects and frees them at exit)."""
+    with collector_paused():
+        return _octree(args)
+
+
+def _octree(args: argparse.Namespace) -> int:
+    from geomexact.io.trace_file import write_trace
+    from geomexact.mesh3d.octree.pipeline import generate
+
+    started = time.perf_counter()
+    domain = _box(args)
+    stages = _stages(args)
+    output_format = _output_format(args.output, args.to)
+    check_outputs([("-o", args.output, output_format), ("--start", args.start, None),
+                   ("--trace", args.trace, "file")], Mesh3, force=args.force)
+    if args.start and not args.trace:
+        raise UsageProblem("--start writes the input of the trace: give --trace too")
+    bar = progress_bar(args, "octree")
+
+    def on_stage(name: str) -> None:
+        if bar is not None:
+            bar(STAGES.index(name), len(STAGES))
+
+    run = generate(domain, trace=bool(args.trace), on_stage=on_stage, **stages)
+    if bar is not None:
+        bar(len(STAGES), len(STAGES))
+    quality = run.quality()
+    written: list[Path] = []
+    if args.start and run.start is not None:
+        written += write(args.start, run.start, None, overwrite=args.force, numbers="exact")
+    if args.output:
+        written += write(args.output, run.mesh, output_format, overwrite=args.force,
+                         numbers=args.numbers)
+    if args.trace and run.trace is not None:
+        trace = run.trace
+        if args.start:
+            trace = attrs.evolve(trace, input_name=Path(args.start).name)
+        write_trace(args.trace, trace, overwrite=args.force)
+        written.append(Path(args.trace))
+    report = {
+        "box": [format_rational(v) for v in (*domain.low, *domain.high)],
+        "grid": list(args.grid),
+        "final": args.final,
+        "leaves": run.octree.leaf_count,
+        "levels": {str(level): count for level, count in run.octree.levels()},
+        "leaves_refined": run.refined.leaf_count,
+        "forced_splits": run.leaf_mesh.forced_splits,
+        "tetrahedra": run.mesh.tetrahedron_count,
+        "vertices": run.mesh.vertex_count,
+        "min_dihedral": quality.min_dihedral,
+        "max_dihedral": quality.max_dihedral,
+        "max_radius_edge": quality.max_radius_edge,
+        "conforming": run.conformity.conforming,
+        "interior_faces": run.conformity.interior_faces,
+        "boundary_faces": run.conformity.boundary_faces,
+        "volume": format_rational(run.volume),
+        "digest": run.mesh.digest_text,
+        "steps": None if run.trace is None else len(run.trace),
+        "stage_seconds": {name: round(value, 4) for name, value in run.seconds.items()},
+        "seconds": round(time.perf_counter() - started, 4),
+        "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+        "written": [str(path) for path in written],
+    }
+    if args.json:
+        print_json(report)
+    else:
+        title = (f"octree mesh of {domain.describe()} (grid {'x'.join(map(str, args.grid))}, "
+                 f"final {args.final})")
+        rows = {key: report[key] for key in (
+            "leaves", "levels", "forced_splits", "tetrahedra", "vertices", "min_dihedral",
+            "max_dihedral", "max_radius_edge", "conforming", "volume", "digest", "seconds",
+            "peak_memory_mb")}
+        print_table(title, rows)
+        for path in written:
+            print(f"wrote {path}")
+    return EXIT_OK
+
+
+def add_parser(commands: Subcommands) -> None:
+    """Add the ``octree`` command."""
+    octree = add_command(commands, "octree", command_octree,
+                         "mesh a box with tetrahedra by the octree mesher (refined where "
+                         "asked, balanced 2:1, each leaf partitioned by its pattern)")
+    octree.add_argument("--box", nargs=6, type=_exact, metavar=("X0", "Y0", "Z0", "X1", "Y1",
+                                                                "Z1"),
+                        default=[parse_rational(v) for v in "000111"],
+                        help="the domain, exact (default: the unit cube)")
+    octree.add_argument("--grid", nargs=3, type=positive_int, metavar=("N", "M", "K"),
+                        default=[1, 1, 1], help="the initial grid of boxes (default 1 1 1)")
+    octree.add_argument("--level", type=non_negative, metavar="K",
+                        help="the deepest level (default 3; with --max-edge, as deep as "
+                        "needed, up to 16)")
+    octree.add_argument("--max-edge", type=rational_argument, metavar="L",
+                        help="refine a leaf while its longest edge is longer than L")
+    octree.add_argument("--refine-sphere", nargs=4, type=_exact, action="append",
+                        metavar=("X", "Y", "Z", "R"),
+                        help="refine where the ball (or, with --surface, the sphere) of "
+                        "centre X Y Z and radius R meets a leaf (repeatable)")
+    octree.add_argument("--surface", action="store_true",
+                        help="--refine-sphere means the sphere's surface, not the ball")
+    octree.add_argument("--refine-box", nargs=6, type=_exact, action="append",
+                        metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
+                        help="refine where this box meets a leaf (repeatable)")
+    octree.add_argument("--final", choices=("patterns", "delaunay"), default="patterns",
+                        help="each leaf's pattern partition (default), or that improved by "
+                        "Joe's flips inside the leaf (delaunay)")
+    octree.add_argument("-o", "--output", metavar="OUT",
+                        help="write the mesh (TetGen OUT.ele/.node/.face, .vtu, .vtk, "
+                        "Geomview .off)")
+    add_to_option(octree)
+    octree.add_argument("--trace", metavar="FILE",
+                        help="record the run by the reference steps (one insert_cuboid per "
+                        "leaf, then flips) and write the trace")
+    octree.add_argument("--start", metavar="FILE",
+                        help="with --trace: write the trace's input (the vertices), exactly")
+    add_number_flags(octree)
+    add_progress_flags(octree)
+    add_force_flag(octree, "existing output files")
+    add_json_flag(octree)
+
