@@ -21,10 +21,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from helpers.mesh3d_cases import cube_grid  # noqa: E402
+from helpers.mesh3d_cases import cube_grid
 
-from geomexact.viz.pictures3d import plot_mesh3  # noqa: E402
-from geomexact.viz.scene3d import clip_plane, viewer_html_3d  # noqa: E402
+from geomexact.viz.pictures3d import plot_mesh3
+from geomexact.viz.scene3d import clip_plane, viewer_html_3d
 
 
 def main() -> None:

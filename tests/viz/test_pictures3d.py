@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 from helpers.mesh3d_cases import cube_grid
+from matplotlib.figure import Figure
 
 from geomexact.kernel.numbers import format_rational
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
@@ -24,8 +25,6 @@ from geomexact.viz.pictures3d import (
     plot_mesh3,
 )
 from geomexact.viz.scene3d import clip_plane, tetrahedron_arrays
-
-from matplotlib.figure import Figure
 
 
 def _png_size(path: Path) -> tuple[int, int]:
