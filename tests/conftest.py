@@ -1,5 +1,6 @@
-"""Shared test set-up: hypothesis profiles, the ``../shared/data`` fixture, and the
-``slow`` / ``browser`` markers.
+"""Shared test set-up: hypothesis profiles, the ``../shared/data`` fixture, the ``slow``
+marker, and the headless Chromium plugin (``helpers.chromium``: the ``browser`` fixture
+and marker).
 
 Hypothesis profile: ``ci`` (fewer examples, no deadline) when the environment has
 ``CI=true``, else ``dev`` (default number of examples, no deadline: exact arithmetic on
@@ -10,7 +11,6 @@ explicitly.
 from __future__ import annotations
 
 import os
-import shutil
 from pathlib import Path
 
 import pytest
@@ -27,6 +27,9 @@ settings.load_profile(
 )
 
 from helpers.paths import SHARED_DATA
+
+# the session fixture ``browser`` (headless Chromium) the browser tests share
+pytest_plugins = ["helpers.chromium"]
 
 
 @pytest.fixture(scope="session")
@@ -45,12 +48,6 @@ def pytest_addoption(parser: pytest.Parser) -> None:
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     skip_slow = pytest.mark.skip(reason="slow: run with --runslow")
-    has_browser = any(
-        shutil.which(name) for name in ("chromium", "chromium-browser", "google-chrome")
-    )
-    skip_browser = pytest.mark.skip(reason="needs a headless chromium on PATH")
     for item in items:
         if "slow" in item.keywords and not config.getoption("--runslow"):
             item.add_marker(skip_slow)
-        if "browser" in item.keywords and not has_browser:
-            item.add_marker(skip_browser)

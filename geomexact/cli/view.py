@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from geomexact.cli.arguments import (
     Subcommands,
@@ -22,6 +23,10 @@ from geomexact.cli.reporting import print_json
 from geomexact.errors import GeomexactError
 from geomexact.io.trace_file import read_trace
 from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.trace.record import Trace
+
+if TYPE_CHECKING:
+    from geomexact.viz.scene3d import Clip
 
 VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
 
@@ -41,22 +46,13 @@ def command_view(args: argparse.Namespace) -> int:
         raise UsageProblem("--step needs --trace")
     loaded = load(args.input, args.format, args.verbose)
     value = loaded.value
-    if isinstance(value, Mesh3) and suffix not in (".html", ".htm"):
-        raise UsageProblem(
-            f"{args.input}: is a tetrahedral mesh: view draws it only as the HTML viewer "
-            "(OUT.html); convert it to .vtu, or --to geomview3d / vect, for other tools"
-        )
+    if args.clip is not None and not isinstance(value, Mesh3):
+        raise UsageProblem(f"{args.input}: --clip needs a tetrahedral mesh")
     trace = read_trace(args.trace) if args.trace else None
     fill = args.color_by.replace("-", "_")
     try:
         if isinstance(value, Mesh3):
-            from geomexact.viz.scene3d import viewer_html_3d
-
-            # the 2D fills name triangle measures; in 3D, quality (radius ratio) or plain
-            colour = "plain" if fill in ("area", "region") else "quality"
-            text = viewer_html_3d(value, trace, title=args.title or Path(args.input).name,
-                                  colour=colour, step=args.step)
-            write_text_atomic(output, text, overwrite=args.force)
+            _view_mesh3(args, value, trace, output, fill)
         elif suffix in (".html", ".htm"):
             text = viewer.viewer_html(
                 value, trace=trace, title=args.title, source=Path(args.input).name,
@@ -83,6 +79,8 @@ def command_view(args: argparse.Namespace) -> int:
         "steps": len(trace) if trace is not None else None,
         "step": args.step if args.step is not None else (
             len(trace) if trace is not None else None),
+        "clip": None if args.clip is None else {"axis": args.clip[0],
+                                                "position": args.clip[1]},
         "output": str(output),
         "bytes": output.stat().st_size,
     }
@@ -91,6 +89,49 @@ def command_view(args: argparse.Namespace) -> int:
     else:
         print(f"wrote {output}")
     return EXIT_OK
+
+
+def _clip_of(args: argparse.Namespace) -> Clip | None:
+    from geomexact.viz.scene3d import clip_plane
+
+    if args.clip is None:
+        return None
+    axis, position = args.clip
+    try:
+        return clip_plane(axis, position)
+    except ValueError as error:
+        raise UsageProblem(f"--clip: {error}") from None
+
+
+def _view_mesh3(args: argparse.Namespace, mesh: Mesh3, trace: Trace | None, output: Path,
+                fill: str) -> None:
+    """The page or the picture of a tetrahedral mesh (with a trace: the page steps through
+    it; the picture draws the mesh after step ``--step``, default the last)."""
+    from geomexact.io.files import write_text_atomic
+
+    clip = _clip_of(args)
+    title = args.title or Path(args.input).name
+    if output.suffix.lower() in (".html", ".htm"):
+        from geomexact.viz.scene3d import viewer_html_3d
+
+        # the 2D fills name triangle measures; in 3D, quality (radius ratio) or plain
+        colour = "plain" if fill in ("area", "region") else "quality"
+        text = viewer_html_3d(mesh, trace, title=title, colour=colour, step=args.step,
+                              clip=clip)
+        write_text_atomic(output, text, overwrite=args.force)
+        return
+    from geomexact.trace.playback import replay
+    from geomexact.viz.pictures3d import plot_mesh3
+
+    if fill in ("area", "region"):
+        raise UsageProblem(f"--color-by {args.color_by} has no meaning for a tetrahedral "
+                           "mesh's picture: none (plain) or min-angle (radius ratio)")
+    if trace is not None:
+        if args.step is not None and args.step > len(trace):
+            raise UsageProblem(f"--step {args.step} is beyond the trace's {len(trace)} steps")
+        mesh = replay(mesh, trace, until=args.step)
+    plot_mesh3(mesh, output, overwrite=args.force, title=args.title, clip=clip,
+               colour="quality" if fill == "min_angle" else "plain")
 
 
 def add_parser(commands: Subcommands) -> None:
@@ -108,7 +149,12 @@ def add_parser(commands: Subcommands) -> None:
                       help="with --trace: the step shown first (viewer) or drawn (picture); "
                            "default: the last")
     view.add_argument("--color-by", choices=VIEW_FILL_CHOICES, default="none",
-                      help="fill triangles by smallest angle, area or region attribute")
+                      help="fill triangles by smallest angle, area or region attribute; "
+                           "tetrahedra: min-angle colours by radius ratio")
+    view.add_argument("--clip", nargs=2, metavar=("AXIS", "POSITION"),
+                      help="tetrahedral meshes: remove the tetrahedra whose centroid is "
+                           "beyond the plane AXIS (x, y or z) = POSITION (exact: 1/2, 0.25) "
+                           "and show the faces it opens; the page starts with it")
     view.add_argument("--title", help="title of the page or picture")
     view.add_argument("--no-exact", action="store_true",
                       help="leave the exact coordinates out of the page (smaller file)")

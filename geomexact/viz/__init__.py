@@ -7,8 +7,10 @@
   CSS inline, no network request at any time) with pan and zoom, statistics, hover
   details, a file-open control and, for a trace, a step slider;
 - :func:`viewer_html_3d` / :func:`write_viewer_3d`: the same for a tetrahedral mesh
-  (``Mesh3``): rotate, zoom, shrink tetrahedra, colour by radius ratio or creating step,
-  boundary faces or all, a step slider over a trace.
+  (``Mesh3``): rotate, zoom, shrink tetrahedra, a clip plane, colour by radius ratio or
+  creating step, boundary faces or all, a step slider over a trace;
+- :func:`plot_mesh3` / :func:`figure_mesh3`: pictures of a tetrahedral mesh (its visible
+  surface, optionally cut open by a :func:`clip_plane`, coloured by radius ratio).
 
 The local server that shows a directory in the viewer is :mod:`geomexact.server`.  Names
 load on first use (matplotlib only with the pictures).  Guide: ``docs/viewer.md``; payload
@@ -23,14 +25,18 @@ from geomexact._lazy_exports import lazy_exports
 
 if TYPE_CHECKING:
     from geomexact.viz.pictures import figure, plot, plot_step
+    from geomexact.viz.pictures3d import figure_mesh3, plot_mesh3
     from geomexact.viz.scene import History, Scene, history_of, scene_of
-    from geomexact.viz.scene3d import viewer_html_3d, write_viewer_3d
+    from geomexact.viz.scene3d import clip_plane, viewer_html_3d, write_viewer_3d
     from geomexact.viz.viewer import Download, empty_viewer_html, viewer_html, write_viewer
 
 _HOMES: dict[str, str] = {
     "figure": "geomexact.viz.pictures",
     "plot": "geomexact.viz.pictures",
     "plot_step": "geomexact.viz.pictures",
+    "figure_mesh3": "geomexact.viz.pictures3d",
+    "plot_mesh3": "geomexact.viz.pictures3d",
+    "clip_plane": "geomexact.viz.scene3d",
     "History": "geomexact.viz.scene",
     "Scene": "geomexact.viz.scene",
     "history_of": "geomexact.viz.scene",
@@ -47,10 +53,13 @@ __all__ = [
     "Download",
     "History",
     "Scene",
+    "clip_plane",
     "empty_viewer_html",
     "figure",
+    "figure_mesh3",
     "history_of",
     "plot",
+    "plot_mesh3",
     "plot_step",
     "scene_of",
     "viewer_html",

@@ -147,7 +147,8 @@ def payload(
     }
 
 
-def _asset(name: str) -> str:
+def page_asset(name: str) -> str:
+    """The text of one of the viewer's files (``viewer.js``, ``viewer.css``, …)."""
     return (resources.files("geomexact.viz") / name).read_text(encoding="utf-8")
 
 
@@ -171,6 +172,17 @@ def _links_html(links: Sequence[tuple[str, str]]) -> str:
 
 _PLACEHOLDER = re.compile(r"\{\{(\w+)\}\}")
 
+PAGE_HEAD = "page_head.html"
+"""The ``<head>`` the 2D and 3D pages share, put in place of ``{{head}}``."""
+
+
+def fill_page(template: str, values: dict[str, str]) -> str:
+    """The page ``template`` (a viewer file whose ``{{head}}`` is replaced by
+    :data:`PAGE_HEAD` first) with each ``{{name}}`` replaced by ``values[name]`` in one
+    pass, so no value can bring in another placeholder."""
+    text = page_asset(template).replace("{{head}}", page_asset(PAGE_HEAD).rstrip("\n"), 1)
+    return _PLACEHOLDER.sub(lambda match: values[match.group(1)], text)
+
 
 def render_page(data: dict[str, Any] | None, *, title: str,
                 links: Sequence[tuple[str, str]] = ()) -> str:
@@ -188,11 +200,11 @@ def render_page(data: dict[str, Any] | None, *, title: str,
         "generator": f"geomexact {__version__}",
         "title": html.escape(title or "geomexact viewer"),
         "links": _links_html(links),
-        "css": _check_inline("viewer.css", _asset("viewer.css")),
-        "js": _check_inline("viewer.js", _asset("viewer.js")),
+        "css": _check_inline("viewer.css", page_asset("viewer.css")),
+        "js": _check_inline("viewer.js", page_asset("viewer.js")),
         "data": text,
     }
-    return _PLACEHOLDER.sub(lambda match: values[match.group(1)], _asset("viewer.html"))
+    return fill_page("viewer.html", values)
 
 
 def viewer_html(

@@ -4,7 +4,6 @@ logged as an error or requested from the network."""
 
 from __future__ import annotations
 
-import shutil
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -12,47 +11,49 @@ from typing import Any
 import pytest
 
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
-from geomexact.viz.scene3d import viewer_html_3d
+from geomexact.viz.scene3d import clip_plane, viewer_html_3d
 
 pytestmark = pytest.mark.browser
 
 ARTIFACTS = Path(__file__).resolve().parents[2] / "artifacts" / "browser"
 
-CHROMIUM_FLAGS = [
-    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-]
 
-
-def chromium() -> str:
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        found = shutil.which(name)
-        if found:
-            return found
-    pytest.skip("needs a headless chromium on PATH")
+def _open(browser: Any, path: Path) -> Iterator[tuple[Any, list[str], list[str]]]:
+    errors: list[str] = []
+    requests: list[str] = []
+    context = browser.new_context(viewport={"width": 1000, "height": 700})
+    context.route("**/*", lambda route: route.continue_()
+                  if route.request.url.startswith("file://") else route.abort())
+    tab = context.new_page()
+    tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    tab.on("pageerror", lambda e: errors.append(str(e)))
+    tab.on("request", lambda r: requests.append(r.url))
+    tab.goto(path.as_uri())
+    tab.wait_for_selector("#stats-table tr", state="attached")
+    try:
+        yield tab, errors, requests
+    finally:
+        context.close()
 
 
 @pytest.fixture(scope="module")
-def page(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Any, list[str], list[str]]]:
-    sync_api = pytest.importorskip("playwright.sync_api")
+def page(browser: Any, tmp_path_factory: pytest.TempPathFactory
+         ) -> Iterator[tuple[Any, list[str], list[str]]]:
     run = partition_cuboid(0b101101, improve=True)
     path: Path = tmp_path_factory.mktemp("view3d") / "cuboid.html"
     path.write_text(viewer_html_3d(run.start, run.trace, title="cuboid"), encoding="utf-8")
-    errors: list[str] = []
-    requests: list[str] = []
-    with sync_api.sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=chromium(), args=CHROMIUM_FLAGS)
-        context = browser.new_context(viewport={"width": 1000, "height": 700})
-        context.route("**/*", lambda route: route.continue_()
-                      if route.request.url.startswith("file://") else route.abort())
-        tab = context.new_page()
-        tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        tab.on("pageerror", lambda e: errors.append(str(e)))
-        tab.on("request", lambda r: requests.append(r.url))
-        tab.goto(path.as_uri())
-        tab.wait_for_selector("#stats-table tr", state="attached")
-        yield tab, errors, requests
-        browser.close()
+    yield from _open(browser, path)
+
+
+@pytest.fixture(scope="module")
+def octree_page(browser: Any, tmp_path_factory: pytest.TempPathFactory
+                ) -> Iterator[tuple[Any, list[str], list[str]]]:
+    """Pattern 262143 (every Steiner point), improved, opened with the clip at x = 1/2."""
+    run = partition_cuboid(262143, improve=True)
+    path: Path = tmp_path_factory.mktemp("view3d") / "full.html"
+    path.write_text(viewer_html_3d(run.mesh, title="full", colour="plain",
+                                   clip=clip_plane("x", "1/2")), encoding="utf-8")
+    yield from _open(browser, path)
 
 
 def _artifact(name: str) -> Path:
@@ -119,5 +120,59 @@ def test_draws_rotates_and_steps(page: tuple[Any, list[str], list[str]]) -> None
     tab.check("#all-tets")
     assert _tetrahedra(tab) == first
     tab.screenshot(path=str(_artifact("viewer3d-cuboid-first.png")))
+    assert errors == []
+    assert all(url.startswith("file://") for url in requests), requests
+
+
+def _stat(tab: Any, name: str) -> int:
+    return int(tab.evaluate(
+        f"() => document.getElementById('stats-table').dataset.{name}"))
+
+
+def _move_clip(tab: Any, value: int) -> None:
+    tab.evaluate(f"""() => {{ const s = document.getElementById('clip');
+        s.value = '{value}'; s.dispatchEvent(new Event('input')); }}""")
+
+
+def test_clip_plane_opens_the_mesh(octree_page: tuple[Any, list[str], list[str]]) -> None:
+    """The page starts with the clip of the payload; moving the slider changes the kept
+    tetrahedra, the faces drawn and the picture; cut faces are drawn in the cut colour;
+    the clip's "none" shows every tetrahedron again."""
+    tab, errors, requests = octree_page
+    assert tab.input_value("#clip-axis") == "x"
+    assert "1/2" in tab.inner_text("#clip-value") or "0.5" in tab.inner_text("#clip-value")
+    run = partition_cuboid(262143, improve=True)
+    total = run.mesh.tetrahedron_count
+    half = _tetrahedra(tab)
+    assert 0 < half < total
+    assert "faces cut open" in tab.inner_text("#stats-table")
+    tab.screenshot(path=str(_artifact("viewer3d-clip-half.png")))
+    half_image = _image(tab)
+    # the cut colour (240, 170, 110) times a shade: orange pixels are on the canvas
+    orange = tab.evaluate("""() => {
+        const c = document.getElementById('view');
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+        let n = 0;
+        for (let i = 0; i < d.length; i += 4)
+            if (d[i] > d[i + 2] + 60 && d[i + 1] > d[i + 2] + 20) n++;
+        return n; }""")
+    assert orange > 500
+    _move_clip(tab, 200)
+    quarter = _tetrahedra(tab)
+    assert 0 < quarter < half
+    assert _image(tab) != half_image
+    _move_clip(tab, 1000)
+    assert _tetrahedra(tab) == total
+    _move_clip(tab, 0)
+    assert _tetrahedra(tab) < quarter
+    tab.select_option("#clip-axis", "")
+    assert _tetrahedra(tab) == total
+    assert tab.locator("#clip").is_disabled()
+    tab.select_option("#clip-axis", "z")
+    _move_clip(tab, 500)
+    assert 0 < _tetrahedra(tab) < total
+    assert _stat(tab, "faces") > 0
+    timings = tab.evaluate("() => geomexactView3d.timings")
+    assert timings["draw"] >= 0 and timings["visible"] >= 0
     assert errors == []
     assert all(url.startswith("file://") for url in requests), requests

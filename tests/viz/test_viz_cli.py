@@ -54,7 +54,7 @@ def test_view_writes_a_viewer_page(capsys: pytest.CaptureFixture[str], traced: P
     assert report == {
         "input": str(traced / "superior.poly"), "format": "poly", "kind": "pslg",
         "trace": str(traced / "superior.1.trace.jsonl"), "steps": 2517, "step": 10,
-        "output": str(out), "bytes": out.stat().st_size,
+        "clip": None, "output": str(out), "bytes": out.stat().st_size,
     }
     page = out.read_text(encoding="utf-8")
     assert '"options":{"fill":"min_angle","step":10}' in page
@@ -218,3 +218,68 @@ def test_serve_port_in_use(capsys: pytest.CaptureFixture[str], tmp_path: Path) -
         code, _, err = run(capsys, "serve", tmp_path, "--port", str(port))
     assert code == 2
     assert err == f"geomexact: error: 127.0.0.1:{port}: Address already in use\n"
+
+
+@pytest.fixture(scope="module")
+def tetrahedra(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Pattern 262143 of the cuboid, improved, as TetGen ``x.node`` / ``x.ele``."""
+    from geomexact import io
+    from geomexact.mesh3d.cuboid.partition import partition_cuboid
+
+    path = tmp_path_factory.mktemp("tetrahedra") / "x.ele"
+    io.write(path, partition_cuboid(262143, improve=True).mesh)
+    return path
+
+
+def test_view_draws_a_tetrahedral_mesh(capsys: pytest.CaptureFixture[str], tetrahedra: Path,
+                                       tmp_path: Path) -> None:
+    out = tmp_path / "x.png"
+    _, report = run_json(capsys, "view", tetrahedra, "-o", out)
+    assert report["kind"] == "tetrahedral_mesh" and report["clip"] is None
+    assert report["output"] == str(out) and report["bytes"] == out.stat().st_size
+    assert imread(str(out)).shape[:2] == (600, 800)
+    for suffix in (".svg", ".pdf"):
+        assert run(capsys, "view", tetrahedra, "-o", tmp_path / f"x{suffix}")[0] == 0
+
+
+def test_view_clip(capsys: pytest.CaptureFixture[str], tetrahedra: Path,
+                   tmp_path: Path) -> None:
+    whole, clipped = tmp_path / "whole.png", tmp_path / "clipped.png"
+    assert run(capsys, "view", tetrahedra, "-o", whole)[0] == 0
+    _, report = run_json(capsys, "view", tetrahedra, "-o", clipped, "--clip", "x", "1/2",
+                         "--color-by", "min-angle")
+    assert report["clip"] == {"axis": "x", "position": "1/2"}
+    assert (imread(str(whole)) != imread(str(clipped))).any()
+    page = tmp_path / "clipped.html"
+    assert run(capsys, "view", tetrahedra, "-o", page, "--clip", "z", "0.25")[0] == 0
+    assert '"clip":{"axis":"z","position":"0.25","value":0.25}' in page.read_text("utf-8")
+    code, _, err = run(capsys, "view", tetrahedra, "-o", tmp_path / "bad.png",
+                       "--clip", "w", "1")
+    assert code == 2 and "clip axis" in err
+    code, _, err = run(capsys, "view", tetrahedra, "-o", tmp_path / "bad.png",
+                       "--clip", "x", "half")
+    assert code == 2 and "half" in err
+    code, _, err = run(capsys, "view", tetrahedra, "-o", tmp_path / "bad.png",
+                       "--color-by", "area")
+    assert code == 2 and "tetrahedral" in err
+    square = tmp_path / "square.off"
+    square.write_text(SQUARE_OFF)
+    code, _, err = run(capsys, "view", square, "-o", tmp_path / "sq.png", "--clip", "x", "0")
+    assert code == 2 and "--clip needs a tetrahedral mesh" in err
+
+
+def test_view_picture_of_a_step_of_a_3d_trace(capsys: pytest.CaptureFixture[str],
+                                              tmp_path: Path) -> None:
+    from geomexact import io
+    from geomexact.io.trace_file import write_trace
+    from geomexact.mesh3d.cuboid.partition import partition_cuboid
+
+    run3 = partition_cuboid(0b101101, improve=True)
+    io.write(tmp_path / "start.ele", run3.start)
+    write_trace(tmp_path / "run.trace.jsonl", run3.trace)
+    _, report = run_json(capsys, "view", tmp_path / "start.ele", "-o", tmp_path / "s.png",
+                         "--trace", tmp_path / "run.trace.jsonl", "--step", "2")
+    assert report["step"] == 2 and report["steps"] == len(run3.trace)
+    code, _, err = run(capsys, "view", tmp_path / "start.ele", "-o", tmp_path / "t.png",
+                       "--trace", tmp_path / "run.trace.jsonl", "--step", "999")
+    assert code == 2 and "999" in err

@@ -1,0 +1,48 @@
+"""The headless Chromium the browser tests share (Debian's ``chromium`` driven by
+Playwright): a pytest plugin (``pytest_plugins`` in ``tests/conftest.py``) with the
+session fixture ``browser``.  Tests marked ``browser`` are skipped when no Chromium is on
+PATH, and tests using the fixture when Playwright is missing."""
+
+from __future__ import annotations
+
+import shutil
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+
+CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome")
+CHROMIUM_FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]
+
+
+def chromium() -> str:
+    """The path of a Chromium on PATH; skips the test when there is none."""
+    for name in CHROMIUM_NAMES:
+        found = shutil.which(name)
+        if found:
+            return found
+    pytest.skip("needs a headless chromium on PATH")
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Tests marked ``browser`` are skipped when no Chromium is on PATH."""
+    if any(shutil.which(name) for name in CHROMIUM_NAMES):
+        return
+    skip_browser = pytest.mark.skip(reason="needs a headless chromium on PATH")
+    for item in items:
+        if "browser" in item.keywords:
+            item.add_marker(skip_browser)
+
+
+@pytest.fixture(scope="session")
+def browser() -> Iterator[Any]:
+    """One headless Chromium for the session (each test makes its own context)."""
+    sync_api = pytest.importorskip("playwright.sync_api")
+    with sync_api.sync_playwright() as playwright:
+        # Playwright makes a new, empty user-data directory for each launch
+        launched = playwright.chromium.launch(executable_path=chromium(), args=CHROMIUM_FLAGS)
+        yield launched
+        launched.close()
