@@ -299,3 +299,74 @@ def test_random_refinements_conform_and_replay(centre, radius, level, grid, surf
     fast = generate(domain, initial=BoxGrid(*grid), refinement=RefineWhere(level, region=region),
                     final=final, trace=False)
     assert fast.mesh == run.mesh
+
+
+# -- the building blocks -------------------------------------------------------------------
+def test_bulk_build_equals_the_checked_build() -> None:
+    from geomexact.mesh3d.transient import mesh3_from_positive_arrays, mesh3_from_tetrahedra
+
+    run = sphere_run(2, trace=False)
+    points = run.leaf_mesh.lattice.exact_points()
+    tetrahedra = np.asarray(run.leaf_mesh.tetrahedra)
+    assert mesh3_from_positive_arrays(points, tetrahedra) == mesh3_from_tetrahedra(
+        points, tetrahedra.tolist())
+    with pytest.raises(PreconditionError):
+        mesh3_from_positive_arrays(points, np.concatenate((tetrahedra, tetrahedra[:1])))
+
+
+@settings(max_examples=30)
+@given(pattern=st.integers(0, (1 << 18) - 1), template=st.sampled_from([0, 1]),
+       improve=st.booleans())
+def test_vectorised_tables_equal_their_definitions(pattern, template, improve) -> None:
+    from geomexact.mesh3d.cuboid.partition import partition_cuboid
+    from geomexact.mesh3d.snapshot import canonical_tetrahedron, opposite_face
+
+    mesh = partition_cuboid(pattern, box_of_extents(1, 2, 4), template=template,
+                            improve=improve).mesh
+    faces = mesh.faces
+    assert mesh.tetrahedra() == sorted(canonical_tetrahedron(a, b, c, d)
+                                       for (a, b, c), d in faces.items() if d < min(a, b, c))
+    assert mesh.boundary_faces() == sorted(opposite_face(f) for f in faces
+                                           if opposite_face(f) not in faces)
+
+
+def test_insert_cuboid_checks_its_box() -> None:
+    from geomexact.kernel.points import point3
+    from geomexact.mesh3d.cuboid.insertion import ABSENT, insert_cuboid_in
+    from geomexact.mesh3d.cuboid.numbering import CORNER_POSITIONS
+    from geomexact.mesh3d.cuboid.partition import partition_cuboid
+    from geomexact.mesh3d.ops import apply
+    from geomexact.mesh3d.snapshot import empty_mesh3
+    from geomexact.trace.step import Step
+
+    t = empty_mesh3().transient()
+    for x, y, z in CORNER_POSITIONS:
+        t.add_vertex(point3(2 * x, 3 * y, z))
+    centre = t.add_vertex(point3(1, 0, "0.5"))  # the centre of face y=0 (bit 14)
+    steiner = [ABSENT] * 18
+    steiner[14] = centre
+    start = t.seal()
+    mesh = apply(start, Step("insert_cuboid", (1, *range(8), *steiner)))
+    expected = partition_cuboid(1 << 14, box_of_extents(2, 3, 1), template=1).mesh
+    assert mesh.tetrahedra() == expected.tetrahedra()  # the same ids: corners, then 8
+    assert validate3(mesh, volume=6) == []
+    with pytest.raises(PreconditionError, match="corner"):
+        apply(start, Step("insert_cuboid", (1, 1, 0, *range(2, 8), *steiner)))
+    wrong = list(steiner)
+    wrong[14], wrong[15] = ABSENT, centre
+    with pytest.raises(PreconditionError, match="Steiner"):
+        apply(start, Step("insert_cuboid", (1, *range(8), *wrong)))
+    with pytest.raises(PreconditionError, match="already"):
+        apply(mesh, Step("insert_cuboid", (1, *range(8), *steiner)))
+    with pytest.raises(PreconditionError):
+        insert_cuboid_in(start.transient(), 2, list(range(8)), steiner)
+
+
+def test_quality_of_the_regular_tetrahedron() -> None:
+    from geomexact.mesh3d.quality import dihedral_angles, quality_summary, radius_edge_ratios
+
+    points = [(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)]
+    tetrahedron = [[0, 1, 2, 3]]
+    assert np.allclose(dihedral_angles(points, tetrahedron), np.degrees(np.arccos(1 / 3)))
+    assert np.allclose(radius_edge_ratios(points, tetrahedron), np.sqrt(6) / 4)
+    assert quality_summary(points, []).min_dihedral is None
