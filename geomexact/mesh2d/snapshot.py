@@ -118,6 +118,10 @@ class Mesh2:
         """All triangles in canonical form, sorted.  O(n log n)."""
         return sorted(self.iter_triangles())
 
+    def cells(self) -> list[Triangle]:
+        """The cells (:meth:`triangles`): what the trace tools compare between steps."""
+        return self.triangles()
+
     def edges(self) -> list[Edge]:
         """All edges as sorted (min, max) pairs.  O(n log n)."""
         found = set()

@@ -79,7 +79,12 @@ class Transient2:
         return self._digest
 
     def point(self, vertex: int) -> Point2:
-        return self._vertices[vertex]
+        """The point of ``vertex``; :class:`PreconditionError` when there is none (a step
+        naming a vertex the mesh does not have)."""
+        try:
+            return self._vertices[vertex]
+        except KeyError:
+            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
 
     def apex(self, u: int, v: int) -> int | None:
         """Third vertex of the triangle left of (u, v), or None."""

@@ -133,6 +133,10 @@ class Mesh3:
         """Every tetrahedron, canonical, sorted."""
         return [tuple(row) for row in self.tetrahedron_array().tolist()]  # type: ignore[misc]
 
+    def cells(self) -> list[Tetrahedron]:
+        """The cells (:meth:`tetrahedra`): what the trace tools compare between steps."""
+        return self.tetrahedra()
+
     def tetrahedron_array(self) -> Any:
         """Every tetrahedron, canonical, sorted, as a (T x 4) int64 numpy array (one pass
         over the face table, vectorised)."""

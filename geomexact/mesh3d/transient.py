@@ -72,7 +72,12 @@ class Transient3:
         return self._digest
 
     def point(self, vertex: int) -> Point3:
-        return self._vertices[vertex]
+        """The point of ``vertex``; :class:`PreconditionError` when there is none (a step
+        naming a vertex the mesh does not have)."""
+        try:
+            return self._vertices[vertex]
+        except KeyError:
+            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
 
     def apex(self, a: int, b: int, c: int) -> int | None:
         """The apex of the tetrahedron on the positive side of the oriented face abc."""

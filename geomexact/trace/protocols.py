@@ -42,6 +42,12 @@ class Snapshot(Protocol):
     def transient(self) -> Transient: ...
 
 
+class CellSnapshot(Snapshot, Protocol):
+    """A snapshot that lists its cells (triangles, tetrahedra), canonical and sorted."""
+
+    def cells(self) -> list[tuple[int, ...]]: ...
+
+
 OperationTable: TypeAlias = Mapping[str, Callable[[T, Step], None]]
 """Step name -> how to apply it to a transient of one mesh type.  Each mesh package defines
 its table once, complete at import (``geomexact.mesh2d.ops.OPERATIONS``,
