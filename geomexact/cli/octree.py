@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import resource
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -142,7 +143,10 @@ def _octree(args: argparse.Namespace) -> int:
         written += write(args.output, run.mesh, output_format, overwrite=args.force,
                          numbers=args.numbers)
     if args.trace and run.trace is not None:
-        trace = run.trace
+        trace = attrs.evolve(run.trace, parameters={
+            **dict(run.trace.parameters), "command": ["geomexact", *sys.argv[1:]],
+            "box": [format_rational(v) for v in (*domain.low, *domain.high)],
+            "grid": list(args.grid)})
         if args.start:
             trace = attrs.evolve(trace, input_name=Path(args.start).name)
         write_trace(args.trace, trace, overwrite=args.force)

@@ -33,7 +33,7 @@ from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.playback import replay
 from geomexact.trace.record import Trace
 
-_ALGORITHM_DIMENSIONS = {"delaunay": 2, "lepp": 2, "lawson": 2, "cuboid": 3}
+_ALGORITHM_DIMENSIONS = {"delaunay": 2, "lepp": 2, "lawson": 2, "cuboid": 3, "octree": 3}
 """The dimension of the mesh each recording algorithm (the trace's ``algorithm``
 parameter) works on."""
 

@@ -167,7 +167,7 @@ def _partition(octree: Octree, kind: FinalKind, trace: bool) -> LeafMesh:
         raise PreconditionError("octree", "balancing removed leaves")
     lattice = octree_lattice(balanced)
     if trace:
-        start, mesh, recorded = octree_trace(lattice, kind, {"final": kind})
+        start, mesh, recorded = octree_trace(lattice, kind, {"algorithm": "octree", "final": kind})
         tetrahedra = np.array(mesh.tetrahedra(), dtype=np.int64).reshape(-1, 4)
         return LeafMesh(balanced, lattice, tetrahedra, mesh, forced // 7, start, recorded)
     tetrahedra = assemble_tetrahedra(lattice, kind)
