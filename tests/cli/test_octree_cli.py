@@ -263,6 +263,10 @@ def test_refusals_write_nothing(tmp_path: Path, capsys: pytest.CaptureFixture[st
     _refused(tmp_path, capsys, "--level", "17", "-o", out)
     _refused(tmp_path, capsys, *level, "--grid", "0", "1", "1", "-o", out)
     _refused(tmp_path, capsys, *level, "--box", "0", "0", "0", "1", "1", "x", "-o", out)
+    # the start is written exactly: a format of doubles is refused (after the run)
+    err = _refused(tmp_path, capsys, *level, "--trace", str(tmp_path / "run.trace"),
+                   "--start", str(tmp_path / "s.vtu"), "-o", out)
+    assert "s.vtu" in err and "exact" in err
 
 
 def test_existing_output_is_refused_without_force(tmp_path: Path,
