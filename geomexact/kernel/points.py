@@ -14,7 +14,8 @@ from typing import NamedTuple, TypeVar
 from geomexact.kernel.numbers import Rational, to_rational
 
 
-def _approx(value: Rational) -> float:
+def nearest_double(value: Rational) -> float:
+    """The double nearest to ``value`` (NaN beyond the doubles' range): a point's ``fx``."""
     try:
         return float(value)  # gmpy2 rounds to nearest
     except OverflowError:
@@ -77,13 +78,13 @@ PointT = TypeVar("PointT", Point2, Point3)
 def point2(x: object, y: object) -> Point2:
     """The exact point (x, y); coordinates are converted by :func:`to_rational`."""
     qx, qy = to_rational(x), to_rational(y)
-    return Point2(qx, qy, _approx(qx), _approx(qy))
+    return Point2(qx, qy, nearest_double(qx), nearest_double(qy))
 
 
 def point3(x: object, y: object, z: object) -> Point3:
     """The exact point (x, y, z); coordinates are converted by :func:`to_rational`."""
     qx, qy, qz = to_rational(x), to_rational(y), to_rational(z)
-    return Point3(qx, qy, qz, _approx(qx), _approx(qy), _approx(qz))
+    return Point3(qx, qy, qz, nearest_double(qx), nearest_double(qy), nearest_double(qz))
 
 
 def midpoint2(a: Point2, b: Point2) -> Point2:

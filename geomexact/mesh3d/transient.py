@@ -4,6 +4,7 @@ next snapshot in O(1).  It never escapes the function that made it."""
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -314,9 +315,7 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
     total = 0
     for vertex, point in enumerate(points):
         total = _digest.combine(total, _digest.vertex_hash(vertex, point[:3]))
-    cell_hash, combine = _digest.cell_hash, _digest.combine
-    for tetrahedron in _canonical_rows(array).tolist():
-        total = combine(total, cell_hash(tetrahedron))
+    total = _digest.combine(total, _cells_hash_sum(_canonical_rows(array)))
     return Mesh3(
         vertices=immutables.Map(enumerate(points)),
         faces=immutables.Map(table),
@@ -324,6 +323,27 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
         tetrahedron_count=int(array.shape[0]),
         digest=total,
     )
+
+
+def _cells_hash_sum(rows: Any) -> int:
+    """The sum mod 2**128 of the cell hashes of the canonical tetrahedra ``rows``: by the
+    compiled cuboid kernel when it is built (the same arithmetic in unsigned __int128,
+    tested equal), else by :func:`~geomexact.kernel.digest.cell_hash`."""
+    if not len(rows):
+        return 0
+    _digest.vertex_key(int(rows.max()))  # the keys of every id, cached
+    try:  # the optional extension (no stub: imported by name)
+        kernel = importlib.import_module("geomexact.mesh3d.cuboid.cuboid_kernel")
+    except ImportError:
+        total, cell_hash = 0, _digest.cell_hash
+        for tetrahedron in rows.tolist():
+            total += cell_hash(tetrahedron)
+        return total & (_digest.MODULUS - 1)
+    keys = np.array(_digest.VERTEX_KEYS[: int(rows.max()) + 1], dtype=np.uint64)
+    value: int = kernel.tetrahedra_hash_sum(keys, np.ascontiguousarray(rows, dtype=np.int64),
+                                            _digest._POSITION_MULTIPLIERS,
+                                            _digest.FINAL_MULTIPLIER)
+    return value
 
 
 def _rotate_to_smallest(faces: Any) -> Any:

@@ -370,3 +370,24 @@ def test_quality_of_the_regular_tetrahedron() -> None:
     assert np.allclose(dihedral_angles(points, tetrahedron), np.degrees(np.arccos(1 / 3)))
     assert np.allclose(radius_edge_ratios(points, tetrahedron), np.sqrt(6) / 4)
     assert quality_summary(points, []).min_dihedral is None
+
+
+def test_bulk_digest_of_tetrahedra_equals_the_cell_hash_sum() -> None:
+    import random
+
+    from geomexact.kernel import digest as _digest
+    from geomexact.mesh3d.transient import _canonical_rows, _cells_hash_sum
+
+    chooser = random.Random(7)
+    rows = _canonical_rows(np.array([chooser.sample(range(3000), 4) for _ in range(5000)],
+                                    dtype=np.int64))
+    expected = sum(_digest.cell_hash(row) for row in rows.tolist()) % _digest.MODULUS
+    assert _cells_hash_sum(rows) == expected
+    assert _cells_hash_sum(rows[:0]) == 0
+
+
+def test_a_balanced_octree_is_not_balanced_again() -> None:
+    tree = balance_two_to_one(refine_octree(octree_of_grid(unit_cube()), RefineToMaxLevel(),
+                                            PointRegion(("0.49", "0.01", "0.01")), 3))
+    assert tree.balanced and balance_two_to_one(tree) is tree
+    assert tree == Octree(tree.domain, tree.grid, tree.leaves)  # the flag is not content

@@ -25,9 +25,11 @@ indexed by the oriented face (rotated to start at its smallest id) ``a*676 + b*2
 holding the apex or -1; tetrahedra live in slots reused through a free list.
 """
 
-from libc.stdint cimport int64_t
+from libc.stdint cimport int64_t, uint64_t
 from libc.string cimport memset
 from libc.stdlib cimport malloc, free, qsort
+
+from geomexact.kernel.ckernel cimport _to_u128, gx_u128, gx_u128_hi, gx_u128_lo
 
 MAX_COORDINATE = 1 << 20
 
@@ -735,3 +737,23 @@ cdef class Setup:
             return [out[k] for k in range(12 * count)]
         finally:
             free(out)
+
+
+def tetrahedra_hash_sum(const uint64_t[::1] keys, const int64_t[:, ::1] tetrahedra,
+                        multipliers, final_multiplier):
+    """Sum mod 2**128 of the cell hashes (``geomexact.kernel.digest.cell_hash``) of the
+    canonical ``tetrahedra`` (T x 4 vertex ids), given the vertex keys ``keys[id]``, the
+    four position ``multipliers`` and the ``final_multiplier``: the tetrahedra's part of a
+    :class:`~geomexact.mesh3d.snapshot.Mesh3` digest, built in bulk (an octree's mesh)."""
+    cdef gx_u128 m0 = _to_u128(multipliers[0]), m1 = _to_u128(multipliers[1])
+    cdef gx_u128 m2 = _to_u128(multipliers[2]), m3 = _to_u128(multipliers[3])
+    cdef gx_u128 mf = _to_u128(final_multiplier)
+    cdef gx_u128 total = 0, x
+    cdef Py_ssize_t i, n = tetrahedra.shape[0]
+    with nogil:
+        for i in range(n):
+            x = (<gx_u128> keys[tetrahedra[i, 0]] * m0 + <gx_u128> keys[tetrahedra[i, 1]] * m1
+                 + <gx_u128> keys[tetrahedra[i, 2]] * m2 + <gx_u128> keys[tetrahedra[i, 3]] * m3)
+            x ^= x >> 61
+            total += x * mf
+    return (int(gx_u128_hi(total)) << 64) | int(gx_u128_lo(total))

@@ -80,11 +80,13 @@ def balance_two_to_one(octree: Octree) -> Octree:
     """The coarsest refinement of ``octree`` in which leaves sharing part of a face or an
     edge differ by at most one level: rounds of forced splits (each split is forced, so
     the result does not depend on the order) until none is needed."""
+    if octree.balanced:
+        return octree
     leaves = set(octree.leaves)
     while True:
         pending = _coarse_targets(octree, leaves)
         if not pending:
-            return Octree(octree.domain, octree.grid, leaves)
+            return Octree(octree.domain, octree.grid, leaves, balanced=True)
         nodes = _ancestors(leaves)
         for _, target in sorted(pending):
             _split_down_to(target, leaves, nodes)

@@ -18,7 +18,7 @@ import numpy as np
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, mpq
-from geomexact.kernel.points import Point3, point3
+from geomexact.kernel.points import Point3, nearest_double
 from geomexact.mesh3d.cuboid.numbering import CORNER_POSITIONS, steiner_position2
 from geomexact.mesh3d.octree.tree import Octree
 
@@ -65,13 +65,18 @@ class OctreeLattice:
         return self.octree.domain.extents[axis] / self.size[axis]  # type: ignore[no-any-return]
 
     def exact_points(self) -> list[Point3]:
-        """The vertices' exact coordinates, by id."""
+        """The vertices' exact coordinates, by id (each distinct lattice coordinate is
+        converted once: a lattice has few of them per axis)."""
         low = self.octree.domain.low
         extents = self.octree.domain.extents
-        per_axis = [[lo + e * mpq(int(value), n) for value in column]
-                    for lo, e, n, column in zip(low, extents, self.size,
-                                                self.vertices.T.tolist(), strict=True)]
-        return [point3(x, y, z) for x, y, z in zip(*per_axis, strict=True)]
+        columns = []
+        for lo, e, n, column in zip(low, extents, self.size, self.vertices.T.tolist(),
+                                    strict=True):
+            exact = {value: lo + e * mpq(value, n) for value in set(column)}
+            doubles = {value: nearest_double(q) for value, q in exact.items()}
+            columns.append(([exact[v] for v in column], [doubles[v] for v in column]))
+        (xs, fxs), (ys, fys), (zs, fzs) = columns
+        return [Point3(*values) for values in zip(xs, ys, zs, fxs, fys, fzs, strict=True)]
 
 
 def _keys(points: Any, size: tuple[int, int, int]) -> Any:

@@ -14,7 +14,6 @@ from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import Rational
 from geomexact.mesh3d.cuboid.boxes import Box
-from geomexact.mesh3d.octree.balance import irregular_leaves
 from geomexact.mesh3d.octree.conformity import ConformityReport, lattice_conformity
 from geomexact.mesh3d.octree.stages import (
     BALANCE_TWO_TO_ONE,
@@ -121,8 +120,4 @@ def _generate(domain: Box, initial: Callable[[Box], Octree],
                    lattice.size)
     if not report.conforming:
         raise InvalidMeshError([Violation("conformity", problem) for problem in report.problems])
-    irregular = irregular_leaves(leaf_mesh.octree)
-    if irregular:  # pragma: no cover - the final stage balances
-        raise InvalidMeshError([Violation("irregular", f"leaf {a} touches {b}")
-                                for a, b in irregular[:10]])
     return OctreeMesh(first, refined, improved, leaf_mesh, report, seconds)

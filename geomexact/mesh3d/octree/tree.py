@@ -44,6 +44,9 @@ class Octree:
     domain: Box
     grid: tuple[int, int, int] = attrs.field(converter=_grid)
     leaves: tuple[Cell, ...] = attrs.field(converter=_sorted_cells)
+    balanced: bool = attrs.field(default=False, eq=False)
+    """True when made by the 2:1 balance (every leaf known 1-irregular): a fact about how
+    the value was made, so not part of its equality."""
 
     @property
     def depth(self) -> int:
