@@ -1,7 +1,5 @@
 """``python -m geomexact``: the same as the ``geomexact`` command."""
 
-import sys
+from geomexact.cli import run
 
-from geomexact.cli import main
-
-sys.exit(main())
+run()

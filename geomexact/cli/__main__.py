@@ -1,5 +1,5 @@
 """``python -m geomexact.cli``: the same as the ``geomexact`` command."""
 
-from geomexact.cli import main
+from geomexact.cli import run
 
-raise SystemExit(main())
+run()

@@ -99,6 +99,9 @@ class Mesh3:
     hints: immutables.Map[int, Face]
     tetrahedron_count: int
     digest: int
+    _derived: dict[str, Any] = attrs.field(factory=dict, eq=False, repr=False, kw_only=True)
+    """Read-only arrays derived from the tables, kept once computed (or given by a bulk
+    builder): never content, never compared."""
 
     # -- sizes and identity -------------------------------------------------------------
     @property
@@ -138,23 +141,34 @@ class Mesh3:
         return self.tetrahedra()
 
     def tetrahedron_array(self) -> Any:
-        """Every tetrahedron, canonical, sorted, as a (T x 4) int64 numpy array (one pass
-        over the face table, vectorised)."""
+        """Every tetrahedron, canonical, sorted, as a read-only (T x 4) int64 numpy array
+        (one pass over the face table, vectorised; kept once computed)."""
+        cached = self._derived.get("tetrahedra")
+        if cached is not None:
+            return cached
         faces, apexes = self._face_arrays()
-        if not len(faces):
-            return np.zeros((0, 4), dtype=np.int64)
         # the face opposite the smallest vertex: (a, b, c) -> d with d smallest; canonical
         # is (d, *canonical_face(c, b, a)) = (d, a, c, b) since a is the face's smallest
         mask = apexes < faces[:, 0]
-        rows = np.column_stack((apexes[mask], faces[mask][:, [0, 2, 1]]))
-        return rows[np.lexsort(rows.T[::-1])]
+        rows = np.column_stack((apexes[mask], faces[mask][:, [0, 2, 1]])).reshape(-1, 4)
+        rows = rows[np.lexsort(rows.T[::-1])]
+        rows.setflags(write=False)
+        self._derived["tetrahedra"] = rows
+        return rows
 
     def _face_arrays(self) -> tuple[Any, Any]:
-        """The face table as arrays: (F x 3) canonical faces and their (F,) apexes."""
+        """The face table as read-only arrays: (F x 3) canonical faces and their (F,)
+        apexes, in no particular order (kept once computed)."""
+        cached = self._derived.get("faces")
+        if cached is not None:
+            return cached  # type: ignore[no-any-return]
         count = len(self.faces)
         faces = np.fromiter(chain.from_iterable(self.faces.keys()), dtype=np.int64,
                             count=3 * count).reshape(-1, 3)
         apexes = np.fromiter(self.faces.values(), dtype=np.int64, count=count)
+        faces.setflags(write=False)
+        apexes.setflags(write=False)
+        self._derived["faces"] = (faces, apexes)
         return faces, apexes
 
     def has_tetrahedron(self, tetrahedron: Tetrahedron) -> bool:

@@ -315,13 +315,18 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
     total = 0
     for vertex, point in enumerate(points):
         total = _digest.combine(total, _digest.vertex_hash(vertex, point[:3]))
-    total = _digest.combine(total, _cells_hash_sum(_canonical_rows(array)))
+    canonical = _canonical_rows(array)
+    total = _digest.combine(total, _cells_hash_sum(canonical))
+    canonical = canonical[np.lexsort(canonical.T[::-1])]
+    for derived in (faces, apexes, canonical):
+        derived.setflags(write=False)
     return Mesh3(
         vertices=immutables.Map(enumerate(points)),
         faces=immutables.Map(table),
         hints=immutables.Map(hints),
         tetrahedron_count=int(array.shape[0]),
         digest=total,
+        derived={"tetrahedra": canonical, "faces": (faces, apexes)},
     )
 
 
