@@ -426,3 +426,17 @@ def test_bisect_bad_checks_and_inputs_are_clear_errors(
         assert code == 2 and fragment in one_error(err), check
     code, _, err = run(capsys, "trace", "bisect", refined, "--fails", "valid")
     assert code == 2 and "give the INPUT mesh" in one_error(err)
+
+
+def test_a_trace_that_diverges_exits_1_naming_the_step(
+    capsys: pytest.CaptureFixture[str], square: Path, square_run: Any, tmp_path: Path
+) -> None:
+    digests = list(square_run.trace.digests)
+    digests[9] ^= 1
+    broken = Trace(square_run.trace.input_digest, square_run.trace.steps, digests)
+    path = written_trace(tmp_path / "broken.jsonl", broken)
+    code, _, err = run(capsys, "trace", "show", path, "--input", square, "--steps", "8-12")
+    assert code == 1 and "trace diverged" in err and "step 10" in err
+    assert "Traceback" not in err
+    code, report = run_json(capsys, "trace", "bisect", square, path, "--fails", "valid")
+    assert code == 1 and report["diverged"] is True and report["step"] == 10
