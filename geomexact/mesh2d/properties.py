@@ -1,6 +1,14 @@
 """Properties of a triangle mesh as yes/no predicates, each decided exactly: the checks
 ``geomexact trace bisect --fails`` searches a trace for (with
-:func:`~geomexact.mesh2d.delaunay.triangulation.is_delaunay`)."""
+:func:`~geomexact.mesh2d.delaunay.triangulation.is_delaunay`).
+
+>>> from geomexact.mesh2d.transient import mesh_from_triangles
+>>> square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
+>>> is_valid(square), has_min_angle(square, 45), has_min_angle(square, "45.5")
+(True, True, False)
+>>> has_area(square, 1)
+True
+"""
 
 from __future__ import annotations
 
