@@ -1,7 +1,8 @@
 """The ``geomexact`` command: parses arguments, calls the library, prints.
 
-Commands: ``info``, ``check``, ``convert``, ``replay``, ``triangulate``, ``polylla``,
-``refine``, ``view``, ``serve``, ``demo`` (see ``docs/cli.md``), one module each.
+Commands: ``info``, ``check``, ``convert``, ``replay``, ``trace`` (``show``, ``diff``,
+``bisect``), ``triangulate``, ``polylla``, ``refine``, ``cuboid``, ``census``, ``octree``,
+``view``, ``serve``, ``demo`` (see ``docs/cli.md``), one module each.
 Exit codes: 0 success; 1 a check failed or a trace diverged; 2 bad input or usage.  Every
 error geomexact raises on purpose (:class:`~geomexact.errors.GeomexactError`) and every
 ``OSError`` is reported as one line ``geomexact: error: …`` on stderr, never as a
@@ -58,6 +59,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
+        args.argv = ["geomexact", *(sys.argv[1:] if argv is None else argv)]
     except SystemExit as stop:  # --help, --version and usage errors
         return stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
     try:

@@ -7,8 +7,6 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-import attrs
-
 from geomexact import io
 from geomexact.cli.arguments import (
     Subcommands,
@@ -20,6 +18,7 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import check_outputs, write
 from geomexact.io.registry import NumberStyle, nearest_double_text
@@ -139,9 +138,8 @@ def command_cuboid(args: argparse.Namespace) -> int:
         written += write(args.output, mesh, args.to, overwrite=args.force,
                          numbers=args.numbers)
     if args.trace:
-        trace = run.trace
-        if args.start:  # the trace names the file it replays on
-            trace = attrs.evolve(trace, input_name=Path(args.start).name)
+        # the trace names the file it replays on (the cuboid command runs the reference)
+        trace = with_provenance(run.trace, args, engine="reference", input_path=args.start)
         write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
     report_json["written"] = [str(path) for path in written]

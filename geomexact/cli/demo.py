@@ -17,6 +17,7 @@ from geomexact.cli.arguments import Subcommands, add_command, add_force_flag, ad
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
 from geomexact.cli.kinds import Value
+from geomexact.cli.provenance import provenance
 from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.summaries import pslg_summary
 from geomexact.cli.writing import write
@@ -45,6 +46,18 @@ class DemoRun:
     report: dict[str, Any] = attrs.Factory(dict)
     written: list[Path] = attrs.Factory(list)
     replays: dict[str, str] = attrs.Factory(dict)  # trace file -> the file it replays on
+    provenance: dict[str, Any] = attrs.Factory(dict)  # what its traces record of the run
+
+    def write_run_trace(self, name: str, trace: Trace, input_name: str) -> None:
+        """Write ``trace`` to ``directory/name``, recording the run and the file it
+        replays on (``input_name``, written beside it)."""
+        path = self.directory / name
+        recorded = attrs.evolve(trace, parameters={**dict(trace.parameters),
+                                                   **self.provenance},
+                                input_name=input_name)
+        write_trace(path, recorded, overwrite=self.force)
+        self.written.append(path)
+        self.replays[name] = input_name
 
     def write(self, name: str, value: Value, format: str) -> None:
         """Write ``value`` exactly to ``directory/name``."""
@@ -93,10 +106,8 @@ def _demo_triangulate(run: DemoRun) -> None:
         "seconds": round(time.perf_counter() - started, 6),
     }
     run.write("superior.1.ele", construction.mesh, "triangle")
-    trace_path = run.directory / "superior.1.trace.jsonl"
-    write_trace(trace_path, construction.trace, overwrite=run.force)
-    run.written.append(trace_path)
-    run.replays[trace_path.name] = "superior.poly"  # its vertices start the trace
+    run.write_run_trace("superior.1.trace.jsonl", construction.trace,
+                    "superior.poly")  # its vertices start the trace
 
 
 DEMO_MIN_ANGLE = 30
@@ -118,10 +129,8 @@ def _demo_refine(run: DemoRun) -> None:
         **mesh_summary(result.mesh), **result.stats.as_dict(),
     }
     run.write("superior.2.ele", result.mesh, "triangle")
-    trace_path = run.directory / "superior.2.trace.jsonl"
-    write_trace(trace_path, result.trace, overwrite=run.force)
-    run.written.append(trace_path)
-    run.replays[trace_path.name] = "superior.1.ele"  # the triangulation it refines
+    run.write_run_trace("superior.2.trace.jsonl", result.trace,
+                    "superior.1.ele")  # the triangulation it refines
     polygons = polylla(result.mesh)
     run.report["polylla"] = {"polygons": len(polygons.polygons)}
     run.write("superior.2.polylla.off", polygons, "off")
@@ -177,7 +186,8 @@ DEMO_STEPS: tuple[DemoStep, ...] = (
 
 def command_demo(args: argparse.Namespace) -> int:
     """The README's main job on the bundled Lake Superior PSLG."""
-    run = DemoRun(Path(args.output), args.force)
+    run = DemoRun(Path(args.output), args.force,
+                  provenance=provenance(args, "auto"))  # the library's default engine
     if not args.force:
         for step in DEMO_STEPS:
             for name in step.outputs:

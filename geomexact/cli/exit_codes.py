@@ -11,7 +11,8 @@ EXIT_BROKEN_PIPE = 141  # what a shell reports for a command killed by SIGPIPE
 EXIT_CODES_HELP = """\
 exit codes:
   0  success
-  1  check found violations, or a trace diverged during replay
+  1  check found violations, a trace diverged during replay, two traces differ (trace
+     diff) or a property fails after some step (trace bisect)
   2  bad input or usage: unreadable or malformed file, wrong kind of input, refusal to
      overwrite an existing file (use --force), trace recorded on another mesh, bad option
 """

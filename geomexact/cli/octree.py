@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import argparse
 import resource
-import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -27,6 +26,7 @@ from geomexact.cli.cuboid import rational_argument
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
 from geomexact.cli.progress import add_progress_flags, progress_bar
+from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.writing import check_outputs, write
 from geomexact.kernel.collector import collector_paused
@@ -144,11 +144,11 @@ def _octree(args: argparse.Namespace) -> int:
                          numbers=args.numbers)
     if args.trace and run.trace is not None:
         trace = attrs.evolve(run.trace, parameters={
-            **dict(run.trace.parameters), "command": ["geomexact", *sys.argv[1:]],
+            **dict(run.trace.parameters),
             "box": [format_rational(v) for v in (*domain.low, *domain.high)],
             "grid": list(args.grid)})
-        if args.start:
-            trace = attrs.evolve(trace, input_name=Path(args.start).name)
+        # with a trace the mesh is built by the reference steps
+        trace = with_provenance(trace, args, engine="reference", input_path=args.start)
         write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
     report = {

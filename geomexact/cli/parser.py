@@ -20,6 +20,7 @@ from geomexact.cli import (
     refine,
     replay,
     serve,
+    trace_tools,
     triangulate,
     view,
 )
@@ -31,6 +32,7 @@ COMMANDS: tuple[Callable[[Subcommands], None], ...] = (
     check.add_parser,
     convert.add_parser,
     replay.add_parser,
+    trace_tools.add_parser,
     triangulate.add_parser,
     polylla.add_parser,
     refine.add_parser,

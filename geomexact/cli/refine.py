@@ -10,8 +10,6 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import attrs
-
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
@@ -21,6 +19,7 @@ from geomexact.cli.arguments import (
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
+from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import distinct_outputs, write
 from geomexact.errors import OverwriteError
@@ -207,7 +206,7 @@ def command_refine(args: argparse.Namespace) -> int:
                       (*first.digests, *trace.digests),
                       {**dict(trace.parameters), "triangulation": dict(first.parameters),
                        "triangulation_steps": len(first)}, trace.version)
-    trace = attrs.evolve(trace, input_name=Path(args.input).name)
+    trace = with_provenance(trace, args, engine=args.engine, input_path=args.input)
     written: list[Path] = []
     if args.output:
         written += write(args.output, result.mesh, args.to, overwrite=args.force,

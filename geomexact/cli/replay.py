@@ -68,7 +68,7 @@ def command_replay(args: argparse.Namespace) -> int:
     else:
         loaded = load(args.input, args.format, args.verbose)
         value = loaded.value
-        start = _start_of(args.input, value, args.trace, dimension)
+        start = start_of(args.input, value, args.trace, dimension)
     check_outputs([("-o", args.output, args.to)], type(start), force=args.force)
     if start.digest != trace.input_digest:
         raise UsageProblem(wrong_input(args.input, value, start, args.trace, trace))
@@ -136,7 +136,7 @@ def _rebuilt_start(trace_path: str, trace: Trace) -> Mesh3:
         ) from error
 
 
-def _start_of(input_path: str, value: Any, trace_path: str, dimension: int | None
+def start_of(input_path: str, value: Any, trace_path: str, dimension: int | None
               ) -> Mesh2 | Mesh3:
     """The mesh to replay on: ``value`` itself (the isolated vertices of a PSLG); a
     :class:`UsageProblem` for another kind of value or a trace of the other dimension."""

@@ -7,8 +7,6 @@ import argparse
 import time
 from pathlib import Path
 
-import attrs
-
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
@@ -17,6 +15,7 @@ from geomexact.cli.arguments import (
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
+from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.writing import distinct_outputs, write
 from geomexact.io.trace_file import write_trace
@@ -57,7 +56,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
         written += write(args.output, mesh, args.to, overwrite=args.force, numbers=args.numbers)
     if args.trace:
         trace_path = Path(args.trace)
-        trace = attrs.evolve(trace, input_name=Path(args.input).name)
+        trace = with_provenance(trace, args, engine=args.engine, input_path=args.input)
         write_trace(trace_path, trace, overwrite=args.force)
         written.append(trace_path)
     violations = validate(mesh) if args.check else []

@@ -1,11 +1,15 @@
 """Reading and writing files safely: UTF-8 text with clear errors, atomic writes that
-never replace an existing file unless asked."""
+never replace an existing file unless asked; gzip-compressed text read and written as a
+stream, with the same bytes for the same text (no time stamp, no file name)."""
 
 from __future__ import annotations
 
 import errno
+import gzip
+import io
 import os
 import tempfile
+import zlib
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
@@ -36,12 +40,23 @@ def read_text(path: str | Path) -> str:
         raise FormatError(name, line, f"not UTF-8 text (byte {error.start})") from error
 
 
-def read_lines(path: str | Path) -> Iterator[tuple[int, str]]:
+GZIP_MAGIC = b"\x1f\x8b"
+"""The first two bytes of every gzip file: how :func:`read_lines` recognises one."""
+
+GZIP_LEVEL = 6
+"""The compression level of :func:`gzip_chunks` (fixed: the bytes depend on it)."""
+
+
+def read_lines(path: str | Path, *, decompress: bool = False) -> Iterator[tuple[int, str]]:
     """The lines of the UTF-8 file ``path``, one at a time, as (1-based number, text
     without its ``\\n``), a leading byte-order mark removed: a long file is never held in
     memory whole, and a reader that stops at a bad line reads no further.  Lines are split
     on ``\\n`` only (``\\r`` stays in the text).  Errors are those of :func:`read_text`,
-    raised when the iteration starts (missing file) or reaches the line (a bad byte)."""
+    raised when the iteration starts (missing file) or reaches the line (a bad byte).
+
+    With ``decompress``, a file that starts with the gzip magic bytes (whatever its name)
+    is decompressed as it is read; corrupt or truncated gzip data is a
+    :class:`FormatError` naming the line being read when it was found."""
     name = str(path)
     try:
         handle = open(path, "rb")  # noqa: SIM115 - the generator owns it, closed by `with`
@@ -50,8 +65,13 @@ def read_lines(path: str | Path) -> Iterator[tuple[int, str]]:
     number = 0
     offset = 0
     with handle:
+        source: Iterable[bytes] = handle
+        compressed = False
         try:
-            for number, data in enumerate(handle, start=1):
+            if decompress and handle.peek(2)[:2] == GZIP_MAGIC:
+                compressed = True
+                source = gzip.GzipFile(fileobj=handle, mode="rb")
+            for number, data in enumerate(source, start=1):
                 try:
                     text = data.decode("utf-8")
                 except UnicodeDecodeError as error:
@@ -62,8 +82,31 @@ def read_lines(path: str | Path) -> Iterator[tuple[int, str]]:
                 if number == 1:
                     text = text.removeprefix("\ufeff")  # a byte-order mark is not data
                 yield number, text.removesuffix("\n")
+        except (gzip.BadGzipFile, zlib.error) as error:
+            raise FormatError(name, number + 1, f"corrupt gzip data ({error})") from error
+        except EOFError as error:
+            raise FormatError(
+                name, number + 1, "truncated gzip file: the compressed data ends early"
+            ) from error
         except OSError as error:
+            if compressed and error.strerror is None:  # gzip's own complaint
+                raise FormatError(name, number + 1, f"corrupt gzip data ({error})") from error
             raise FormatError(name, number or None, f"cannot read: {error.strerror}") from error
+
+
+def gzip_chunks(chunks: Iterable[bytes]) -> Iterator[bytes]:
+    """``chunks`` gzip-compressed, as they come: no modification time and no file name in
+    the header, so the same data always gives the same bytes."""
+    buffer = io.BytesIO()
+    with gzip.GzipFile(filename="", mode="wb", fileobj=buffer, mtime=0,
+                       compresslevel=GZIP_LEVEL) as packed:
+        for chunk in chunks:
+            packed.write(chunk)
+            if buffer.tell():
+                yield buffer.getvalue()
+                buffer.seek(0)
+                buffer.truncate()
+    yield buffer.getvalue()
 
 
 def write_text_atomic(path: str | Path, text: str, *, overwrite: bool = False) -> None:
@@ -78,12 +121,16 @@ def write_bytes_atomic(path: str | Path, data: bytes, *, overwrite: bool = False
     write_chunks_atomic(path, (data,), overwrite=overwrite)
 
 
-def write_lines_atomic(path: str | Path, lines: Iterable[str], *, overwrite: bool = False) -> None:
+def write_lines_atomic(
+    path: str | Path, lines: Iterable[str], *, overwrite: bool = False, compress: bool = False
+) -> None:
     """:func:`write_text_atomic` for text given line by line (each without its newline),
-    written as it comes: a long file is never held in memory whole."""
-    write_chunks_atomic(
-        path, ((line + "\n").encode("utf-8") for line in lines), overwrite=overwrite
-    )
+    written as it comes: a long file is never held in memory whole.  With ``compress``
+    the file is gzip-compressed (:func:`gzip_chunks`)."""
+    chunks: Iterable[bytes] = ((line + "\n").encode("utf-8") for line in lines)
+    if compress:
+        chunks = gzip_chunks(chunks)
+    write_chunks_atomic(path, chunks, overwrite=overwrite)
 
 
 def write_chunks_atomic(

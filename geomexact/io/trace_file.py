@@ -7,7 +7,8 @@ run knows it); each further line is one step
 ``{"i": k, "op": "flip", "args": [3, 5, "1/2"], "digest": "<hex>"}`` where integer
 arguments are vertex ids and string arguments are exact rationals ``"p/q"``.  Keys are
 sorted and separators fixed, so the same run gives byte-identical files on every machine.
-Specification: ``specs/trace.md``.
+A file may be gzip-compressed (written so when its name ends in ``.gz``; read so when it
+starts with the gzip magic bytes).  Specification: ``specs/trace.md``.
 """
 
 from __future__ import annotations
@@ -170,16 +171,25 @@ def _argument(value: object, path: str, number: int) -> int | Rational:
         ) from error
 
 
+def is_compressed_name(path: str | Path) -> bool:
+    """True when ``path`` names a gzip-compressed trace (it ends in ``.gz``)."""
+    return Path(path).name.lower().endswith(".gz")
+
+
 def write_trace(path: str | Path, trace: Trace, *, overwrite: bool = False) -> None:
     """Write ``trace`` to ``path`` atomically, line by line (a long trace is never held in
-    memory as text); refuses to replace a file unless ``overwrite``."""
-    write_lines_atomic(path, trace_lines(trace), overwrite=overwrite)
+    memory as text); refuses to replace a file unless ``overwrite``.  A path ending in
+    ``.gz`` (``run.trace.jsonl.gz``) is written gzip-compressed, with no time stamp or
+    file name in it: the same trace gives the same bytes."""
+    write_lines_atomic(path, trace_lines(trace), overwrite=overwrite,
+                       compress=is_compressed_name(path))
 
 
 def read_trace(path: str | Path) -> Trace:
-    """Read a trace file (see :func:`parse_trace`), line by line."""
+    """Read a trace file (see :func:`parse_trace`), line by line; a gzip-compressed one
+    (recognised by its first bytes, whatever its name) is decompressed as it is read."""
     try:
-        return _parse_lines(read_lines(path), str(path))
+        return _parse_lines(read_lines(path, decompress=True), str(path))
     except FormatError as error:
         raise bounded(error) from error.__cause__
 

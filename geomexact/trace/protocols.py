@@ -5,7 +5,7 @@ is one such pair; ``geomexact.mesh3d`` will be another.  Nothing here names eith
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Protocol, TypeAlias, TypeVar
 
 from geomexact.errors import PreconditionError
@@ -45,7 +45,7 @@ class Snapshot(Protocol):
 class CellSnapshot(Snapshot, Protocol):
     """A snapshot that lists its cells (triangles, tetrahedra), canonical and sorted."""
 
-    def cells(self) -> list[tuple[int, ...]]: ...
+    def cells(self) -> Sequence[tuple[int, ...]]: ...
 
 
 OperationTable: TypeAlias = Mapping[str, Callable[[T, Step], None]]

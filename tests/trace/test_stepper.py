@@ -6,20 +6,19 @@ from __future__ import annotations
 import math
 
 import pytest
+from helpers.trace_faults import planted_trace
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from geomexact import mesh_from_triangles
-from geomexact.errors import PreconditionError, TraceError
-from geomexact.mesh2d import ops
+from geomexact.errors import TraceError
 from geomexact.mesh2d.delaunay.triangulation import is_delaunay
 from geomexact.mesh2d.measures import total_area
 from geomexact.mesh2d.refinement.api import refine
 from geomexact.mesh2d.refinement.criteria import MaxArea
-from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
 from geomexact.trace.playback import replay
-from geomexact.trace.record import Trace, trace_of
+from geomexact.trace.record import Trace
 from geomexact.trace.stepper import Stepper, first_failing_step
 
 
@@ -98,35 +97,6 @@ def test_a_wrong_start_or_a_diverging_step_is_refused(run) -> None:
     stepper.goto(5)
     with pytest.raises(TraceError, match="step 6"):
         stepper.goto(6)
-
-
-def planted_trace(run, at: int) -> tuple[Mesh2, Trace]:
-    """``run``'s first ``at`` steps, a flip that breaks the Delaunay property, then the
-    later steps that leave the flipped quadrilateral alone (so it stays broken)."""
-    t = run.start.transient()
-    for step in run.trace.steps[:at]:
-        t.apply(step)
-    mesh = t.seal()
-    u, v = next(edge for edge in mesh.edges() if _breaks_delaunay(mesh, edge))
-    t = mesh.transient()
-    w, x = ops.flip_in(t, u, v)
-    quadrilateral = {u, v, w, x}
-    for step in run.trace.steps[at:]:
-        if quadrilateral.isdisjoint(a for a in step.args if isinstance(a, int)):
-            try:
-                t.apply(step)
-            except PreconditionError:
-                continue
-    rest = trace_of(mesh, t)
-    return run.start, Trace(run.trace.input_digest, [*run.trace.steps[:at], *rest.steps],
-                            [*run.trace.digests[:at], *rest.digests])
-
-
-def _breaks_delaunay(mesh: Mesh2, edge: tuple[int, int]) -> bool:
-    try:
-        return not is_delaunay(ops.flip(mesh, edge))
-    except PreconditionError:  # a boundary edge or a non-convex quadrilateral
-        return False
 
 
 @settings(max_examples=6, deadline=None)
