@@ -186,15 +186,19 @@ def flip_in(t: Transient2, u: int, v: int) -> Edge:
 
 
 def _split_edge(
-    t: Transient2, op: str, u: int, v: int, point: Point2, vertex: int | None = None
+    t: Transient2, op: str, u: int, v: int, point: Point2, vertex: int | None = None,
+    *, midpoint: bool = False,
 ) -> int:
     """Insert ``point`` (strictly inside segment uv) into edge {u, v}: a new vertex, or the
-    isolated ``vertex`` at ``point``; return its id."""
+    isolated ``vertex`` at ``point``; return its id.  ``midpoint``: ``point`` is the exact
+    midpoint of uv, strictly inside it since u and v are distinct points of the mesh (the
+    check is then skipped)."""
     w, x = t.apex(u, v), t.apex(v, u)
     if w is None and x is None:
         raise PreconditionError(op, f"({u}, {v}) is not an edge of the mesh", edge=(u, v))
     pu, pv = t.point(u), t.point(v)
-    if orient2d(pu, pv, point) != COLLINEAR or not strictly_between(point, pu, pv):
+    if not midpoint and (orient2d(pu, pv, point) != COLLINEAR
+                         or not strictly_between(point, pu, pv)):
         raise PreconditionError(
             op,
             f"point ({point.x}, {point.y}) is not strictly inside edge ({u}, {v})",
@@ -217,7 +221,7 @@ def bisect_in(t: Transient2, u: int, v: int) -> int:
     new vertex takes that marker.  Returns the new vertex id."""
     pu, pv = t.point(u), t.point(v)
     midpoint = point2((pu.x + pv.x) / 2, (pu.y + pv.y) / 2)
-    n = _split_edge(t, "bisect", u, v, midpoint)
+    n = _split_edge(t, "bisect", u, v, midpoint, midpoint=True)
     t.record(Step("bisect", (u, v)))
     return n
 

@@ -85,13 +85,13 @@ class Mesh2:
         """The digest as 32 hexadecimal digits."""
         return _digest.digest_text(self.digest)
 
-    def transient(self) -> Transient2:
+    def transient(self, *, batch: bool = False) -> Transient2:
         """A batch editor opened on this snapshot (:class:`~geomexact.mesh2d.transient.
         Transient2`); the snapshot itself never changes."""
         # imported here: the transient is built on top of this module
         from geomexact.mesh2d.transient import Transient2
 
-        return Transient2(self)
+        return Transient2(self, batch=batch)
 
     # -- elements -----------------------------------------------------------------------
     def point(self, vertex: int) -> Point2:

@@ -28,6 +28,7 @@ from geomexact.mesh2d.snapshot import (
     empty_mesh,
 )
 from geomexact.trace.step import Step
+from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
 
 class Transient2:
@@ -50,14 +51,17 @@ class Transient2:
         "steps",
     )
 
-    def __init__(self, mesh: Mesh2) -> None:
-        self._vertices = mesh.vertices.mutate()
-        self._halfedges = mesh.halfedges.mutate()
-        self._outgoing = mesh.outgoing.mutate()
-        self._segments = mesh.segments.mutate()
-        self._vertex_markers = mesh.vertex_markers.mutate()
-        self._vertex_attributes = mesh.vertex_attributes.mutate()
-        self._triangle_attributes = mesh.triangle_attributes.mutate()
+    def __init__(self, mesh: Mesh2, *, batch: bool = False) -> None:
+        """Open on ``mesh``; ``batch`` edits plain dicts instead of the maps' mutations
+        (O(n) to open and seal, cheaper writes: for long runs, :mod:`geomexact.trace.
+        tables`)."""
+        self._vertices = open_table(mesh.vertices, batch)
+        self._halfedges = open_table(mesh.halfedges, batch)
+        self._outgoing = open_table(mesh.outgoing, batch)
+        self._segments = open_table(mesh.segments, batch)
+        self._vertex_markers = open_table(mesh.vertex_markers, batch)
+        self._vertex_attributes = open_table(mesh.vertex_attributes, batch)
+        self._triangle_attributes = open_table(mesh.triangle_attributes, batch)
         self._triangle_count = mesh.triangle_count
         self._digest = mesh.digest
         self._sealed = False
@@ -119,8 +123,7 @@ class Transient2:
         """The current half-edge table as an immutable map (to iterate over it).  O(1):
         the mutation is finished and reopened; later writes copy the trie paths they touch.
         """
-        snapshot = self._halfedges.finish()
-        self._halfedges = snapshot.mutate()
+        snapshot, self._halfedges = table_snapshot(self._halfedges)
         return snapshot
 
     def iter_edges(self) -> Iterator[tuple[int, int]]:
@@ -309,13 +312,13 @@ class Transient2:
         self._repair_outgoing()
         self._sealed = True
         return Mesh2(
-            vertices=self._vertices.finish(),
-            halfedges=self._halfedges.finish(),
-            outgoing=self._outgoing.finish(),
-            segments=self._segments.finish(),
-            vertex_markers=self._vertex_markers.finish(),
-            vertex_attributes=self._vertex_attributes.finish(),
-            triangle_attributes=self._triangle_attributes.finish(),
+            vertices=sealed_table(self._vertices),
+            halfedges=sealed_table(self._halfedges),
+            outgoing=sealed_table(self._outgoing),
+            segments=sealed_table(self._segments),
+            vertex_markers=sealed_table(self._vertex_markers),
+            vertex_attributes=sealed_table(self._vertex_attributes),
+            triangle_attributes=sealed_table(self._triangle_attributes),
             triangle_count=self._triangle_count,
             digest=self._digest,
         )

@@ -112,11 +112,11 @@ class Mesh3:
     def digest_text(self) -> str:
         return _digest.digest_text(self.digest)
 
-    def transient(self) -> Transient3:
+    def transient(self, *, batch: bool = False) -> Transient3:
         """A batch builder on this snapshot (the snapshot itself never changes)."""
         from geomexact.mesh3d.transient import Transient3
 
-        return Transient3(self)
+        return Transient3(self, batch=batch)
 
     # -- queries ------------------------------------------------------------------------
     def point(self, vertex: int) -> Point3:

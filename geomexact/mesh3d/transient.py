@@ -28,6 +28,7 @@ from geomexact.mesh3d.snapshot import (
     tetrahedron_faces,
 )
 from geomexact.trace.step import Step
+from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
 __all__ = ["Transient3", "mesh3_from_positive_arrays", "mesh3_from_tetrahedra"]
 
@@ -48,10 +49,13 @@ class Transient3:
         "steps",
     )
 
-    def __init__(self, mesh: Mesh3) -> None:
-        self._vertices = mesh.vertices.mutate()
-        self._faces = mesh.faces.mutate()
-        self._hints = mesh.hints.mutate()
+    def __init__(self, mesh: Mesh3, *, batch: bool = False) -> None:
+        """Open on ``mesh``; ``batch`` edits plain dicts instead of the maps' mutations
+        (O(n) to open and seal, cheaper writes: for long runs, :mod:`geomexact.trace.
+        tables`)."""
+        self._vertices = open_table(mesh.vertices, batch)
+        self._faces = open_table(mesh.faces, batch)
+        self._hints = open_table(mesh.hints, batch)
         self._tetrahedron_count = mesh.tetrahedron_count
         self._digest = mesh.digest
         self._sealed = False
@@ -115,8 +119,7 @@ class Transient3:
     def faces_snapshot(self) -> immutables.Map[Face, int]:
         """The current face table as an immutable map (to iterate over it).  O(1): the
         mutation is finished and reopened."""
-        snapshot = self._faces.finish()
-        self._faces = snapshot.mutate()
+        snapshot, self._faces = table_snapshot(self._faces)
         return snapshot
 
     def _scan_star(self, vertex: int) -> list[Tetrahedron]:
@@ -232,9 +235,9 @@ class Transient3:
         self._repair_hints()
         self._sealed = True
         return Mesh3(
-            vertices=self._vertices.finish(),
-            faces=self._faces.finish(),
-            hints=self._hints.finish(),
+            vertices=sealed_table(self._vertices),
+            faces=sealed_table(self._faces),
+            hints=sealed_table(self._hints),
             tetrahedron_count=self._tetrahedron_count,
             digest=self._digest,
         )

@@ -8,6 +8,7 @@ from collections.abc import Iterator
 from typing import TypeVar
 
 from geomexact.errors import TraceError
+from geomexact.kernel.collector import collector_paused
 from geomexact.trace.protocols import Snapshot, Transient
 from geomexact.trace.record import Trace
 
@@ -28,15 +29,22 @@ def replay_iter(start: S, trace: Trace, until: int | None = None) -> Iterator[S]
         yield mesh
 
 
+BATCH_STEPS = 256
+"""From this many steps on, a replay edits plain tables (``transient(batch=True)``): the
+O(n) copy in and out is then cheaper than the steps' persistent writes."""
+
+
 def replay(start: S, trace: Trace, until: int | None = None) -> S:
     """The mesh after the first ``until`` steps of ``trace`` (all when None), replayed on
-    ``start`` in one batch and checked step by step against the recorded digests."""
+    ``start`` in one batch and checked step by step against the recorded digests (with
+    the cyclic collector paused, as the engines that record traces run)."""
     check_start(start, trace)
     count = _count(trace, until)
-    transient = start.transient()
-    for index in range(count):
-        apply_checked(transient, trace, index)
-    return transient.seal()  # type: ignore[return-value]
+    with collector_paused():
+        transient = start.transient(batch=count >= BATCH_STEPS)
+        for index in range(count):
+            apply_checked(transient, trace, index)
+        return transient.seal()  # type: ignore[return-value]
 
 
 def check_start(start: Snapshot, trace: Trace) -> None:

@@ -39,7 +39,10 @@ class Snapshot(Protocol):
     @property
     def digest(self) -> int: ...
 
-    def transient(self) -> Transient: ...
+    def transient(self, *, batch: bool = False) -> Transient:
+        """A transient on this snapshot; ``batch`` for a long run of steps (plain tables:
+        :mod:`geomexact.trace.tables`)."""
+        ...
 
 
 class CellSnapshot(Snapshot, Protocol):

@@ -14,7 +14,7 @@ from typing import Generic, TypeVar
 import attrs
 
 from geomexact.errors import TraceError
-from geomexact.trace.playback import apply_checked, check_start
+from geomexact.trace.playback import BATCH_STEPS, apply_checked, check_start
 from geomexact.trace.protocols import CellSnapshot
 from geomexact.trace.record import Trace
 from geomexact.trace.step import Step
@@ -94,7 +94,7 @@ class Stepper(Generic[S]):
                 mesh, position = self._mesh, self._position
         else:
             mesh, position = self._mesh, self._position
-        transient = mesh.transient()
+        transient = mesh.transient(batch=k - position >= BATCH_STEPS)
         while position < k:
             apply_checked(transient, self.trace, position)
             position += 1
@@ -102,7 +102,7 @@ class Stepper(Generic[S]):
             if position % self.spacing == 0 and position < k:
                 snapshot: S = transient.seal()  # type: ignore[assignment]
                 self._remember(position, snapshot)
-                transient = snapshot.transient()
+                transient = snapshot.transient(batch=k - position >= BATCH_STEPS)
         self._mesh = transient.seal()  # type: ignore[assignment]
         self._position = k
         self._remember(k, self._mesh)

@@ -256,7 +256,7 @@ def test_diff_finds_the_step_where_a_planted_change_parts(
     capsys: pytest.CaptureFixture[str], square: Path, square_run: Any, tmp_path: Path
 ) -> None:
     at = 40
-    start, planted = planted_trace(square_run, at)
+    start, planted, at = planted_trace(square_run, at)
     assert start.digest == io.read(square).digest
     a = written_trace(tmp_path / "a.jsonl", square_run.trace)
     b = written_trace(tmp_path / "b.jsonl.gz", planted)
@@ -314,7 +314,7 @@ def test_bisect_finds_a_planted_fault_in_log_checks(
     capsys: pytest.CaptureFixture[str], square: Path, square_run: Any, tmp_path: Path
 ) -> None:
     for at in (17, 100, len(square_run.trace) - 30):
-        start, planted = planted_trace(square_run, at)
+        start, planted, at = planted_trace(square_run, at)
         path = written_trace(tmp_path / f"planted-{at}.jsonl.gz", planted)
         code, report = run_json(capsys, "trace", "bisect", square, path, "--fails",
                                 "delaunay")
@@ -330,7 +330,7 @@ def test_bisect_writes_the_meshes_around_the_step_and_a_picture(
     capsys: pytest.CaptureFixture[str], square: Path, square_run: Any, tmp_path: Path
 ) -> None:
     at = 60
-    start, planted = planted_trace(square_run, at)
+    start, planted, at = planted_trace(square_run, at)
     path = written_trace(tmp_path / "planted.jsonl", planted)
     out_dir = tmp_path / "found"
     code, out, err = run(capsys, "trace", "bisect", square, path, "--fails", "delaunay",

@@ -30,7 +30,7 @@ class Counter:
     def digest(self) -> int:
         return self.value
 
-    def transient(self) -> CounterTransient:
+    def transient(self, *, batch: bool = False) -> CounterTransient:
         transient = CounterTransient(self.value)
         OPENED.append(transient)
         return transient
@@ -229,7 +229,7 @@ def test_errors_of_the_transient_other_than_value_errors_propagate() -> None:
 
     @attrs.frozen
     class BrokenCounter(Counter):
-        def transient(self) -> CounterTransient:
+        def transient(self, *, batch: bool = False) -> CounterTransient:
             return Broken(self.value)
 
     _, _, trace = run(0, [1])

@@ -103,7 +103,7 @@ def test_a_wrong_start_or_a_diverging_step_is_refused(run) -> None:
 @given(fraction=st.floats(0.05, 0.95))
 def test_bisect_finds_a_planted_bad_step_in_log_checks(run, fraction) -> None:
     at = int(len(run.trace) * fraction)
-    start, trace = planted_trace(run, at)
+    start, trace, at = planted_trace(run, at)
     assert is_delaunay(replay(start, trace, until=at))
     result = first_failing_step(Stepper(start, trace), is_delaunay)
     assert result.step == at + 1 and trace.steps[at].op == "flip"
