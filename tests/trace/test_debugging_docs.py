@@ -159,3 +159,46 @@ def test_the_picture_is_the_one_trace_diff_draws(session: dict[str, Any]) -> Non
 
 def test_the_index_links_the_page() -> None:
     assert "(debugging.md)" in (DOCS / "index.md").read_text(encoding="utf-8")
+
+
+@pytest.mark.browser
+def test_the_viewer_walkthrough_shows_what_the_page_says(session: dict[str, Any],
+                                                         browser: Any) -> None:
+    """In headless Chromium, planted.html does what section 7 describes: it opens on the
+    last step; the op filter's options; |◀ then ▶ with "flip" chosen lands on step 41 with
+    the quoted label and position; ▶ again says there is no later flip; typing 41 jumps
+    there; no console error, no request but the page."""
+    text = " ".join(GUIDE.read_text(encoding="utf-8").split())
+    context = browser.new_context(viewport={"width": 1200, "height": 800})
+    errors: list[str] = []
+    requests: list[str] = []
+    context.route("**/*", lambda route: route.continue_()
+                  if route.request.url.startswith("file://") else route.abort())
+    page = context.new_page()
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("request", lambda r: requests.append(r.url))
+    try:
+        page.goto((session["folder"] / "planted.html").as_uri())
+        page.wait_for_selector("#stat-vertices", state="attached")
+        last = page.evaluate("() => geomexactViewer.model.step")
+        assert f"the result, step {last}" in text
+        options = page.locator("#op-filter option").all_inner_texts()
+        assert f"`{'`, `'.join(options)}`" in text
+        page.select_option("#op-filter", "flip")
+        page.click("#first")
+        page.click("#next")
+        label = page.inner_text("#step-label")
+        position = page.inner_text("#filter-position")
+        assert f"`{label}` and `{position}`" in text
+        page.click("#next")
+        assert f"`{page.inner_text('#step-message')}`" in text
+        page.click("#first")
+        page.fill("#step-go", "41")
+        page.press("#step-go", "Enter")
+        assert page.inner_text("#step-label") == label
+        assert "type `41` and press Enter" in text
+    finally:
+        context.close()
+    assert errors == []
+    assert all(url.startswith("file://") for url in requests), requests
