@@ -37,7 +37,7 @@ from geomexact.mesh3d.snapshot import Mesh3, Tetrahedron, signed_volume6
 from geomexact.trace.playback import check_start, replay_iter
 from geomexact.trace.record import Trace
 from geomexact.viz.scene import little_endian
-from geomexact.viz.viewer import VIEWER_CSP, _check_inline, fill_page, page_asset
+from geomexact.viz.viewer import VIEWER_CSP, _check_inline, fill_page, page_asset, page_script
 
 PAYLOAD3_FORMAT = "geomexact-view3d"
 PAYLOAD3_VERSION = 2
@@ -273,7 +273,7 @@ def viewer_html_3d(mesh: Mesh3, trace: Trace | None = None, *, title: str = "mes
         "generator": data["generator"],
         "title": html.escape(title or "geomexact 3D viewer"),
         "css": _check_inline("viewer.css", page_asset("viewer.css")),
-        "js": _check_inline("viewer3d.js", page_asset("viewer3d.js")),
+        "js": page_script("viewer3d.js"),
         "data": text,
     }
     return fill_page("viewer3d.html", values)

@@ -1561,9 +1561,7 @@
     this.model = null;
     this.frame = 0;
     this.slowTimer = 0;
-    this.playing = false;
-    this.playClock = 0;
-    this.playCarry = 0;
+    this.steps = null;  // the trace panel's controls (step_controls.js), made in bind()
     this.pointers = new Map();
     this.pinch = null;
     this.timings = { decode: 0, derived: 0, paths: 0 };
@@ -1576,7 +1574,7 @@
       throw new Error("this viewer draws 2D meshes; a " + model.dimension + "D scene needs a newer viewer");
     }
     if (!(this.renderer instanceof Renderer)) this.renderer = new Renderer(this.canvas);
-    this.stopPlaying();
+    if (this.steps) this.steps.stop();
     this.model = model;
     this.renderer.hover = -1;
     normalise(model);
@@ -1654,9 +1652,7 @@
     const h = model.history;
     trace.hidden = !h;
     if (h) {
-      const slider = $("step");
-      slider.max = String(h.steps);
-      slider.value = String(model.step);
+      this.steps.load(h.labels);
       $("digests").textContent = "input " + h.inputDigest.slice(0, 12) + "… → final " + h.finalDigest.slice(0, 12) + "…";
       this.showStep();
     }
@@ -1669,7 +1665,7 @@
     const model = this.model;
     const h = model.history;
     if (!h) return;
-    $("step").value = String(model.step);
+    this.steps.refresh();
     $("step-number").textContent = formatCount(model.step) + " / " + formatCount(h.steps);
     let text;
     if (model.step === 0) {
@@ -1691,48 +1687,6 @@
     this.showStep();
     this.showStats();
     this.requestRender();
-  };
-
-  Viewer.prototype.stopPlaying = function () {
-    this.playing = false;
-    const button = $("play");
-    if (button) {
-      button.textContent = "▶ Play";
-      button.setAttribute("aria-pressed", "false");
-    }
-  };
-
-  Viewer.prototype.togglePlay = function () {
-    const model = this.model;
-    if (!model || !model.history) return;
-    if (this.playing) {
-      this.stopPlaying();
-      return;
-    }
-    if (model.step >= model.history.steps) this.goToStep(0);
-    this.playing = true;
-    $("play").textContent = "❚❚ Pause";
-    $("play").setAttribute("aria-pressed", "true");
-    this.playClock = performance.now();
-    this.playCarry = 0;
-    const self = this;
-    const tick = function (now) {
-      if (!self.playing) return;
-      const rate = parseFloat($("speed").value) || 10;
-      self.playCarry += ((now - self.playClock) / 1000) * rate;
-      self.playClock = now;
-      const advance = Math.floor(self.playCarry);
-      if (advance > 0) {
-        self.playCarry -= advance;
-        self.goToStep(self.model.step + advance);
-      }
-      if (self.model.step >= self.model.history.steps) {
-        self.stopPlaying();
-        return;
-      }
-      requestAnimationFrame(tick);
-    };
-    requestAnimationFrame(tick);
   };
 
   Viewer.prototype.showStats = function () {
@@ -2097,28 +2051,13 @@
       event.preventDefault();
       self.openFiles(event.dataTransfer && event.dataTransfer.files);
     });
-    $("step").addEventListener("input", function () {
-      self.stopPlaying();
-      self.goToStep(parseInt($("step").value, 10));
-    });
-    $("play").addEventListener("click", function () {
-      self.togglePlay();
-    });
-    $("first").addEventListener("click", function () {
-      self.stopPlaying();
-      self.goToStep(0);
-    });
-    $("previous").addEventListener("click", function () {
-      self.stopPlaying();
-      self.goToStep(self.model.step - 1);
-    });
-    $("next").addEventListener("click", function () {
-      self.stopPlaying();
-      self.goToStep(self.model.step + 1);
-    });
-    $("last").addEventListener("click", function () {
-      self.stopPlaying();
-      self.goToStep(self.model.history.steps);
+    this.steps = window.geomexactStepControls({
+      current: function () {
+        return self.model && self.model.history ? self.model.step : 0;
+      },
+      go: function (k) {
+        self.goToStep(k);
+      },
     });
     $("message").addEventListener("click", function () {
       $("message").hidden = true;
@@ -2161,6 +2100,9 @@
       },
       setStep: function (k) {
         viewer.goToStep(k);
+      },
+      get steps() {
+        return viewer.steps;
       },
       stats: function () {
         return viewer.model ? Object.assign({}, viewer.model.derived.stats, {

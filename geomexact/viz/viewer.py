@@ -175,13 +175,32 @@ _PLACEHOLDER = re.compile(r"\{\{(\w+)\}\}")
 PAGE_HEAD = "page_head.html"
 """The ``<head>`` the 2D and 3D pages share, put in place of ``{{head}}``."""
 
+STEP_CONTROLS = "step_controls.html"
+"""The trace panel the 2D and 3D pages share (slider, buttons, go to step, op filter), put
+in place of ``{{step_controls}}``; its script is :data:`STEP_CONTROLS_JS`."""
+
+STEP_CONTROLS_JS = "step_controls.js"
+"""The script of :data:`STEP_CONTROLS`, inlined before each page's own script."""
+
+_INCLUDES = {"head": PAGE_HEAD, "step_controls": STEP_CONTROLS}
+
 
 def fill_page(template: str, values: dict[str, str]) -> str:
-    """The page ``template`` (a viewer file whose ``{{head}}`` is replaced by
-    :data:`PAGE_HEAD` first) with each ``{{name}}`` replaced by ``values[name]`` in one
-    pass, so no value can bring in another placeholder."""
-    text = page_asset(template).replace("{{head}}", page_asset(PAGE_HEAD).rstrip("\n"), 1)
+    """The page ``template`` (a viewer file whose ``{{head}}`` and ``{{step_controls}}``
+    are replaced by :data:`PAGE_HEAD` and :data:`STEP_CONTROLS` first) with each
+    ``{{name}}`` replaced by ``values[name]`` in one pass, so no value can bring in another
+    placeholder."""
+    text = page_asset(template)
+    for name, asset in _INCLUDES.items():
+        text = text.replace("{{" + name + "}}", page_asset(asset).rstrip("\n"), 1)
     return _PLACEHOLDER.sub(lambda match: values[match.group(1)], text)
+
+
+def page_script(name: str) -> str:
+    """The inline script of a page: :data:`STEP_CONTROLS_JS`, then the page's own ``name``
+    (each checked by :func:`_check_inline`)."""
+    return (_check_inline(STEP_CONTROLS_JS, page_asset(STEP_CONTROLS_JS)) + "\n"
+            + _check_inline(name, page_asset(name)))
 
 
 def render_page(data: dict[str, Any] | None, *, title: str,
@@ -201,7 +220,7 @@ def render_page(data: dict[str, Any] | None, *, title: str,
         "title": html.escape(title or "geomexact viewer"),
         "links": _links_html(links),
         "css": _check_inline("viewer.css", page_asset("viewer.css")),
-        "js": _check_inline("viewer.js", page_asset("viewer.js")),
+        "js": page_script("viewer.js"),
         "data": text,
     }
     return fill_page("viewer.html", values)

@@ -307,12 +307,14 @@
   document.getElementById("fit").addEventListener("click", () => {
     state.yaw = 0.6; state.pitch = 0.45; state.zoom = 1; draw();
   });
-  const stepInput = document.getElementById("step");
+  // the trace panel (step_controls.js): slider, buttons, play, go to step, op filter
+  const steps = window.geomexactStepControls({
+    current: () => state.step,
+    go: (k) => { if (k !== state.step) { state.step = k; draw(); } },
+  });
   if (data.steps > 0) {
     document.getElementById("trace").hidden = false;
-    stepInput.max = String(data.steps);
-    stepInput.value = String(state.step);
-    stepInput.addEventListener("input", () => { state.step = Number(stepInput.value); draw(); });
+    steps.load(data.labels.slice(1));
   }
   let dragging = null;
   canvas.addEventListener("pointerdown", (event) => {
@@ -338,5 +340,5 @@
   resize();
   showLegend();
   draw();
-  window.geomexactView3d = { state, draw, timings };
+  window.geomexactView3d = { state, draw, timings, steps };
 })();

@@ -4,6 +4,7 @@ logged as an error or requested from the network."""
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -11,6 +12,7 @@ from typing import Any
 import pytest
 
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
+from geomexact.trace.playback import replay
 from geomexact.viz.scene3d import clip_plane, viewer_html_3d
 
 pytestmark = pytest.mark.browser
@@ -174,5 +176,64 @@ def test_clip_plane_opens_the_mesh(octree_page: tuple[Any, list[str], list[str]]
     assert _stat(tab, "faces") > 0
     timings = tab.evaluate("() => geomexactView3d.timings")
     assert timings["draw"] >= 0 and timings["visible"] >= 0
+    assert errors == []
+    assert all(url.startswith("file://") for url in requests), requests
+
+
+def _step(tab: Any) -> int:
+    step: int = tab.evaluate("() => geomexactView3d.state.step")
+    return step
+
+
+def test_go_to_step_and_op_filter(page: tuple[Any, list[str], list[str]]) -> None:
+    """Typing a step number shows that step (its number, label and tetrahedra, as
+    geomexact replays them; a new drawing); out-of-range and non-numeric entries get a
+    message; with an op chosen, next / previous / the slider's arrow keys visit only its
+    steps, and the filter lists every op with its count."""
+    tab, errors, requests = page
+    run = partition_cuboid(0b101101, improve=True)
+    steps = run.trace.steps
+    tab.fill("#step-go", str(len(steps)))
+    tab.press("#step-go", "Enter")
+    at_end = _image(tab)
+    tab.fill("#step-go", "3")
+    tab.press("#step-go", "Enter")
+    assert _step(tab) == 3
+    assert tab.inner_text("#step-number") == f"step 3 of {len(steps)}"
+    assert tab.inner_text("#step-label") == str(steps[2])
+    assert tab.locator("#step").input_value() == "3"
+    assert _tetrahedra(tab) == replay(run.start, run.trace, until=3).tetrahedron_count
+    assert _image(tab) != at_end
+    tab.fill("#step-go", "40")
+    tab.click("#step-go-button")
+    assert _step(tab) == len(steps)
+    assert f"40 is outside 0..{len(steps)}" in tab.inner_text("#step-message")
+    tab.fill("#step-go", "three")
+    tab.press("#step-go", "Enter")
+    assert _step(tab) == len(steps)
+    assert "not a step number" in tab.inner_text("#step-message")
+    counts = Counter(step.op for step in steps)
+    options = tab.locator("#op-filter option").all_inner_texts()
+    assert options == [f"all ({len(steps)})", *(f"{op} ({n})" for op, n in sorted(counts.items()))]
+    flips = [k for k, step in enumerate(steps, 1) if step.op == "flip23"]
+    assert 0 < len(flips) < len(steps)
+    tab.select_option("#op-filter", "flip23")
+    tab.click("#first")
+    for expected in flips:
+        tab.click("#next")
+        assert _step(tab) == expected
+        assert tab.inner_text("#step-label").startswith("flip23(")
+    tab.click("#next")
+    assert _step(tab) == flips[-1]
+    assert f"no flip23 step after step {flips[-1]}" in tab.inner_text("#step-message")
+    tab.focus("#step")
+    tab.keyboard.press("ArrowLeft")
+    assert _step(tab) == flips[-2]
+    tab.keyboard.press("ArrowRight")
+    assert _step(tab) == flips[-1]
+    tab.select_option("#op-filter", "")
+    tab.keyboard.press("ArrowLeft")
+    assert _step(tab) == flips[-1] - 1
+    tab.screenshot(path=str(_artifact("viewer3d-op-filter.png")))
     assert errors == []
     assert all(url.startswith("file://") for url in requests), requests

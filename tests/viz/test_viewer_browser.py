@@ -11,6 +11,7 @@ import re
 import shutil
 import threading
 import time
+from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -24,7 +25,7 @@ from geomexact import server as serve
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
-from geomexact.viz.scene import Scene, doubles, indices
+from geomexact.viz.scene import Scene, doubles, history_of, indices, trace_start
 from geomexact.viz.viewer import payload, render_page, viewer_html
 
 pytestmark = pytest.mark.browser
@@ -73,12 +74,20 @@ def watch(browser: Any) -> Iterator[Watch]:
 
 
 @pytest.fixture(scope="module")
-def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+def superior_run() -> Any:
+    """The constrained Delaunay triangulation of Superior, with its trace."""
+    pslg = io.read(SUPERIOR)
+    assert isinstance(pslg, PSLG)
+    return triangulate(pslg)
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory: pytest.TempPathFactory, superior_run: Any) -> dict[str, Path]:
     """Viewer pages: Superior with its triangulation trace, and its triangle mesh."""
     folder = tmp_path_factory.mktemp("pages")
     pslg = io.read(SUPERIOR)
     assert isinstance(pslg, PSLG)
-    run = triangulate(pslg)
+    run = superior_run
     traced = folder / "superior-trace.html"
     traced.write_text(viewer_html(pslg, trace=run.trace, source="superior.poly"),
                       encoding="utf-8")
@@ -240,6 +249,121 @@ def test_play_runs_through_the_steps(watch: Watch, pages: dict[str, Path]) -> No
     assert 0 < step < 2517
     watch.page.wait_for_timeout(200)
     assert watch.page.evaluate("() => geomexactViewer.model.step") == step
+    watch.assert_clean("file://")
+
+
+def shown_step(watch: Watch) -> int:
+    step: int = watch.page.evaluate("() => geomexactViewer.model.step")
+    return step
+
+
+def test_go_to_step_jumps_and_reports_bad_entries(watch: Watch, pages: dict[str, Path],
+                                                  superior_run: Any) -> None:
+    """Typing a step number (Enter or Go) shows that step: its number, its label, the
+    triangle count geomexact gives after that many steps, and the same drawing as the
+    slider moved there.  An entry out of range is clamped with a message; a non-numeric
+    one leaves the step alone, with a message."""
+    open_page(watch, pages["trace"])
+    history = history_of(trace_start(io.read(SUPERIOR)), superior_run.trace)
+    slider = watch.page.locator("#step")
+    slider.fill("1500")
+    watch.page.evaluate("() => geomexactViewer.renderNow()")
+    by_slider = canvas_signature(watch)
+    watch.page.click("#first")
+    at_start = canvas_signature(watch)
+    watch.page.fill("#step-go", "1500")
+    watch.page.press("#step-go", "Enter")
+    assert shown_step(watch) == 1500
+    assert slider.input_value() == "1500"
+    assert watch.page.inner_text("#step-number").startswith("1,500 / 2,517")
+    label = watch.page.inner_text("#step-label")
+    assert label.startswith(f"step 1500: {history.labels[1499]} (")
+    assert count(watch, "triangles") == len(history.triangles_at(1500))
+    watch.page.evaluate("() => geomexactViewer.renderNow()")
+    assert canvas_signature(watch) == by_slider != at_start
+    assert watch.page.locator("#step-message").is_hidden()
+    watch.page.fill("#step-go", " 12 ")
+    watch.page.click("#step-go-button")
+    assert shown_step(watch) == 12
+    assert count(watch, "triangles") == len(history.triangles_at(12))
+    watch.page.fill("#step-go", "9999")
+    watch.page.press("#step-go", "Enter")
+    assert shown_step(watch) == 2517
+    message = watch.page.inner_text("#step-message")
+    assert "9,999 is outside 0..2,517" in message and "showing step 2,517" in message
+    watch.page.fill("#step-go", "-3")
+    watch.page.press("#step-go", "Enter")
+    assert shown_step(watch) == 0 and "outside" in watch.page.inner_text("#step-message")
+    watch.page.fill("#step-go", "12a")
+    watch.page.press("#step-go", "Enter")
+    assert shown_step(watch) == 0
+    assert "not a step number" in watch.page.inner_text("#step-message")
+    watch.screenshot("superior-go-to-step-bad-entry")
+    watch.assert_clean("file://")
+
+
+def test_op_filter_steps_only_between_steps_of_that_op(watch: Watch, pages: dict[str, Path],
+                                                       superior_run: Any) -> None:
+    """The filter lists every op of the trace with its count; with one chosen, next,
+    previous, the slider's arrow keys and play visit only that op's steps (in order, none
+    skipped by next), and the slider keeps the absolute step number."""
+    open_page(watch, pages["trace"])
+    steps = superior_run.trace.steps
+    counts = Counter(step.op for step in steps)
+    flips = [k for k, step in enumerate(steps, 1) if step.op == "flip"]
+    options = watch.page.locator("#op-filter option").all_inner_texts()
+    assert options[0] == f"all ({len(steps):,})"
+    assert options[1:] == [f"{op} ({n:,})" for op, n in sorted(counts.items())]
+    watch.page.click("#first")
+    watch.page.select_option("#op-filter", "flip")
+    before = canvas_signature(watch)
+    for expected in flips[:6]:
+        watch.page.click("#next")
+        assert shown_step(watch) == expected
+        assert watch.page.locator("#step").input_value() == str(expected)
+        assert watch.page.inner_text("#step-label").startswith(f"step {expected}: flip(")
+    watch.page.evaluate("() => geomexactViewer.renderNow()")
+    assert canvas_signature(watch) != before
+    watch.page.click("#previous")
+    assert shown_step(watch) == flips[4]
+    assert watch.page.inner_text("#filter-position") == f"flip step 5 of {len(flips):,}"
+    watch.page.focus("#step")
+    watch.page.keyboard.press("ArrowRight")
+    assert shown_step(watch) == flips[5]
+    watch.page.keyboard.press("ArrowLeft")
+    watch.page.keyboard.press("ArrowLeft")
+    assert shown_step(watch) == flips[3]
+    # a jump goes to any step; next from there is the next flip
+    watch.page.fill("#step-go", str(flips[100] - 1))
+    watch.page.press("#step-go", "Enter")
+    assert "not a flip step" in watch.page.inner_text("#filter-position")
+    watch.page.click("#next")
+    assert shown_step(watch) == flips[100]
+    watch.page.click("#last")
+    watch.page.click("#next")
+    assert shown_step(watch) == len(steps)
+    assert "no flip step after step 2,517" in watch.page.inner_text("#step-message")
+    # play with a filter: every step shown is a carve step, and it stops at the last
+    carves = [k for k, step in enumerate(steps, 1) if step.op == "carve"]
+    watch.page.select_option("#op-filter", "carve")
+    watch.page.click("#first")
+    watch.page.evaluate("""() => {
+        window.seenSteps = [];
+        new MutationObserver(() => window.seenSteps.push(geomexactViewer.model.step))
+            .observe(document.getElementById('step-number'), {childList: true});
+        }""")
+    watch.page.select_option("#speed", "2")
+    watch.page.click("#play")
+    watch.page.wait_for_function(
+        "() => document.getElementById('play').getAttribute('aria-pressed') === 'false'",
+        timeout=10_000)
+    seen = watch.page.evaluate("() => window.seenSteps")
+    assert seen and set(seen) <= set(carves), seen
+    assert shown_step(watch) == carves[-1]
+    watch.page.select_option("#op-filter", "")
+    watch.page.click("#previous")
+    assert shown_step(watch) == carves[-1] - 1  # "all": every step again
+    watch.screenshot("superior-op-filter")
     watch.assert_clean("file://")
 
 

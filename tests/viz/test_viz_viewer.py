@@ -156,7 +156,7 @@ def test_payload_cannot_close_its_script_element() -> None:
 def test_inline_assets_cannot_end_their_element() -> None:
     """The bundled JS and CSS contain nothing that would close their inline element; a
     file that did is refused."""
-    for name in ("viewer.js", "viewer.css"):
+    for name in ("viewer.js", "viewer3d.js", "step_controls.js", "viewer.css"):
         text = (VIZ / name).read_text(encoding="utf-8")
         assert viewer._check_inline(name, text) == text
     with pytest.raises(ValueError, match="</script"):
@@ -212,11 +212,30 @@ def test_exact_budget_zero_drops_exact_text() -> None:
 
 
 @pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
-def test_viewer_script_parses() -> None:
-    """The viewer's JavaScript is syntactically valid (node --check)."""
-    result = subprocess.run(["node", "--check", str(VIZ / "viewer.js")], capture_output=True,
+@pytest.mark.parametrize("name", ["viewer.js", "viewer3d.js", "step_controls.js"])
+def test_viewer_script_parses(name: str) -> None:
+    """The viewers' JavaScript is syntactically valid (node --check)."""
+    result = subprocess.run(["node", "--check", str(VIZ / name)], capture_output=True,
                             text=True, check=False)
     assert result.returncode == 0, result.stderr
+
+
+def test_both_pages_share_the_step_controls(superior: PSLG) -> None:
+    """The 2D and the 3D page each hold the shared trace panel (go to step, op filter) and
+    its script once, and no placeholder is left."""
+    from geomexact.mesh3d.cuboid.partition import partition_cuboid
+    from geomexact.viz.scene3d import viewer_html_3d
+
+    run = partition_cuboid(0b101101, improve=True)
+    pages = [viewer_html(superior, trace=triangulate(superior).trace),
+             viewer_html_3d(run.start, run.trace)]
+    script = (VIZ / "step_controls.js").read_text(encoding="utf-8")
+    for page in pages:
+        assert "{{" not in page.split('id="geomexact-data"')[0]
+        for marker in ('id="step-go"', 'id="op-filter"', 'id="step-message"',
+                       'id="next"', 'id="play"'):
+            assert page.count(marker) == 1, marker
+        assert page.count(script) == 1
 
 
 def test_scene_summary_is_the_info_summary() -> None:
