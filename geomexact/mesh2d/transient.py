@@ -30,6 +30,9 @@ from geomexact.mesh2d.snapshot import (
 from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
+_cell_hash = _digest.cell_hash
+_MASK = _digest.MODULUS - 1
+
 
 class Transient2:
     """Mutable editor of a 2D mesh.  Low-level edits keep the digest and the adjacency
@@ -182,7 +185,8 @@ class Transient2:
         self, a: int, b: int, c: int, attributes: Attributes | None = None
     ) -> None:
         """Add the counter-clockwise triangle (a, b, c); its half-edges must be free."""
-        self._check_open()
+        if self._sealed:
+            self._check_open()
         halfedges = self._halfedges
         ab, bc, ca = (a, b), (b, c), (c, a)
         if ab in halfedges or bc in halfedges or ca in halfedges:
@@ -199,8 +203,9 @@ class Transient2:
         outgoing[b] = c
         outgoing[c] = a
         self._triangle_count += 1
-        canonical = canonical_triangle(a, b, c)
-        self._digest = _digest.combine(self._digest, _digest.cell_hash(canonical))
+        # canonical_triangle and digest.combine, inlined: the hot path of every step
+        canonical = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
+        self._digest = (self._digest + _cell_hash(canonical)) & _MASK
         if attributes:
             self._triangle_attributes[canonical] = attributes
             self._digest = _digest.combine(
@@ -209,7 +214,8 @@ class Transient2:
 
     def remove_triangle(self, a: int, b: int, c: int) -> Attributes | None:
         """Remove the triangle (a, b, c) (any rotation); return its attributes."""
-        self._check_open()
+        if self._sealed:
+            self._check_open()
         halfedges = self._halfedges
         ab = (a, b)
         if halfedges.get(ab) != c:
@@ -221,8 +227,8 @@ class Transient2:
         del halfedges[(c, a)]
         self.stale_outgoing.update((a, b, c))
         self._triangle_count -= 1
-        canonical = canonical_triangle(a, b, c)
-        self._digest = _digest.remove(self._digest, _digest.cell_hash(canonical))
+        canonical = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
+        self._digest = (self._digest - _cell_hash(canonical)) & _MASK
         if len(self._triangle_attributes):
             attributes = self._triangle_attributes.get(canonical)
             if attributes is not None:

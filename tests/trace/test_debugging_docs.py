@@ -127,10 +127,11 @@ def test_the_numbers_in_the_prose_are_those_of_the_traces(session: dict[str, Any
     run = read_trace(session["folder"] / "run.trace.jsonl")
     planted = session["namespace"]["planted"]
     assert len(read_trace(session["folder"] / "planted.trace.jsonl")) == len(planted)
-    at = 40
+    at = session["namespace"]["at"]
+    assert at == 40
     later = len(run) - at
     kept = len(planted) - at - 1
-    assert f"It prints `{len(planted)} {planted.steps[at]}`" in text
+    assert f"It prints `{len(planted)} {at} {planted.steps[at]}`" in text
     assert f"{later - kept} of the {later} later steps" in text
     assert f"every one of the {len(run)} steps is a `bisect`" in text
     assert set(Counter(step.op for step in run.steps)) == {"bisect"}
