@@ -11,7 +11,7 @@ Model, digest and invariants: ``specs/snapshot.md``.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, TypeAlias
 
 import attrs
@@ -23,6 +23,7 @@ from geomexact.kernel.points import Point2
 
 if TYPE_CHECKING:
     from geomexact.mesh2d.transient import Transient2
+    from geomexact.trace.step import Step
 
 Triangle: TypeAlias = tuple[int, int, int]
 Edge: TypeAlias = tuple[int, int]
@@ -92,6 +93,15 @@ class Mesh2:
         from geomexact.mesh2d.transient import Transient2
 
         return Transient2(self, batch=batch)
+
+    def replayed_by_engine(self, steps: Sequence[Step], digests: Sequence[int]
+                           ) -> Mesh2 | None:
+        """The mesh after ``steps`` replayed on this one by the compiled Lepp kernel (each
+        step's preconditions and digest checked), or None when it cannot (then replay
+        with the reference ops: :func:`geomexact.trace.playback.replay` does)."""
+        from geomexact.mesh2d.refinement.engines.compiled import replay_compiled
+
+        return replay_compiled(self, steps, digests)
 
     # -- elements -----------------------------------------------------------------------
     def point(self, vertex: int) -> Point2:

@@ -37,10 +37,18 @@ O(n) copy in and out is then cheaper than the steps' persistent writes."""
 def replay(start: S, trace: Trace, until: int | None = None) -> S:
     """The mesh after the first ``until`` steps of ``trace`` (all when None), replayed on
     ``start`` in one batch and checked step by step against the recorded digests (with
-    the cyclic collector paused, as the engines that record traces run)."""
+    the cyclic collector paused, as the engines that record traces run).  A long replay
+    goes to the mesh type's engine when it has one (:class:`~geomexact.trace.protocols.
+    EngineReplay`: the same checks, compiled); where that engine cannot go on, the
+    reference ops replay the whole trace and name the step that fails."""
     check_start(start, trace)
     count = _count(trace, until)
     with collector_paused():
+        engine = getattr(start, "replayed_by_engine", None)
+        if engine is not None and count >= BATCH_STEPS:
+            fast = engine(trace.steps[:count], trace.digests[:count])
+            if fast is not None:
+                return fast  # type: ignore[no-any-return]
         transient = start.transient(batch=count >= BATCH_STEPS)
         for index in range(count):
             apply_checked(transient, trace, index)

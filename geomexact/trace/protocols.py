@@ -45,6 +45,15 @@ class Snapshot(Protocol):
         ...
 
 
+class EngineReplay(Protocol):
+    """A snapshot whose mesh type has a faster engine that replays steps (the compiled
+    kernel of 2D refinement): the mesh after ``steps`` with every digest checked, or None
+    when the engine cannot replay them (then the reference ops replay them)."""
+
+    def replayed_by_engine(self, steps: Sequence[Step], digests: Sequence[int],
+                           /) -> Snapshot | None: ...
+
+
 class CellSnapshot(Snapshot, Protocol):
     """A snapshot that lists its cells (triangles, tetrahedra), canonical and sorted."""
 

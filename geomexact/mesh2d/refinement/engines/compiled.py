@@ -26,7 +26,7 @@ uses it (``tests/engines`` compares them all with the reference engine).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, Literal
 
 import attrs
@@ -42,7 +42,8 @@ from geomexact.trace.step import Step
 
 _lepp_kernel: Any = compiled_kernel("geomexact.mesh2d.refinement.engines.lepp_kernel")
 
-__all__ = ["AVAILABLE", "CompiledRun", "run_compiled", "supports", "unsupported"]
+__all__ = ["AVAILABLE", "REPLAYED_OPS", "CompiledRun", "replay_compiled", "run_compiled",
+           "supports", "unsupported"]
 
 AVAILABLE: bool = _lepp_kernel is not None
 """True when the extension is built and importable."""
@@ -127,3 +128,30 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
         searches=kernel.searches,
         hops=kernel.hops,
     )
+
+
+REPLAYED_OPS = frozenset({"bisect", "flip", "insert_in_quadrilateral"})
+"""The steps the kernel replays: those it records."""
+
+
+def replay_compiled(start: Mesh2, steps: Sequence[Step], digests: Sequence[int]
+                    ) -> Mesh2 | None:
+    """The mesh after ``steps`` replayed on ``start`` by the kernel, each step's
+    preconditions checked (those of its reference op) and each digest compared with
+    ``digests``; None when the kernel cannot replay them all (not built, attributes, a
+    step it does not record) or when a step fails or diverges -- the caller then replays
+    with the reference ops, which name the step and the reason."""
+    if (not AVAILABLE or len(start.triangle_attributes) or len(start.vertex_attributes)
+            or not {step.op for step in steps} <= REPLAYED_OPS):
+        return None
+    assert _lepp_kernel is not None
+    # a criterion nothing fails: the kernel's queue stays empty
+    nothing = MaxArea(mpq(2) ** 200)
+    kernel = _lepp_kernel.Kernel(
+        start, nothing, Whole(), True, False, None, None, Progress, 2 * nothing.area,
+        method="bisection", centroid=rounded_area_centroid,
+    )
+    if kernel.replay(list(steps), list(digests), len(steps)) != len(steps):
+        return None
+    mesh: Mesh2 = kernel.finish(start)[0]
+    return mesh

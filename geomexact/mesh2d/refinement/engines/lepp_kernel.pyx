@@ -1105,3 +1105,80 @@ cdef class Kernel:
     def grid_area_limit(self):
         """The MaxArea bound in grid units (for tests)."""
         return _from_i128(self.area_limit)
+
+    # -- replaying a trace ----------------------------------------------------------------
+    cdef bint _has_vertex(self, object vertex):
+        return type(vertex) is int and 0 <= vertex < self.nv
+
+    cdef int64_t _insert_point(self, int64_t u, int64_t v, object point) except -2:
+        """``insert_in_quadrilateral(u, v, x, y)`` with its preconditions (the edge
+        interior and unconstrained, the point strictly inside the four new triangles):
+        the new vertex, or -1 (nothing changed) when a precondition fails."""
+        cdef int64_t w, x, n
+        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
+        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+        if w < 0 or x < 0 or gx_map_get(
+                &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
+            return -1
+        n = self._add_point(point)
+        if (self._orient(u, x, n) != 1 or self._orient(x, v, n) != 1
+                or self._orient(v, w, n) != 1 or self._orient(w, u, n) != 1):
+            return -1  # the caller stops here: the added vertex is never used
+        self._remove_edge(u, v, w, x)
+        self._triangle(u, x, n)
+        self._triangle(x, v, n)
+        self._triangle(v, w, n)
+        self._triangle(w, u, n)
+        self.triangles += 2
+        self.inserted.append((point[0], point[1]))
+        self._record(2, u, v, len(self.inserted) - 1)
+        return n
+
+    def replay(self, list steps, list digests, Py_ssize_t count):
+        """Apply the first ``count`` of ``steps`` (``bisect``, ``flip`` and
+        ``insert_in_quadrilateral``, the steps this kernel records), each with the
+        preconditions of its reference op in ``geomexact.mesh2d.ops`` checked first, and
+        compare the digest after it with ``digests``; stop at the first step that is of
+        another op, fails a precondition or gives another digest.  Returns the number of
+        steps applied with matching digests (the caller replays the step where it stopped
+        with the reference, for its message)."""
+        cdef Py_ssize_t i
+        cdef int64_t u, v, w, x
+        cdef gx_u128 expected
+        for i in range(count):
+            step = steps[i]
+            op = step.op
+            args = step.args
+            if op == "bisect" and len(args) == 2:
+                if not (self._has_vertex(args[0]) and self._has_vertex(args[1])):
+                    return i
+                u, v = args[0], args[1]
+                if u == v or (gx_map_get(&self.apex, gx_edge(u, v), -1) < 0
+                              and gx_map_get(&self.apex, gx_edge(v, u), -1) < 0):
+                    return i
+                self._bisect(u, v)
+            elif op == "flip" and len(args) == 2:
+                if not (self._has_vertex(args[0]) and self._has_vertex(args[1])):
+                    return i
+                u, v = args[0], args[1]
+                w = gx_map_get(&self.apex, gx_edge(u, v), -1)
+                x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+                if w < 0 or x < 0 or gx_map_get(
+                        &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
+                    return i
+                if self._orient(x, w, u) != 1 or self._orient(w, x, v) != 1:
+                    return i
+                self._flip(u, v)
+            elif op == "insert_in_quadrilateral" and len(args) == 4:
+                if not (self._has_vertex(args[0]) and self._has_vertex(args[1])):
+                    return i
+                if type(args[2]) is int or type(args[3]) is int:
+                    return i  # coordinates are recorded as rationals
+                if self._insert_point(args[0], args[1], point2(args[2], args[3])) < 0:
+                    return i
+            else:
+                return i
+            expected = _to_u128(digests[i])
+            if self.digest != expected:
+                return i
+        return count
