@@ -123,3 +123,17 @@ def positive_float(text: str) -> float:
     if not value > 0 or value == float("inf"):
         raise argparse.ArgumentTypeError(f"{text} is not a positive number")
     return value
+
+
+def add_run_outputs(sub: argparse.ArgumentParser, *, output: str, start: str,
+                    trace: str) -> None:
+    """The outputs of a command that makes a mesh by recorded steps: ``-o OUT`` (with
+    ``--to``), ``--start FILE`` (the trace's input), ``--trace FILE``, ``--exact`` /
+    ``--float``, ``--force`` and ``--json``; the texts say what each writes."""
+    sub.add_argument("-o", "--output", metavar="OUT", help=output)
+    add_to_option(sub)
+    sub.add_argument("--start", metavar="FILE", help=start)
+    sub.add_argument("--trace", metavar="FILE", help=trace)
+    add_number_flags(sub)
+    add_force_flag(sub, "existing output files")
+    add_json_flag(sub)

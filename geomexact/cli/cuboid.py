@@ -11,10 +11,7 @@ from geomexact import io
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_force_flag,
-    add_json_flag,
-    add_number_flags,
-    add_to_option,
+    add_run_outputs,
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
@@ -198,15 +195,9 @@ def add_parser(commands: Subcommands) -> None:
                         help="0 .. 262143: bit i marks a Steiner point on cube edge i "
                         "(0-11) or face i (12-17); see docs/cuboid.md")
     add_cuboid_options(cuboid)
-    cuboid.add_argument("-o", "--output", metavar="OUT",
-                        help="write the final mesh (TetGen OUT.ele with OUT.node and "
-                        "OUT.face, or .vtu, …)")
-    add_to_option(cuboid)
-    cuboid.add_argument("--start", metavar="FILE",
-                        help="write the 5-tetrahedron start mesh, exactly: the INPUT of "
-                        "'geomexact replay FILE TRACE'")
-    cuboid.add_argument("--trace", metavar="FILE",
-                        help="write the trace (from the 5-tetrahedron start) to FILE")
-    add_number_flags(cuboid)
-    add_force_flag(cuboid, "existing output files")
-    add_json_flag(cuboid)
+    add_run_outputs(
+        cuboid,
+        output="write the final mesh (TetGen OUT.ele with OUT.node and OUT.face, or .vtu, …)",
+        start="write the 5-tetrahedron start mesh, exactly: the INPUT of "
+              "'geomexact replay FILE TRACE'",
+        trace="write the trace (from the 5-tetrahedron start) to FILE")

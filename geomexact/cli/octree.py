@@ -15,10 +15,7 @@ import attrs
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_force_flag,
-    add_json_flag,
-    add_number_flags,
-    add_to_option,
+    add_run_outputs,
     non_negative,
     positive_int,
 )
@@ -218,17 +215,11 @@ def add_parser(commands: Subcommands) -> None:
     octree.add_argument("--final", choices=("patterns", "delaunay"), default="patterns",
                         help="each leaf's pattern partition (default), or that improved by "
                         "Joe's flips inside the leaf (delaunay)")
-    octree.add_argument("-o", "--output", metavar="OUT",
-                        help="write the mesh (TetGen OUT.ele/.node/.face, .vtu, .vtk, "
-                        "Geomview .off)")
-    add_to_option(octree)
-    octree.add_argument("--trace", metavar="FILE",
-                        help="record the run by the reference steps (one insert_cuboid per "
-                        "leaf, then flips) and write the trace")
-    octree.add_argument("--start", metavar="FILE",
-                        help="with --trace: write the trace's input (the vertices), exactly")
-    add_number_flags(octree)
+    add_run_outputs(
+        octree,
+        output="write the mesh (TetGen OUT.ele/.node/.face, .vtu, .vtk, Geomview .off)",
+        start="with --trace: write the trace's input (the vertices), exactly",
+        trace="record the run by the reference steps (one insert_cuboid per leaf, then "
+              "flips) and write the trace")
     add_progress_flags(octree)
-    add_force_flag(octree, "existing output files")
-    add_json_flag(octree)
 

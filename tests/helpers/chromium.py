@@ -46,3 +46,21 @@ def browser() -> Iterator[Any]:
         launched = playwright.chromium.launch(executable_path=chromium(), args=CHROMIUM_FLAGS)
         yield launched
         launched.close()
+
+
+def canvas_inked(tab: Any, canvas: str = "view") -> int:
+    """How many pixels of the page's canvas ``canvas`` are not (nearly) white."""
+    inked: int = tab.evaluate("""(id) => {
+        const c = document.getElementById(id);
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+        let n = 0;
+        for (let i = 0; i < d.length; i += 4)
+            if (d[i] < 250 || d[i + 1] < 250 || d[i + 2] < 250) n++;
+        return n; }""", canvas)
+    return inked
+
+
+def canvas_image(tab: Any, canvas: str = "view") -> str:
+    """The canvas ``canvas`` as a data URL (to compare two drawings)."""
+    url: str = tab.evaluate("(id) => document.getElementById(id).toDataURL()", canvas)
+    return url

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers.chromium import canvas_image, canvas_inked
 
 from geomexact.cli import main
 from geomexact.io import read
@@ -58,22 +59,6 @@ def test_both_files_read_back_with_every_tetrahedron(sphere_files: dict[str, Any
             assert mesh.digest_text == ele["digest"]
 
 
-def _inked(tab: Any) -> int:
-    inked: int = tab.evaluate("""() => {
-        const c = document.getElementById('view');
-        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-        let n = 0;
-        for (let i = 0; i < d.length; i += 4)
-            if (d[i] < 250 || d[i + 1] < 250 || d[i + 2] < 250) n++;
-        return n; }""")
-    return inked
-
-
-def _image(tab: Any) -> str:
-    url: str = tab.evaluate("() => document.getElementById('view').toDataURL()")
-    return url
-
-
 def _stat(tab: Any, name: str) -> int:
     return int(tab.evaluate(
         f"() => document.getElementById('stats-table').dataset.{name}"))
@@ -117,17 +102,17 @@ def test_the_viewer_draws_rotates_and_clips(browser: Any,
         tab.wait_for_selector("#stats-table tr", state="attached", timeout=60_000)
         assert _row(tab, "tetrahedra") == total
         assert _stat(tab, "tetrahedra") == total and _stat(tab, "faces") > 0
-        assert _inked(tab) > 20_000, "the mesh is drawn"
+        assert canvas_inked(tab) > 20_000, "the mesh is drawn"
         ARTIFACTS.mkdir(parents=True, exist_ok=True)
         tab.screenshot(path=str(ARTIFACTS / "octree6-whole.png"))
-        before = _image(tab)
+        before = canvas_image(tab)
         box = tab.locator("#view").bounding_box()
         x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
         tab.mouse.move(x, y)
         tab.mouse.down()
         tab.mouse.move(x + 120, y + 40, steps=3)
         tab.mouse.up()
-        rotated = _image(tab)
+        rotated = canvas_image(tab)
         assert rotated != before, "a drag rotates the view"
         assert _row(tab, "faces cut open") is None
         tab.select_option("#colour", "plain")

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers.chromium import canvas_image, canvas_inked
 
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
 from geomexact.trace.playback import replay
@@ -63,22 +64,6 @@ def _artifact(name: str) -> Path:
     return ARTIFACTS / name
 
 
-def _inked(tab: Any) -> int:
-    inked: int = tab.evaluate("""() => {
-        const c = document.getElementById('view');
-        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-        let n = 0;
-        for (let i = 0; i < d.length; i += 4)
-            if (d[i] < 250 || d[i + 1] < 250 || d[i + 2] < 250) n++;
-        return n; }""")
-    return inked
-
-
-def _image(tab: Any) -> str:
-    url: str = tab.evaluate("() => document.getElementById('view').toDataURL()")
-    return url
-
-
 def _tetrahedra(tab: Any) -> int:
     return int(tab.evaluate(
         "() => document.getElementById('stats-table').dataset.tetrahedra"))
@@ -91,32 +76,32 @@ def test_draws_rotates_and_steps(page: tuple[Any, list[str], list[str]]) -> None
         const c = document.getElementById('view').getBoundingClientRect();
         return c.width >= s.width - 1 && c.height >= s.height - 1; }""")
     assert filled, "the canvas fills the stage"
-    assert _inked(tab) > 20_000
+    assert canvas_inked(tab) > 20_000
     tab.screenshot(path=str(_artifact("viewer3d-cuboid-last.png")))
-    before = _image(tab)
+    before = canvas_image(tab)
     box = tab.locator("#view").bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
     tab.mouse.move(x, y)
     tab.mouse.down()
     tab.mouse.move(x + 120, y + 40, steps=5)
     tab.mouse.up()
-    assert _image(tab) != before
+    assert canvas_image(tab) != before
     last = _tetrahedra(tab)
     tab.evaluate("""() => { const s = document.getElementById('step');
         s.value = '0'; s.dispatchEvent(new Event('input')); }""")
     first = _tetrahedra(tab)
     assert first != last and first > 0
-    assert _inked(tab) > 1000
-    zoomed = _image(tab)
+    assert canvas_inked(tab) > 1000
+    zoomed = canvas_image(tab)
     tab.mouse.move(x, y)
     tab.mouse.wheel(0, -300)
-    assert _image(tab) != zoomed
+    assert canvas_image(tab) != zoomed
     tab.evaluate("""() => { const s = document.getElementById('shrink');
         s.value = '0.5'; s.dispatchEvent(new Event('input')); }""")
-    assert _inked(tab) > 100
-    by_quality = _image(tab)
+    assert canvas_inked(tab) > 100
+    by_quality = canvas_image(tab)
     tab.select_option("#colour", "step")
-    assert _image(tab) != by_quality
+    assert canvas_image(tab) != by_quality
     legend = tab.inner_text("#legend")
     assert "split_tetra" in legend and "flip23" in legend
     tab.check("#all-tets")
@@ -149,7 +134,7 @@ def test_clip_plane_opens_the_mesh(octree_page: tuple[Any, list[str], list[str]]
     assert 0 < half < total
     assert "faces cut open" in tab.inner_text("#stats-table")
     tab.screenshot(path=str(_artifact("viewer3d-clip-half.png")))
-    half_image = _image(tab)
+    half_image = canvas_image(tab)
     # the cut colour (240, 170, 110) times a shade: orange pixels are on the canvas
     orange = tab.evaluate("""() => {
         const c = document.getElementById('view');
@@ -162,7 +147,7 @@ def test_clip_plane_opens_the_mesh(octree_page: tuple[Any, list[str], list[str]]
     _move_clip(tab, 200)
     quarter = _tetrahedra(tab)
     assert 0 < quarter < half
-    assert _image(tab) != half_image
+    assert canvas_image(tab) != half_image
     _move_clip(tab, 1000)
     assert _tetrahedra(tab) == total
     _move_clip(tab, 0)
@@ -195,7 +180,7 @@ def test_go_to_step_and_op_filter(page: tuple[Any, list[str], list[str]]) -> Non
     steps = run.trace.steps
     tab.fill("#step-go", str(len(steps)))
     tab.press("#step-go", "Enter")
-    at_end = _image(tab)
+    at_end = canvas_image(tab)
     tab.fill("#step-go", "3")
     tab.press("#step-go", "Enter")
     assert _step(tab) == 3
@@ -203,7 +188,7 @@ def test_go_to_step_and_op_filter(page: tuple[Any, list[str], list[str]]) -> Non
     assert tab.inner_text("#step-label") == str(steps[2])
     assert tab.locator("#step").input_value() == "3"
     assert _tetrahedra(tab) == replay(run.start, run.trace, until=3).tetrahedron_count
-    assert _image(tab) != at_end
+    assert canvas_image(tab) != at_end
     tab.fill("#step-go", "40")
     tab.click("#step-go-button")
     assert _step(tab) == len(steps)
