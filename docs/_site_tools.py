@@ -1,0 +1,55 @@
+"""Build-time helpers of the documentation site (``docs/conf.py`` calls :func:`setup`).
+
+At ``builder-inited`` they write ``docs/_generated/`` (ignored by git):
+
+- ``specs/NAME.md``: one page per file of ``specs/`` that includes it, so that the specs
+  are part of the site; a page's links to ``../specs/NAME.md`` are pointed there while it
+  is read (``source-read``), its file on disk unchanged.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+DOCS = Path(__file__).resolve().parent
+ROOT = DOCS.parent
+GENERATED = DOCS / "_generated"
+SPECS = ROOT / "specs"
+
+
+def write_if_changed(path: Path, text: str) -> None:
+    """Write ``text`` unless the file already holds it (Sphinx then rereads nothing)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        path.write_text(text, encoding="utf-8")
+
+
+def spec_pages() -> list[str]:
+    """Write one page per spec under ``_generated/specs/``; return their docnames."""
+    names = []
+    for spec in sorted(SPECS.rglob("*.md")):
+        relative = spec.relative_to(SPECS)
+        page = GENERATED / "specs" / relative
+        up = "../" * (len(relative.parts) + 2)
+        write_if_changed(page, f"```{{include}} {up}specs/{relative.as_posix()}\n```\n")
+        names.append(f"_generated/specs/{relative.with_suffix('').as_posix()}")
+    return names
+
+
+_SPEC_LINK = re.compile(r"\]\(\.\./specs/")
+
+
+def _source_read(app: Any, docname: str, source: list[str]) -> None:
+    if "/" not in docname:
+        source[0] = _SPEC_LINK.sub("](_generated/specs/", source[0])
+
+
+def _builder_inited(app: Any) -> None:
+    spec_pages()
+
+
+def setup(app: Any) -> None:
+    app.connect("builder-inited", _builder_inited)
+    app.connect("source-read", _source_read)
