@@ -4,14 +4,21 @@ At ``builder-inited`` they write ``docs/_generated/`` (ignored by git):
 
 - ``specs/NAME.md``: one page per file of ``specs/`` that includes it, so that the specs
   are part of the site; a page's links to ``../specs/NAME.md`` are pointed there while it
-  is read (``source-read``), its file on disk unchanged.
+  is read (``source-read``), its file on disk unchanged;
+- ``tour/``: the pictures of ``docs/tour.md`` and their captions, made by the package
+  (``docs/tour_pictures.py``).
 """
 
 from __future__ import annotations
 
 import re
+import time
 from pathlib import Path
 from typing import Any
+
+from sphinx.util import logging
+
+logger = logging.getLogger(__name__)
 
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
@@ -47,7 +54,13 @@ def _source_read(app: Any, docname: str, source: list[str]) -> None:
 
 
 def _builder_inited(app: Any) -> None:
+    import tour_pictures  # docs/, on sys.path (conf.py)
+
     spec_pages()
+    began = time.perf_counter()
+    seconds = tour_pictures.make_all(GENERATED / "tour")
+    logger.info("tour pictures: %s (%.1f s)", ", ".join(
+        f"{name} {s:.1f} s" for name, s in seconds.items()), time.perf_counter() - began)
 
 
 def setup(app: Any) -> None:

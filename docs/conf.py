@@ -31,7 +31,8 @@ version = __version__
 extensions = ["myst_parser", "sphinx.ext.autodoc"]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
-exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "images/performance/*.md"]
+# the tour's fragments are included by tour.md, not pages of their own
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "_generated/tour/*"]
 
 myst_heading_anchors = 4
 myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
