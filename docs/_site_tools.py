@@ -5,6 +5,9 @@ At ``builder-inited`` they write ``docs/_generated/`` (ignored by git):
 - ``specs/NAME.md``: one page per file of ``specs/`` that includes it, so that the specs
   are part of the site; a page's links to ``../specs/NAME.md`` are pointed there while it
   is read (``source-read``), its file on disk unchanged;
+- ``cli-help.md``: the reference of every command from its real ``--help``
+  (``docs/cli_reference.py``);
+- ``facade.md``: the names of the facade ``geomexact`` with the module of each;
 - ``tour/``: the pictures of ``docs/tour.md`` and their captions, made by the package
   (``docs/tour_pictures.py``).
 """
@@ -45,6 +48,30 @@ def spec_pages() -> list[str]:
     return names
 
 
+_ROLE = re.compile(r":[a-z]+:`~?([^`<]+?)(?: <[^>]*>)?`")
+
+
+def facade_page() -> str:
+    """The Markdown of the list of the facade's names (``geomexact.__all__``)."""
+    import importlib
+
+    import geomexact
+
+    lines = ["# The facade `geomexact`", "",
+             "`from geomexact import NAME` works for each name below; it is loaded from the "
+             "module beside it on first use (`import geomexact` itself loads nothing heavy).",
+             "", "| name | defined in | |", "|---|---|---|"]
+    homes: dict[str, str] = geomexact._HOMES
+    for name in sorted(homes, key=str.lower):
+        home = homes[name]
+        doc = (getattr(importlib.import_module(home), name).__doc__ or "").strip()
+        first = " ".join(doc.split("\n\n")[0].split()).replace("|", "\\|")
+        first = _ROLE.sub(lambda m: f"`{m.group(1).split('.')[-1]}`", first)
+        first = first if len(first) <= 160 else first[:157].rsplit(" ", 1)[0] + " …"
+        lines.append(f"| {{py:obj}}`{name} <{home}.{name}>` | `{home}` | {first} |")
+    return "\n".join(lines) + "\n"
+
+
 _SPEC_LINK = re.compile(r"\]\(\.\./specs/")
 
 
@@ -54,9 +81,12 @@ def _source_read(app: Any, docname: str, source: list[str]) -> None:
 
 
 def _builder_inited(app: Any) -> None:
-    import tour_pictures  # docs/, on sys.path (conf.py)
+    import cli_reference  # docs/, on sys.path (conf.py)
+    import tour_pictures
 
     spec_pages()
+    cli_reference.write_reference(GENERATED / "cli-help.md")
+    write_if_changed(GENERATED / "facade.md", facade_page())
     began = time.perf_counter()
     seconds = tour_pictures.make_all(GENERATED / "tour")
     logger.info("tour pictures: %s (%.1f s)", ", ".join(

@@ -11,7 +11,7 @@ Definitions (``specs/lepp.md``):
 * **Lepp(t0)**: triangles t0, t1, …, tk where t(i+1) is the neighbour of ti across the
   longest edge e(i) of ti.  The path stops at e(k) — the **terminal edge** — when e(k) is a
   constraint edge, or when e(k) is *a* longest edge of the neighbour too (at least as long
-  as each of its edges).  Then |e(i)| strictly increases along the path, so it never
+  as each of its edges).  Then ``|e(i)|`` strictly increases along the path, so it never
   revisits a triangle and ends after at most as many triangles as there are edge lengths.
 
 The functions take a :class:`~geomexact.mesh2d.snapshot.Mesh2` or an open
