@@ -98,3 +98,24 @@ def test_the_tour_pictures_are_made_at_build_time() -> None:
     text = (DOCS / "tour.md").read_text("utf-8")
     for name in tour.PICTURES:
         assert f"_generated/tour/{name}.md" in text
+
+
+def test_the_benchmarks_command_has_help() -> None:
+    """``python -m benchmarks --help`` works (nothing is run)."""
+    import subprocess
+
+    done = subprocess.run([sys.executable, "-m", "benchmarks", "--help"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "--quick" in done.stdout and "docs/performance.md" in done.stdout
+
+
+def test_the_performance_page_says_how_it_was_made() -> None:
+    """docs/performance.md is the output of ``python -m benchmarks`` and says so, with the
+    machine it ran on."""
+    text = (DOCS / "performance.md").read_text("utf-8")
+    assert re.search(r"This page was made by `python -m benchmarks[^`]*`", text)
+    for needed in ("## The machine", "CPU", "cores", "load average", "Python"):
+        assert needed in text
+    for image in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text):
+        assert (DOCS / image).is_file(), image
