@@ -27,7 +27,7 @@ from geomexact.mesh2d.refinement.criteria import (
 )
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
-from geomexact.mesh2d.refinement.engines.compiled import run_compiled
+from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
 from geomexact.mesh2d.refinement.regions import Circle, Rectangle, Region, as_region
 
 pytestmark = pytest.mark.skipif(
@@ -127,6 +127,10 @@ def test_grid_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]], deno
 
 
 # --- the subset ---------------------------------------------------------------------------
+class OtherAngle(MinAngle):
+    """A minimum-angle criterion that is not exactly ``MinAngle`` (no kernel)."""
+
+
 def test_outside_the_subset_returns_none() -> None:
     start = square()
     for method in ("centroid", "quasi"):
@@ -134,8 +138,14 @@ def test_outside_the_subset_returns_none() -> None:
         for centroid in ("area-exact", "vertices"):
             assert run_compiled(start, None, **options(
                 MaxArea("0.1"), method=method, centroid=centroid)) is None
-        assert run_compiled(start, 5, **options(MinAngle(30), method=method)) is None
-    assert run_compiled(start, 5, **options(MinAngle(30))) is None
+        assert run_compiled(start, 5, **options(MinAngle(30), method=method)) is not None
+        # a minimum-angle criterion of another type (its rate may differ): declined
+        assert run_compiled(start, 5, **options(OtherAngle(30), method=method)) is None
+    assert run_compiled(start, 5, **options(MinAngle(30))) is not None
+    # an option the kernel does not know: declined, never run with another meaning
+    novel = {**options(MaxArea("0.1")), "novel_rule": True}
+    assert run_compiled(start, None, **novel) is None
+    assert "novel_rule" in (unsupported(start, **novel) or "")
     assert run_compiled(start, None, **options(Wide("0.5"))) is None
     assert run_compiled(start, None, **options(AverageAreaFactor("0.5"))) is not None
     attributed = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],

@@ -34,6 +34,7 @@ Python predicate on the ``Point2`` objects.
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
 from libc.stdlib cimport malloc, free
+from libc.math cimport fabs
 from cpython.exc cimport PyErr_CheckSignals
 
 import hashlib
@@ -45,8 +46,12 @@ import immutables
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel import comparisons as _comparisons
+from geomexact.kernel import filter_bounds as _bounds
+from geomexact.kernel.angles import compare_angle as _compare_angle
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
+from geomexact.mesh2d.refinement.criteria import smallest_angle_cos2 as _smallest_angle_cos2
+from geomexact.mesh2d.refinement.driver import Refinement as _Refinement
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d.refinement.queue import rank as _rank
 from geomexact.mesh2d.snapshot import MAX_VERTICES, Mesh2
@@ -120,6 +125,29 @@ cdef struct Record:
     int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral
 
 cdef object GRID_LIMIT = 1 << 60
+
+# the constants of compare_angle's float filter (geomexact.kernel.angles)
+cdef double DOT_C = _bounds.DOT_C
+cdef double DOT_K = _bounds.DOT_K
+cdef double ANGLE_C = _bounds.ANGLE_C
+cdef double ANGLE_K = _bounds.ANGLE_K
+
+SHARP_CORNER = "sharp-corner"
+PROTECTED_TIP = "protected-tip"
+
+
+class _TipLimits:
+    """``Refinement.tip_limit`` reads ``start`` and ``tip_limits`` only: this holds them, so
+    the kernel takes the driver's own rule (once per input vertex)."""
+
+    __slots__ = ("start", "tip_limits")
+
+    def __init__(self, start):
+        self.start = start
+        self.tip_limits = {}
+
+    def limit(self, vertex):
+        return _Refinement.tip_limit(self, vertex)
 
 
 cdef inline bint _pair_less(int64_t a, int64_t b, int64_t c, int64_t d) nogil:
@@ -198,6 +226,15 @@ cdef class Kernel:
     cdef list points, pykeys, step_objects, inserted
     cdef dict segments, new_markers
     cdef object rate, contains, on_step, progress, scale, centroid
+    # a MinAngle criterion (rated in C): its AngleThreshold, cos2 as a double (maybe nan)
+    # and the sign of cos θ; the left triangles and why; the input's tip limits
+    cdef bint min_angle
+    cdef object threshold
+    cdef double cos2f
+    cdef int cos_sign
+    cdef dict left
+    cdef object tips
+    cdef dict tip_grid
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
@@ -211,7 +248,8 @@ cdef class Kernel:
 
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
                  on_step, progress, max_area_doubled, bint average=False,
-                 method="bisection", bint constraint_midpoints=True, centroid=None):
+                 method="bisection", bint constraint_midpoints=True, centroid=None,
+                 threshold=None):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
         grid triangles), else None (``criterion.rate`` rates every triangle).
         ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
@@ -220,7 +258,10 @@ cdef class Kernel:
         ``method``: ``"bisection"``, ``"centroid"`` or ``"quasi"``;
         ``constraint_midpoints`` as ``refine()``; ``centroid``: the function giving the
         point inserted into a terminal quadrilateral (``rounded_area_centroid``), recorded
-        as ``insert_in_quadrilateral`` (required for the methods other than bisection)."""
+        as ``insert_in_quadrilateral`` (required for the methods other than bisection).
+        ``threshold``: the ``AngleThreshold`` of a ``MinAngle`` criterion, rated in C
+        (``criterion.rate`` is then unused), with the small-angle rules of
+        ``Refinement``."""
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
         cdef int64_t g
@@ -290,6 +331,16 @@ cdef class Kernel:
         self.inserted = []
         self.contains = region.contains
         self.rate = criterion.rate
+        self.min_angle = threshold is not None
+        self.threshold = threshold
+        self.left = {}
+        self.tip_grid = {}
+        if self.min_angle:
+            if max_area_doubled is not None or average:
+                raise ValueError("a minimum angle is rated alone")
+            self.cos2f = threshold.cos2_float
+            self.cos_sign = threshold.cos_sign
+            self.tips = _TipLimits(start)
         self.on_step = on_step
         self.progress = progress
         self.step_objects = [] if on_step is not None else None
@@ -567,6 +618,8 @@ cdef class Kernel:
         entry.a = a
         entry.b = b
         entry.c = c
+        if self.min_angle:
+            return self._consider_angle(&entry)
         if self.max_area:
             va = &self.vs[a]
             vb = &self.vs[b]
@@ -588,6 +641,189 @@ cdef class Kernel:
         entry.py = len(self.pykeys)
         self.pykeys.append(key)
         return self._push(&entry)
+
+    # -- the minimum angle (MinAngle.rate and the small-angle rules of Refinement) ---------
+    cdef int _angle(self, int64_t a, int64_t b, int64_t c) except -2:
+        """``compare_angle(points[a], points[b], points[c], threshold)`` (the angle at b)
+        as -1, 0, 1: its two-stage float filter, same formulas and constants, else the
+        exact Python comparison."""
+        cdef GridPoint *pa = &self.vs[a].at
+        cdef GridPoint *pb = &self.vs[b].at
+        cdef GridPoint *pc = &self.vs[c].at
+        cdef double bx = pb.fx, by = pb.fy
+        cdef double ux = pa.fx - bx, uy = pa.fy - by, vx = pc.fx - bx, vy = pc.fy - by
+        cdef double dot = ux * vx + uy * vy
+        cdef double lu = ux * ux + uy * uy
+        cdef double lv = vx * vx + vy * vy
+        cdef double t = fabs(ux) + fabs(uy) + fabs(vx) + fabs(vy) + DOT_K
+        cdef double mt = fabs(bx) + fabs(by) + t
+        cdef double bound = t * mt * DOT_C
+        cdef double difference
+        cdef int dot_sign
+        if dot > bound:
+            dot_sign = 1
+        elif -dot > bound:
+            dot_sign = -1
+        else:
+            return self._angle_exact(a, b, c)
+        if dot_sign != self.cos_sign:
+            return -dot_sign
+        difference = self.cos2f * lu * lv - dot * dot
+        t += ANGLE_K
+        bound = t * t * t * (mt + ANGLE_K) * ANGLE_C
+        if difference > bound or -difference > bound:
+            return self.cos_sign if difference > 0.0 else -self.cos_sign
+        return self._angle_exact(a, b, c)
+
+    cdef int _angle_exact(self, int64_t a, int64_t b, int64_t c) except -2:
+        points = self.points
+        return int(_compare_angle(points[a], points[b], points[c], self.threshold))
+
+    cdef int _consider_angle(self, Entry *entry) except -1:
+        """``Refinement.consider`` for ``MinAngle``: its ``rate`` (the angle opposite the
+        shortest edge against the threshold; key −cos² of it, exact), then the
+        sharp-corner rule (left, not queued)."""
+        cdef int64_t a = entry.a, b = entry.b, c = entry.c, p, q, r
+        cdef Vertex *vp
+        cdef Vertex *vq
+        cdef Vertex *vr
+        cdef gx_i128 ux, uy, vx, vy, dot, lu, lv
+        # the corner p opposite the shortest edge, and its arms q, r (smallest_angle_cos2)
+        if self._lengths(a, b, b, c) != 1:
+            if self._lengths(a, b, c, a) != 1:
+                p, q, r = c, a, b
+            else:
+                p, q, r = b, c, a
+        elif self._lengths(b, c, c, a) != 1:
+            p, q, r = a, b, c
+        else:
+            p, q, r = b, c, a
+        if self._angle(q, p, r) != -1:
+            return 0
+        if self._unimprovable(a, b, c):
+            self.left[(a, b, c)] = SHARP_CORNER
+            return 0
+        vp = &self.vs[p]
+        vq = &self.vs[q]
+        vr = &self.vs[r]
+        if vp.at.grid and vq.at.grid and vr.at.grid:
+            ux = <gx_i128>vq.at.gx - vp.at.gx
+            uy = <gx_i128>vq.at.gy - vp.at.gy
+            vx = <gx_i128>vr.at.gx - vp.at.gx
+            vy = <gx_i128>vr.at.gy - vp.at.gy
+            dot = ux * vx + uy * vy
+            lu = ux * ux + uy * uy
+            lv = vx * vx + vy * vy
+            exact_dot = _from_i128(dot)
+            key = mpq(-(exact_dot * exact_dot), _from_i128(lu) * _from_i128(lv))
+        else:
+            points = self.points
+            key = -_smallest_angle_cos2(points[a], points[b], points[c])
+        entry.ikey = 0
+        entry.rank = float(key)
+        entry.py = len(self.pykeys)
+        self.pykeys.append(key)
+        return self._push(entry)
+
+    cdef bint _sector(self, int64_t p, int64_t q, int64_t r, int64_t *ends) except -1:
+        """``Refinement.constraint_sector(p, q, r)``: False when p has no sector, else
+        True with the far ends of its two constraint edges in ``ends``."""
+        cdef int64_t first = q, last = r
+        while not self._constraint(p, first):
+            first = gx_map_get(&self.apex, gx_edge(first, p), -1)
+            if first == r:
+                return False  # all the way round
+        while not self._constraint(p, last):
+            last = gx_map_get(&self.apex, gx_edge(p, last), -1)
+        ends[0] = first
+        ends[1] = last
+        return True
+
+    cdef bint _sharp(self, int64_t p, int64_t q, int64_t r) except -1:
+        """``Refinement.sharp``: the triangle (p, q, r) lies in a sector at p whose
+        constraint edges meet at an angle below the threshold (under 180°)."""
+        cdef int64_t ends[2]
+        if not self._sector(p, q, r, ends):
+            return False
+        return self._orient(p, ends[0], ends[1]) == 1 and self._angle(ends[0], p, ends[1]) == -1
+
+    cdef bint _unimprovable(self, int64_t a, int64_t b, int64_t c) except -1:
+        """``Refinement.unimprovable``: an angle of (a, b, c) below the threshold lies in
+        an input angle below it."""
+        cdef int64_t p, q, r
+        cdef int k
+        for k in range(3):
+            if k == 0:
+                p, q, r = a, b, c
+            elif k == 1:
+                p, q, r = b, c, a
+            else:
+                p, q, r = c, a, b
+            if self._angle(q, p, r) != -1:
+                continue
+            if self._sharp(p, q, r):
+                return True
+        return False
+
+    cdef bint _under_tip(self, int64_t p, int64_t u, int64_t v) except -1:
+        """True when p (an input vertex) has a tip limit and the edge {u, v} is shorter
+        than it (``Refinement.protected``'s length test, exact)."""
+        cdef Vertex *vu
+        cdef Vertex *vv
+        cdef gx_i128 dx, dy
+        if p >= self.n0:
+            return False  # only input vertices have tip limits
+        entry = self.tip_grid.get(p)
+        if entry is None:
+            limit = self.tips.limit(p)
+            # the limit in grid units, rounded up: a grid length (an integer) is below the
+            # limit exactly when it is below this
+            bound = None if limit is None else min(-((-limit * self.scale) // 1), 1 << 124)
+            entry = self.tip_grid[p] = (limit, bound)
+        limit, bound = entry
+        if limit is None:
+            return False
+        vu = &self.vs[u]
+        vv = &self.vs[v]
+        if vu.at.grid and vv.at.grid:
+            dx = <gx_i128>vv.at.gx - vu.at.gx
+            dy = <gx_i128>vv.at.gy - vu.at.gy
+            return _from_i128(dx * dx + dy * dy) < bound
+        points = self.points
+        pu, pv = points[u], points[v]
+        ex, ey = pv[0] - pu[0], pv[1] - pu[1]
+        return ex * ex + ey * ey < limit
+
+    cdef bint _protected(self, int64_t u, int64_t v) except -1:
+        """``Refinement.protected``: the constraint edge {u, v} bounds a sharp input angle
+        at u or v and is shorter than that corner's tip limit."""
+        cdef int64_t p, s, left, right
+        cdef int k
+        if not self.min_angle:
+            return False
+        for k in range(2):
+            if k == 0:
+                p, s = u, v
+            else:
+                p, s = v, u
+            if not self._under_tip(p, u, v):
+                continue
+            left = gx_map_get(&self.apex, gx_edge(p, s), -1)
+            right = gx_map_get(&self.apex, gx_edge(s, p), -1)
+            if left >= 0 and self._sharp(p, s, left):
+                return True
+            if right >= 0 and self._sharp(p, right, s):
+                return True
+        return False
+
+    def left_triangles(self):
+        """``Refinement.left_triangles``: the left triangles still in the mesh, sorted."""
+        return tuple(sorted(t for t in self.left
+                            if gx_map_get(&self.apex, gx_edge(t[0], t[1]), -1) == t[2]))
+
+    def left_reasons(self):
+        """``Refinement.left_reasons``: why each of :meth:`left_triangles` was left."""
+        return tuple(self.left[t] for t in self.left_triangles())
 
     cdef inline int _less(self, Entry *x, Entry *y) except -1:
         """(key, triangle) of x < that of y, keys compared exactly."""
@@ -876,10 +1112,10 @@ cdef class Kernel:
         return self._legalize(n, star, 4)
 
     cdef int _split_pair(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
-        """``Refinement.split_pair`` (no angle threshold, so never refused): the midpoint
-        of a constraint second-longest edge of (u, v, w), then of (v, u, x), else the
-        centroid of the quadrilateral; legalized when Delaunay.  0, or -1 at the step
-        limit."""
+        """``Refinement.split_pair``: the midpoint of a constraint second-longest edge of
+        (u, v, w), then of (v, u, x), else the centroid of the quadrilateral; legalized
+        when Delaunay.  0; -1 at the step limit; 1 (no step) when that midpoint would
+        split a protected edge."""
         cdef int64_t p, q, r, n, side
         cdef Pair star[4]
         if self.constraint_midpoints:
@@ -894,6 +1130,8 @@ cdef class Kernel:
                 else:
                     p, q = r, p
                 if self._constraint(p, q):
+                    if self.min_angle and self._protected(p, q):
+                        return 1  # refused: the target is left
                     return self._insert_midpoint(p, q)
         n = self._centroid(u, v, w, x)
         if n < 0:
@@ -945,7 +1183,7 @@ cdef class Kernel:
         ``"step-limit"``."""
         cdef Entry target
         cdef int64_t a, b, c, u, v, w, x, n, hops
-        cdef int order
+        cdef int order, done
         cdef bint constrained
         cdef Pair star[4]
         if self.tracking and self._mean_reached():
@@ -994,14 +1232,22 @@ cdef class Kernel:
                     if self.quasi_flips and self._incircle(u, v, w, x) == 1:
                         if self._flip(u, v) < 0:
                             return "step-limit"
-                    elif self._split_pair(u, v, w, x) < 0:
-                        return "step-limit"
+                    else:
+                        done = self._split_pair(u, v, w, x)
+                        if done < 0:
+                            return "step-limit"
+                        if done > 0:
+                            self.left[(a, b, c)] = PROTECTED_TIP
+                            break
                     self._drain()
                     if self.tracking and self._mean_reached():
                         return "complete"
                     if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                         break
                     continue
+                if constrained and self.min_angle and self._protected(u, v):
+                    self.left[(a, b, c)] = PROTECTED_TIP  # its step would split one
+                    break
                 # bisect, then legalize around the midpoint
                 n = self._bisect(u, v)
                 if n < 0:
