@@ -34,7 +34,7 @@ Python predicate on the ``Point2`` objects.
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
 from libc.stdlib cimport malloc, free
-from libc.math cimport fabs
+from libc.math cimport fabs, floor, frexp, ldexp
 from cpython.exc cimport PyErr_CheckSignals
 
 import hashlib
@@ -61,6 +61,7 @@ from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
     GridPoint,
+    filtered_orient,
     Pair,
     PairStack,
     filtered_dot,
@@ -113,6 +114,9 @@ cdef struct Entry:
     gx_i128 ikey       # the exact key when py < 0
     double rank        # geomexact.mesh2d.refinement.queue.rank(key) when py >= 0
     int64_t py         # index of the Python key in Kernel.pykeys, or -1
+    # MinAngle: rank is −cos² of the smallest angle within rad (certified); the exact key
+    # is made (py) only when two entries' intervals meet
+    double rad
     int64_t a
     int64_t b
     int64_t c
@@ -131,6 +135,8 @@ cdef double DOT_C = _bounds.DOT_C
 cdef double DOT_K = _bounds.DOT_K
 cdef double ANGLE_C = _bounds.ANGLE_C
 cdef double ANGLE_K = _bounds.ANGLE_K
+cdef double UNIT = 2.0 ** -53  # the unit roundoff of doubles
+cdef double INFINITY = float("inf")
 
 SHARP_CORNER = "sharp-corner"
 PROTECTED_TIP = "protected-tip"
@@ -515,6 +521,131 @@ cdef class Kernel:
             and gx_grid_orient(pw.at.gx, pw.at.gy, pu.at.gx, pu.at.gy, cx, cy) == 1
         )
 
+    cdef bint _float_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
+                              int64_t *out) except -1:
+        """``rounded_area_centroid(u, v, w, x)`` from the doubles of corners off the grid,
+        when a certified float evaluation decides it: the rounding exponent (the shortest
+        squared side's floor(log2), from intervals around each side) and each rounded
+        coordinate floor(C / 2^e + 1/2) (no integer within the error bound of the float
+        value), giving a grid point that is then tested strictly inside the four new
+        triangles (``orient2d``, filter then exact).  ``out``: its grid coordinates; False
+        (the caller asks Python) when anything is undecided or off the kernel's grid.
+
+        Error bounds (u = 2^-53): each double is within u of its exact coordinate, so each
+        difference of two is within E = 6 u m (m the largest |coordinate|); products and
+        sums carry the errors of their operands plus u per rounding, every bound taken
+        with a margin."""
+        cdef GridPoint *pu = &self.vs[u].at
+        cdef GridPoint *pv = &self.vs[v].at
+        cdef GridPoint *pw = &self.vs[w].at
+        cdef GridPoint *px = &self.vs[x].at
+        cdef GridPoint *ring[5]
+        cdef GridPoint candidate
+        cdef double m, e, dx, dy, big, side, err, low, high
+        cdef double ax, ay, bx, by, cx, cy, sa, sb, sc, a1, a2, ea1, ea2, total, etotal
+        cdef double p1, p2, ep1, ep2, q1, q2, eq1, eq2, num, enum, off, eoff, base, value
+        cdef double ev, scaled, delta, slack, lower, upper
+        cdef int k, exp_low, exp_high, shift
+        cdef int64_t exponent, whole
+        ring[0], ring[1], ring[2], ring[3], ring[4] = pu, px, pv, pw, pu
+        m = 0.0
+        for k in range(4):
+            m = max(m, fabs(ring[k].fx), fabs(ring[k].fy))
+        if not (2.0 ** -400 < m < 2.0 ** 400):
+            return False
+        e = 6.0 * UNIT * m
+        # the exponent: floor(log2(shortest squared side)) // 2 - CENTROID_BITS
+        low = high = INFINITY
+        for k in range(4):
+            dx = ring[k + 1].fx - ring[k].fx
+            dy = ring[k + 1].fy - ring[k].fy
+            big = fabs(dx) + fabs(dy)
+            side = dx * dx + dy * dy
+            err = (e * (2.0 * big + 2.0 * e) + 3.0 * UNIT * big * big) * 1.0001
+            low = min(low, side - err)
+            high = min(high, side + err)
+        low *= 1.0 - 4.0 * UNIT
+        high *= 1.0 + 4.0 * UNIT
+        if not low > 0.0:
+            return False
+        frexp(low, &exp_low)
+        frexp(high, &exp_high)
+        if exp_low != exp_high:
+            return False
+        exponent = ((exp_low - 1) >> 1) - CENTROID_BITS
+        shift = <int>(exponent + self.F)
+        if shift < 0 or shift > 62:
+            return False
+        # the centroid, from u: u + (A1 (a + b) + A2 (a + c)) / 3 (A1 + A2)
+        ax = pv.fx - pu.fx
+        ay = pv.fy - pu.fy
+        bx = pw.fx - pu.fx
+        by = pw.fy - pu.fy
+        cx = px.fx - pu.fx
+        cy = px.fy - pu.fy
+        sa = fabs(ax) + fabs(ay)
+        sb = fabs(bx) + fabs(by)
+        sc = fabs(cx) + fabs(cy)
+        a1 = ax * by - ay * bx
+        a2 = cx * ay - cy * ax
+        ea1 = e * (sa + sb) + 2.0 * e * e + 3.0 * UNIT * sa * sb
+        ea2 = e * (sc + sa) + 2.0 * e * e + 3.0 * UNIT * sc * sa
+        total = 3.0 * (a1 + a2)
+        etotal = (3.0 * (ea1 + ea2) + 6.0 * UNIT * (fabs(a1) + fabs(a2))) * 1.0001
+        if not total > 2.0 * etotal:
+            return False
+        for k in range(2):
+            if k == 0:
+                p1, p2, base = ax + bx, ax + cx, pu.fx
+            else:
+                p1, p2, base = ay + by, ay + cy, pu.fy
+            ep1 = 2.0 * e + UNIT * fabs(p1)
+            ep2 = 2.0 * e + UNIT * fabs(p2)
+            q1 = a1 * p1
+            q2 = a2 * p2
+            eq1 = fabs(a1) * ep1 + fabs(p1) * ea1 + ea1 * ep1 + UNIT * fabs(q1)
+            eq2 = fabs(a2) * ep2 + fabs(p2) * ea2 + ea2 * ep2 + UNIT * fabs(q2)
+            num = q1 + q2
+            enum = eq1 + eq2 + UNIT * (fabs(q1) + fabs(q2))
+            off = num / total
+            eoff = (enum + fabs(off) * etotal) / (total - etotal) + UNIT * fabs(off)
+            value = base + off
+            ev = (eoff + e + UNIT * fabs(value)) * 1.001
+            # floor(C / 2^e + 1/2): no integer between the bounds of the float value
+            scaled = ldexp(value, <int>-exponent) + 0.5
+            if not fabs(scaled) < 2.0 ** 48:
+                return False
+            delta = (ldexp(ev, <int>-exponent) + UNIT * fabs(scaled)) * 1.001
+            slack = 8.0 * UNIT * fabs(scaled) + 2.0 ** -30
+            lower = floor(scaled - delta - slack)
+            upper = floor(scaled + delta + slack)
+            if lower != upper:
+                return False
+            whole = <int64_t>lower
+            if whole > (<int64_t>1 << (60 - shift)) or whole < -(<int64_t>1 << (60 - shift)):
+                return False
+            out[k] = whole << shift
+        candidate.grid = 1
+        candidate.gx = out[0]
+        candidate.gy = out[1]
+        candidate.fx = ldexp(<double>out[0], -self.F)
+        candidate.fy = ldexp(<double>out[1], -self.F)
+        return (self._orient_candidate(u, x, &candidate, out) == 1
+                and self._orient_candidate(x, v, &candidate, out) == 1
+                and self._orient_candidate(v, w, &candidate, out) == 1
+                and self._orient_candidate(w, u, &candidate, out) == 1)
+
+    cdef int _orient_candidate(self, int64_t a, int64_t b, GridPoint *c,
+                               int64_t *at) except -2:
+        """The sign of orient2d(a, b, the grid point ``at``) (its GridPoint ``c``)."""
+        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, c)
+        if result != 2:
+            return result
+        from geomexact.kernel.predicates2d import orient2d_exact
+        points = self.points
+        return int(orient2d_exact(points[a], points[b],
+                                  point2(mpq(at[0], self.unit), mpq(at[1], self.unit))))
+
     # -- predicates (exact): ckernel.pxd's, on these vertices -----------------------------
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
         return orient_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, self.points, a, b, c)
@@ -684,10 +815,6 @@ cdef class Kernel:
         shortest edge against the threshold; key −cos² of it, exact), then the
         sharp-corner rule (left, not queued)."""
         cdef int64_t a = entry.a, b = entry.b, c = entry.c, p, q, r
-        cdef Vertex *vp
-        cdef Vertex *vq
-        cdef Vertex *vr
-        cdef gx_i128 ux, uy, vx, vy, dot, lu, lv
         # the corner p opposite the shortest edge, and its arms q, r (smallest_angle_cos2)
         if self._lengths(a, b, b, c) != 1:
             if self._lengths(a, b, c, a) != 1:
@@ -703,27 +830,70 @@ cdef class Kernel:
         if self._unimprovable(a, b, c):
             self.left[(a, b, c)] = SHARP_CORNER
             return 0
-        vp = &self.vs[p]
-        vq = &self.vs[q]
-        vr = &self.vs[r]
-        if vp.at.grid and vq.at.grid and vr.at.grid:
-            ux = <gx_i128>vq.at.gx - vp.at.gx
-            uy = <gx_i128>vq.at.gy - vp.at.gy
-            vx = <gx_i128>vr.at.gx - vp.at.gx
-            vy = <gx_i128>vr.at.gy - vp.at.gy
-            dot = ux * vx + uy * vy
-            lu = ux * ux + uy * uy
-            lv = vx * vx + vy * vy
-            exact_dot = _from_i128(dot)
-            key = mpq(-(exact_dot * exact_dot), _from_i128(lu) * _from_i128(lv))
-        else:
-            points = self.points
-            key = -_smallest_angle_cos2(points[a], points[b], points[c])
         entry.ikey = 0
-        entry.rank = float(key)
-        entry.py = len(self.pykeys)
-        self.pykeys.append(key)
+        entry.py = -1
+        self._angle_rank(entry, p, q, r)
         return self._push(entry)
+
+    cdef int _angle_rank(self, Entry *entry, int64_t p, int64_t q, int64_t r) except -1:
+        """Set ``rank`` and ``rad``: −cos² of the angle at p between q and r lies within
+        ``rad`` of ``rank``.  On the grid from the exact ``__int128`` dot product and
+        squared lengths (four roundings to double and three operations: relative error
+        below 12 u, 16 u taken); off the grid from the doubles, with the error of each
+        coordinate difference bounded by E = 6 u max|coordinate| and carried through the
+        dot product and lengths; else (extreme magnitudes) the exact key."""
+        cdef Vertex *vp = &self.vs[p]
+        cdef Vertex *vq = &self.vs[q]
+        cdef Vertex *vr = &self.vs[r]
+        cdef gx_i128 gux, guy, gvx, gvy
+        cdef double dot, lu, lv, cos2, ux, uy, vx, vy, m, e, su, sv, edot, elu, elv
+        cdef double low, high
+        if vp.at.grid and vq.at.grid and vr.at.grid:
+            gux = <gx_i128>vq.at.gx - vp.at.gx
+            guy = <gx_i128>vq.at.gy - vp.at.gy
+            gvx = <gx_i128>vr.at.gx - vp.at.gx
+            gvy = <gx_i128>vr.at.gy - vp.at.gy
+            dot = <double>(gux * gvx + guy * gvy)
+            lu = <double>(gux * gux + guy * guy)
+            lv = <double>(gvx * gvx + gvy * gvy)
+            cos2 = (dot * dot) / (lu * lv)
+            entry.rank = -cos2
+            entry.rad = 16.0 * UNIT * cos2
+            return 0
+        m = fabs(vp.at.fx)
+        m = max(m, fabs(vp.at.fy), fabs(vq.at.fx), fabs(vq.at.fy), fabs(vr.at.fx),
+                fabs(vr.at.fy))
+        ux = vq.at.fx - vp.at.fx
+        uy = vq.at.fy - vp.at.fy
+        vx = vr.at.fx - vp.at.fx
+        vy = vr.at.fy - vp.at.fy
+        su = fabs(ux) + fabs(uy)
+        sv = fabs(vx) + fabs(vy)
+        if not (m < 2.0 ** 200 and su > 2.0 ** -200 and sv > 2.0 ** -200
+                and m * 2.0 ** -100 < min(su, sv)):
+            return self._exact_rank(entry)
+        e = 6.0 * UNIT * m
+        dot = ux * vx + uy * vy
+        lu = ux * ux + uy * uy
+        lv = vx * vx + vy * vy
+        # (1.0001: the roundings of the bounds themselves)
+        edot = (e * (su + sv + 2.0 * e) + 3.0 * UNIT * su * sv) * 1.0001
+        elu = (e * (2.0 * su + 2.0 * e) + 3.0 * UNIT * su * su) * 1.0001
+        elv = (e * (2.0 * sv + 2.0 * e) + 3.0 * UNIT * sv * sv) * 1.0001
+        if not (dot > edot and lu > elu and lv > elv):
+            return self._exact_rank(entry)
+        low = (dot - edot) * (dot - edot) / ((lu + elu) * (lv + elv)) * (1.0 - 8.0 * UNIT)
+        high = (dot + edot) * (dot + edot) / ((lu - elu) * (lv - elv)) * (1.0 + 8.0 * UNIT)
+        entry.rank = -0.5 * (low + high)
+        entry.rad = 0.5 * (high - low) + 8.0 * UNIT * high
+        return 0
+
+    cdef int _exact_rank(self, Entry *entry) except -1:
+        """``rank`` from the exact key (correctly rounded, so within 2^-53 of it)."""
+        key = self._angle_key(entry)
+        entry.rank = float(key)
+        entry.rad = 2.0 * UNIT * abs(entry.rank)
+        return 0
 
     cdef bint _sector(self, int64_t p, int64_t q, int64_t r, int64_t *ends) except -1:
         """``Refinement.constraint_sector(p, q, r)``: False when p has no sector, else
@@ -827,11 +997,34 @@ cdef class Kernel:
 
     cdef inline int _less(self, Entry *x, Entry *y) except -1:
         """(key, triangle) of x < that of y, keys compared exactly."""
+        if self.min_angle:
+            # the certified intervals decide, else the exact keys
+            if x.rank + x.rad < y.rank - y.rad:
+                return True
+            if y.rank + y.rad < x.rank - x.rad:
+                return False
+            return self._less_exact_angle(x, y)
         if x.py < 0 and y.py < 0:
             if x.ikey != y.ikey:
                 return x.ikey < y.ikey
             return _triangle_less(x, y)
         return self._less_python(x, y)
+
+    cdef object _angle_key(self, Entry *entry):
+        """The exact MinAngle key of the entry's triangle (made once)."""
+        if entry.py < 0:
+            points = self.points
+            entry.py = len(self.pykeys)
+            self.pykeys.append(-_smallest_angle_cos2(points[entry.a], points[entry.b],
+                                                     points[entry.c]))
+        return self.pykeys[entry.py]
+
+    cdef int _less_exact_angle(self, Entry *x, Entry *y) except -1:
+        kx = self._angle_key(x)
+        ky = self._angle_key(y)
+        if not (kx == ky):
+            return bool(kx < ky)
+        return _triangle_less(x, y)
 
     cdef int _less_python(self, Entry *x, Entry *y) except -1:
         """_less when a key is a Python object."""
@@ -1029,7 +1222,8 @@ cdef class Kernel:
         cdef int64_t at[2]
         if self.limit >= 0 and self.nrec >= self.limit:
             return -1
-        if self.grid_centroids and self._grid_centroid(u, v, w, x, at):
+        if self.grid_centroids and (self._grid_centroid(u, v, w, x, at)
+                                    or self._float_centroid(u, v, w, x, at)):
             qx = mpq(at[0], self.unit)
             qy = mpq(at[1], self.unit)
             point = tuple.__new__(Point2, (qx, qy, float(qx), float(qy)))
@@ -1345,6 +1539,18 @@ cdef class Kernel:
             if not 0 <= vertex < self.nv:
                 raise IndexError(vertex)
         if not self._grid_centroid(u, v, w, x, at):
+            return None
+        return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
+
+    def float_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x):
+        """The certified float path of ``rounded_area_centroid`` (corners off the grid)
+        for the quadrilateral of triangles (u, v, w), (v, u, x): the Point2, or None where
+        the kernel asks Python (for tests)."""
+        cdef int64_t at[2]
+        for vertex in (u, v, w, x):
+            if not 0 <= vertex < self.nv:
+                raise IndexError(vertex)
+        if not self._float_centroid(u, v, w, x, at):
             return None
         return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
 
