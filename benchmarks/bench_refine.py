@@ -17,6 +17,11 @@ Workloads:
   then min angle θ: geomexact centroid and quasi methods (from its constrained Delaunay
   triangulation, timed: refinement only) against Triangle ``pq<θ>`` (from the PSLG:
   triangulation and refinement).
+* ``random1500-30`` (any ``random1500-<θ>``): the Polylla refinement mesh
+  ``../shared/data/polylla-refinement/1500random.off`` (1,502 random points, Delaunay;
+  decimal coordinates, so off the dyadic grid) to min angle θ: geomexact centroid and
+  quasi (refinement only; the file read untimed) against Triangle ``rq<θ>`` (refining the
+  same triangles, in-process).  Skipped when the file is absent.
 
 Every measurement runs in a fresh child process (so each peak memory is its own: the
 child's maximum resident set size) and is the best of ``--repeat`` runs (``--repeat-large``
@@ -26,7 +31,9 @@ address-space limit and a time limit: at 35° on Superior Triangle does not term
 exhausts memory), which is reported as such.
 
 Targets (issue 4): square 1e-5 in <= 5x Triangle's time, 1e-6 in <= 8x with < 4 GB, and
-fewer triangles than Triangle at equal max area.
+fewer triangles than Triangle at equal max area.  Issue 15: min-angle refinement at 30°–35°
+on Superior and on 1500random.off <= 10x Triangle's ``q`` in-process (the verdict lines
+print each ratio).
 """
 
 from __future__ import annotations
@@ -47,6 +54,9 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 TARGETS = {"square-1e-5": 5.0, "square-1e-6": 8.0}
+MIN_ANGLE_TARGET = 10.0
+RANDOM1500 = (Path(__file__).resolve().parent.parent.parent / "shared" / "data"
+              / "polylla-refinement" / "1500random.off")
 MEMORY_LIMIT_BYTES = 4 * 1024**3
 TRIANGLE_ADDRESS_LIMIT = 3 * 1024**3
 TRIANGLE_TIME_LIMIT = 60.0
@@ -104,6 +114,12 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
         criterion: Any = MaxArea(spec["area"])
         options = {"method": "bisection", "delaunay": spec["delaunay"],
                    "engine": spec.get("refine_engine", "auto")}
+    elif spec["input"] == "off":
+        from geomexact import io
+
+        start = io.read(spec["path"])
+        criterion = MinAngle(spec["degrees"])
+        options = {"method": spec["method"]}
     else:
         start = triangulate(superior_pslg()).mesh
         criterion = MinAngle(spec["degrees"])
@@ -120,7 +136,7 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
         "cpu": cpu,
         "left": len(result.stats.left),
     }
-    if spec["input"] == "superior":
+    if spec["input"] in ("superior", "off"):
         left = set(result.stats.left)
         report["min_angle"] = min_angle_degrees(points, mesh.triangles())
         report["min_angle_outside_left"] = min_angle_degrees(
@@ -136,6 +152,13 @@ def work_triangle(spec: dict[str, Any]) -> dict[str, Any]:
     if spec["input"] == "square":
         data = {"vertices": np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=float),
                 "segments": np.array([[0, 1], [1, 2], [2, 3], [3, 0]])}
+    elif spec["input"] == "off":
+        from geomexact import io
+
+        mesh = io.read(spec["path"])
+        data = {"vertices": np.array([[float(p.x), float(p.y)]
+                                      for _, p in sorted(mesh.vertices.items())]),
+                "triangles": np.array(mesh.triangles())}
     else:
         pslg = superior_pslg()
         data = {"vertices": np.array([[float(p.x), float(p.y)] for p in pslg.vertices]),
@@ -145,7 +168,7 @@ def work_triangle(spec: dict[str, Any]) -> dict[str, Any]:
                               spec["repeat"])
     report = {"triangles": len(output["triangles"]), "vertices": len(output["vertices"]),
               "wall": wall, "cpu": cpu, "status": "complete"}
-    if spec["input"] == "superior":
+    if spec["input"] in ("superior", "off"):
         report["min_angle"] = min_angle_degrees(
             [tuple(p) for p in output["vertices"].tolist()], output["triangles"].tolist())
     return report
@@ -206,8 +229,48 @@ def superior_runs(degrees: int, repeat: int) -> list[dict[str, Any]]:
     return runs
 
 
-def verdicts(runs: list[dict[str, Any]]) -> list[str]:
+def random1500_runs(degrees: int, repeat: int) -> list[dict[str, Any]]:
+    name = f"random1500-{degrees}"
+    if not RANDOM1500.exists():
+        return [{"workload": name, "program": "geomexact", "status": f"{RANDOM1500} absent"}]
+    runs = []
+    for method in ("centroid", "quasi"):
+        spec = {"engine": "geomexact", "input": "off", "path": str(RANDOM1500),
+                "degrees": degrees, "method": method, "repeat": repeat}
+        runs.append({"workload": name, "program": f"geomexact {method}",
+                     **measure(spec, None)})
+    spec = {"engine": "triangle", "input": "off", "path": str(RANDOM1500),
+            "switches": f"rq{degrees}", "repeat": repeat}
+    runs.append({"workload": name, "program": f"triangle -rq{degrees}",
+                 **measure(spec, TRIANGLE_TIME_LIMIT)})
+    return runs
+
+
+def min_angle_verdicts(runs: list[dict[str, Any]]) -> list[str]:
+    """Each min-angle run against Triangle's ``q`` run of the same workload."""
     lines = []
+    for run in runs:
+        workload = run["workload"]
+        if not workload.startswith(("superior-", "random1500-")) or not run[
+                "program"].startswith("geomexact") or "wall" not in run:
+            continue
+        reference = next((r for r in runs if r["workload"] == workload
+                          and r["program"].startswith("triangle") and "wall" in r), None)
+        if reference is None:
+            lines.append(f"{workload}: {run['program']}: no Triangle run to compare with")
+            continue
+        ratio = run["wall"] / reference["wall"]
+        verdict = "meets" if ratio <= MIN_ANGLE_TARGET else "MISSES"
+        lines.append(
+            f"{workload}: {run['program']} {verdict} the target: {ratio:.1f}x Triangle's "
+            f"wall time ({run['cpu'] / reference['cpu']:.1f}x CPU; target <= "
+            f"{MIN_ANGLE_TARGET:.0f}x), {run['triangles']:,} vs {reference['triangles']:,} "
+            f"triangles")
+    return lines
+
+
+def verdicts(runs: list[dict[str, Any]]) -> list[str]:
+    lines = min_angle_verdicts(runs)
     for workload, limit in TARGETS.items():
         # the default engine is judged; the pure-Python engine (used where the compiled
         # kernel is not built or does not apply) is reported for reference
@@ -236,7 +299,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--only", nargs="+", metavar="WORKLOAD",
-                        help="square-1e-5, square-1e-6, superior-30 … superior-35")
+                        help="square-1e-5, square-1e-6, superior-30 … superior-35, "
+                             "random1500-30")
     parser.add_argument("--repeat", type=int, default=3, help="best of N (default 3)")
     parser.add_argument("--repeat-large", type=int, default=1,
                         help="best of N for square-1e-6 (default 1)")
@@ -246,7 +310,7 @@ def main() -> int:
         worker(json.loads(args.worker))
         return 0
     workloads = args.only or ["square-1e-5", "square-1e-6",
-                              *(f"superior-{d}" for d in range(30, 36))]
+                              *(f"superior-{d}" for d in range(30, 36)), "random1500-30"]
     runs: list[dict[str, Any]] = []
     for workload in workloads:
         if workload == "square-1e-5":
@@ -255,6 +319,8 @@ def main() -> int:
             runs += square_runs(workload, "0.000001", args.repeat_large)
         elif workload.startswith("superior-"):
             runs += superior_runs(int(workload.split("-")[1]), args.repeat)
+        elif workload.startswith("random1500-"):
+            runs += random1500_runs(int(workload.split("-")[1]), args.repeat)
         else:
             parser.error(f"unknown workload {workload}")
         if not args.json:

@@ -162,9 +162,47 @@ def superior() -> Mesh2:
     return triangulate(superior_pslg()).mesh
 
 
+# the sharp spikes of tests/mesh2d/refinement/test_refine.py (they once ran forever)
+SPIKES = {
+    "spike-1.85": [("-8580/2273", "-3008/2273"), ("-12/5", "-16/5"), (4, 0), ("-12/5", "16/5"),
+                   ("-45045/9092", "3948/2273"), ("-134461/10660", "10812/2665"),
+                   ("-54145/13252", "3876/3313")],
+    "spike-3.84": [("-252/65", "-64/65"), ("-884/229", "-240/229"), ("-2852/745", "-864/745"),
+                   ("-4785/346", "-754/173"), ("-72/13", "-30/13"), ("-12/5", "-16/5"), (4, 0),
+                   ("-12/5", "16/5")],
+}
+
+
+@functools.lru_cache(maxsize=4)
+def spike(name: str) -> Mesh2:
+    points = [point2(x, y) for x, y in SPIKES[name]]
+    n = len(points)
+    return triangulate(PSLG(vertices=points,
+                            segments=[(i, (i + 1) % n, 1) for i in range(n)])).mesh
+
+
+@functools.lru_cache(maxsize=8)
+def wedge(height: int) -> Mesh2:
+    """A quadrilateral with sharp corners at vertices 0 and 2."""
+    points = [point2(0, 0), point2(10, 0), point2(12, 1), point2(10, mpq(height, 100))]
+    return triangulate(PSLG(vertices=points,
+                            segments=[(0, 1, 1), (1, 2, 1), (2, 3, 1), (3, 0, 1)])).mesh
+
+
+@functools.lru_cache(maxsize=4)
+def polylla_mesh(path: str) -> Mesh2:
+    mesh = io.read(path)
+    assert isinstance(mesh, Mesh2)
+    return mesh
+
+
 @attrs.frozen(slots=True)
 class Wide(AverageAreaFactor):
     """A region-wide criterion that is not exactly ``AverageAreaFactor`` (no kernel)."""
+
+
+class OtherAngle(MinAngle):
+    """A minimum-angle criterion that is not exactly ``MinAngle`` (no kernel)."""
 
 
 def lattice_mesh(raw: list[tuple[int, int]], denominator: int) -> Mesh2 | None:
@@ -462,16 +500,99 @@ class RefinementSuite:
         self.same(superior(), AverageAreaFactor("1/2"), region=Circle(-88, 47, 1),
                   method=method)
 
-    # -- minimum angle and attributes (the kernel refuses them) ---------------------------
+    # -- minimum angle (the kernel rates it in C, with the small-angle rules) --------------
     @pytest.mark.parametrize("method", ["centroid", "quasi"])
-    @pytest.mark.parametrize("degrees", [20, 30, 35])
+    @pytest.mark.parametrize("degrees", [20, 25, 30, 33, 35])
     def test_min_angle_superior(self, method: str, degrees: int) -> None:
+        """Lake Superior at every θ of the benchmark: its 15.02° corner is left
+        ("sharp-corner") at each one."""
         result = self.same(superior(), MinAngle(degrees), method=method)
         assert result.status == "complete"
+        assert "sharp-corner" in result.stats.left_reasons
+
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    def test_min_angle_superior_options(self, method: str) -> None:
+        """Regions, no constraint midpoints, fractional and exact (45°) thresholds, and
+        step limits inside the run."""
+        self.same(superior(), MinAngle(30), method=method, constraint_midpoints=False)
+        self.same(superior(), MinAngle(28), method=method, region=Circle(-88, 47, 1))
+        self.same(superior(), MinAngle("32.5"), method=method,
+                  region=Rectangle(-90, 46, 3, 2))
+        self.same(superior(), MinAngle(45), method=method, max_steps=700)
+        for limit in (0, 1, 57, 500):
+            result = self.same(superior(), MinAngle(34), method=method, max_steps=limit)
+            assert result.status == "step-limit" and len(result.trace) == limit
 
     def test_min_angle_bisection_with_step_limit(self) -> None:
         self.same(off_grid(), MinAngle(30), max_steps=60)
         self.same(superior(), MinAngle(30), max_steps=200, delaunay=False, method="centroid")
+        self.same(superior(), MinAngle(30), max_steps=300)
+        self.same(superior(), MinAngle(25), max_steps=300, delaunay=False)
+
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    def test_min_angle_off_grid_huge_tiny(self, method: str) -> None:
+        """Thirds and tenths (float filters, exact fallbacks, off-grid keys), coordinates
+        beyond the grid's range and far below it, an exact 45° on the lattice (right
+        isosceles triangles: EQUAL is acceptable)."""
+        self.same(off_grid(), MinAngle(30), method=method, max_steps=400)
+        self.same(mixed_grid(), MinAngle(27), method=method, max_steps=400)
+        self.same(box(BIG), MinAngle(33), method=method)
+        self.same(box(TINY), MinAngle(33), method=method)
+        self.same(square(), MinAngle(45), method=method, max_steps=300)
+        self.same(square(), MinAngle(30), method=method, delaunay=False, max_steps=100)
+
+    @pytest.mark.parametrize("name", sorted(SPIKES))
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    @pytest.mark.parametrize("degrees", [20, 30, 35])
+    def test_min_angle_sharp_spikes(self, name: str, method: str, degrees: int) -> None:
+        """Small sharp inputs: the two spikes that once ran forever (protected tips and
+        sharp corners, both reasons)."""
+        result = self.same(spike(name), MinAngle(degrees), method=method)
+        assert result.status == "complete" and result.stats.left
+
+    @pytest.mark.parametrize("height", [3, 20, 45, 150])
+    @pytest.mark.parametrize("method", ["centroid", "quasi"])
+    def test_min_angle_wedges(self, height: int, method: str) -> None:
+        """A quadrilateral with two sharp corners, thinner for a smaller ``height``."""
+        for degrees in (20, 30, 34):
+            result = self.same(wedge(height), MinAngle(degrees), method=method)
+            assert result.status == "complete"
+        self.same(wedge(height), MinAngle(30), method=method, constraint_midpoints=False)
+
+    def test_min_angle_protected_tips(self) -> None:
+        """Runs whose targets are left as "protected-tip" (terminal edges and constraint
+        midpoints refused), held op by op."""
+        reasons: set[str] = set()
+        for name in sorted(SPIKES):
+            for method in ("centroid", "quasi"):
+                for degrees in (25, 33):
+                    result = self.same(spike(name), MinAngle(degrees), method=method)
+                    reasons |= set(result.stats.left_reasons)
+        assert reasons == {"sharp-corner", "protected-tip"}
+
+    @pytest.mark.parametrize(("name", "method", "degrees"), [
+        ("1500random.off", "centroid", 30),
+        ("500poisson.off", "centroid", 30),
+        ("500poisson.off", "quasi", 35),
+        ("500poisson.off", "centroid", 20),
+    ])
+    def test_min_angle_polylla_meshes(self, shared_data: Path, name: str, method: str,
+                                      degrees: int) -> None:
+        """The Polylla refinement meshes (decimal coordinates: off the grid, float filters;
+        rounded centroids on it)."""
+        path = shared_data / "polylla-refinement" / name
+        if not path.exists():
+            pytest.skip(f"{path} not found")
+        result = self.same(polylla_mesh(str(path)), MinAngle(degrees), method=method)
+        assert result.status == "complete"
+
+    def test_min_angle_polylla_region(self, shared_data: Path) -> None:
+        path = shared_data / "polylla-refinement" / "500poisson.off"
+        if not path.exists():
+            pytest.skip(f"{path} not found")
+        start = polylla_mesh(str(path))
+        self.same(start, MinAngle(32), method="quasi", region=Circle("0.5", "0.5", "0.25"))
+        self.same(start, MinAngle(30), method="centroid", max_steps=77)
 
     @every_engine
     @given(st.sampled_from(["bisection", "centroid", "quasi"]), st.integers(3, 60))
@@ -881,12 +1002,12 @@ def test_auto_runs_the_kernel_only_where_it_applies(monkeypatch: pytest.MonkeyPa
     if compiled_refinement.AVAILABLE:
         refine(start, MaxArea("1/64"), engine="compiled")
         assert calls == ["kernel", "kernel"]
-    auto = refine(start, MinAngle(30), method="centroid", engine="auto")  # not in the kernel
-    assert auto.trace == refine(start, MinAngle(30), method="centroid", engine="python").trace
+    auto = refine(start, OtherAngle(30), method="centroid", engine="auto")  # not in the kernel
+    assert auto.trace == refine(start, OtherAngle(30), method="centroid", engine="python").trace
 
 
 @pytest.mark.parametrize(("criterion", "options", "reason"), [
-    (MinAngle(30), {"method": "centroid"}, "no minimum-angle criterion"),
+    (OtherAngle(30), {"method": "centroid"}, "the only minimum-angle criterion"),
     (MaxArea("0.1"), {"method": "centroid", "centroid": "vertices"}, "centroid 'area'"),
     (MaxArea("0.1"), {"method": "quasi", "centroid": "area-exact"}, "centroid 'area'"),
     (Wide("0.5"), {}, "region-wide criterion"),

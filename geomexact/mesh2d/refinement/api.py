@@ -308,7 +308,7 @@ def refine(
             left, targets, searches, hops = (
                 compiled.left, compiled.targets, compiled.searches, compiled.hops
             )
-            reasons: tuple[LeftReason, ...] = ()  # the kernel runs no minimum angle
+            reasons: tuple[LeftReason, ...] = compiled.left_reasons
         else:
             run: Refinement
             if name == "reference":

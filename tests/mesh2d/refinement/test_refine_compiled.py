@@ -11,7 +11,7 @@ from typing import Any
 
 import attrs
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from geomexact import Mesh2, mesh_from_triangles, mpq
@@ -27,7 +27,7 @@ from geomexact.mesh2d.refinement.criteria import (
 )
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
-from geomexact.mesh2d.refinement.engines.compiled import run_compiled
+from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
 from geomexact.mesh2d.refinement.regions import Circle, Rectangle, Region, as_region
 
 pytestmark = pytest.mark.skipif(
@@ -97,6 +97,34 @@ def test_factor_kernel_state() -> None:
 
 
 # --- methods centroid and quasi (centroid="area": insert_in_quadrilateral) ------------------
+@settings(max_examples=300)
+@given(st.lists(st.tuples(st.integers(-10**6, 10**6), st.integers(-10**6, 10**6)),
+                min_size=4, max_size=4, unique=True),
+       st.sampled_from([3, 10**4, 7 * 2**20, 10**16, 3**40]),
+       st.sampled_from([0, mpq(1, 3), mpq(-8858, 100), mpq(10**12, 7)]))
+def test_float_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]],
+                                                denominator: int, shift: Any) -> None:
+    """The kernel's certified float path of ``rounded_area_centroid`` (corners off the
+    grid: thirds, decimals) gives exactly the Python function's point, or defers to it."""
+    from geomexact.kernel.predicate_results import Orientation
+    from geomexact.kernel.predicates2d import orient2d
+    from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
+
+    pu, pv, pw, px = (point2(mpq(x, denominator) + shift, mpq(y, denominator) - shift)
+                      for x, y in raw)
+    ccw = Orientation.COUNTERCLOCKWISE
+    if not all(orient2d(p, q, r) == ccw for p, q, r in (
+            (pu, px, pv), (px, pv, pw), (pv, pw, pu), (pw, pu, px))):
+        return  # not a strictly convex quadrilateral u, x, v, w
+    start = mesh_from_triangles([pu, pv, pw, px], [(0, 1, 2), (1, 0, 3)])
+    kernel = lepp_kernel.Kernel(start, MaxArea(1), as_region(None), True, True, None, None,
+                                Progress, None)
+    point = kernel.float_centroid(0, 1, 2, 3)
+    if point is not None:
+        assert point == rounded_area_centroid(pu, pv, pw, px)
+
+
 @given(st.lists(st.tuples(st.integers(-40, 40), st.integers(-40, 40)), min_size=4,
                 max_size=4, unique=True), st.sampled_from([1, 2, 64, 3, 1 << 40]),
        st.integers(-(1 << 20), 1 << 20))
@@ -127,6 +155,10 @@ def test_grid_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]], deno
 
 
 # --- the subset ---------------------------------------------------------------------------
+class OtherAngle(MinAngle):
+    """A minimum-angle criterion that is not exactly ``MinAngle`` (no kernel)."""
+
+
 def test_outside_the_subset_returns_none() -> None:
     start = square()
     for method in ("centroid", "quasi"):
@@ -134,8 +166,14 @@ def test_outside_the_subset_returns_none() -> None:
         for centroid in ("area-exact", "vertices"):
             assert run_compiled(start, None, **options(
                 MaxArea("0.1"), method=method, centroid=centroid)) is None
-        assert run_compiled(start, 5, **options(MinAngle(30), method=method)) is None
-    assert run_compiled(start, 5, **options(MinAngle(30))) is None
+        assert run_compiled(start, 5, **options(MinAngle(30), method=method)) is not None
+        # a minimum-angle criterion of another type (its rate may differ): declined
+        assert run_compiled(start, 5, **options(OtherAngle(30), method=method)) is None
+    assert run_compiled(start, 5, **options(MinAngle(30))) is not None
+    # an option the kernel does not know: declined, never run with another meaning
+    novel = {**options(MaxArea("0.1")), "novel_rule": True}
+    assert run_compiled(start, None, **novel) is None
+    assert "novel_rule" in (unsupported(start, **novel) or "")
     assert run_compiled(start, None, **options(Wide("0.5"))) is None
     assert run_compiled(start, None, **options(AverageAreaFactor("0.5"))) is not None
     attributed = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],

@@ -12,11 +12,16 @@ Python engine — or None when the kernel is not built or the run is outside its
   and ``"quasi"`` with ``centroid="area"`` (the rounded area centroid, computed by
   :func:`geomexact.mesh2d.refinement.centroids.rounded_area_centroid` and recorded as
   ``insert_in_quadrilateral``), with or without ``delaunay`` and ``constraint_midpoints``;
-* a criterion on single triangles with no ``angle_threshold`` (minimum angle), or
-  ``AverageAreaFactor`` (the exact type; no other region-wide target): ``MaxArea`` and
-  ``AverageAreaFactor`` are rated in C on dyadic triangles, any other criterion through
-  its ``rate``; the region's mean area is tracked exactly as ``Refinement.account``;
-* any region; no triangle attributes; any ``max_steps`` and ``on_step``.
+* a criterion on single triangles: ``MinAngle`` (the exact type), rated in C (the angle
+  opposite the shortest edge against the threshold by ``compare_angle``'s float filter,
+  the key −cos² exact), with the small-angle rules of ``Refinement`` (sharp corners left,
+  protected tips; ``left`` and ``left_reasons`` as the Python engine's); another criterion
+  with no ``angle_threshold``, rated through its ``rate`` (``MaxArea`` in C on dyadic
+  triangles); or ``AverageAreaFactor`` (the exact type; no other region-wide target),
+  the region's mean area tracked exactly as ``Refinement.account``;
+* any region; no triangle attributes; any ``max_steps`` and ``on_step``;
+* no option beyond those above (:data:`OPTIONS`): a run with an option the kernel does
+  not know is declined, never run with another meaning.
 
 ``refine(..., engine="auto")`` (the default) uses it whenever it applies, and the Python
 engine otherwise; ``engine="compiled"`` uses it or raises
@@ -34,27 +39,31 @@ import attrs
 from geomexact.kernel.numbers import mpq
 from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
-from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, MaxArea
-from geomexact.mesh2d.refinement.driver import Progress
+from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, MaxArea, MinAngle
+from geomexact.mesh2d.refinement.driver import LeftReason, Progress
 from geomexact.mesh2d.refinement.regions import Whole
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.step import Step
 
 _lepp_kernel: Any = compiled_kernel("geomexact.mesh2d.refinement.engines.lepp_kernel")
 
-__all__ = ["AVAILABLE", "REPLAYED_OPS", "CompiledRun", "replay_compiled", "run_compiled",
-           "supports", "unsupported"]
+__all__ = ["AVAILABLE", "OPTIONS", "REPLAYED_OPS", "CompiledRun", "replay_compiled",
+           "run_compiled", "supports", "unsupported"]
 
 AVAILABLE: bool = _lepp_kernel is not None
 """True when the extension is built and importable."""
+
+OPTIONS = frozenset({"criterion", "region", "method", "delaunay", "centroid",
+                     "constraint_midpoints", "on_step"})
+"""The options of ``refine()`` the kernel implements; any other option makes it decline."""
 
 
 @attrs.frozen(slots=True)
 class CompiledRun:
     """What ``refine()`` needs from a run: the final snapshot, the trace (steps and the
     digest after each), the status and the counters of
-    :class:`~geomexact.mesh2d.refinement.api.RefineStats`
-    (``left`` is always empty: the subset has no minimum-angle criterion)."""
+    :class:`~geomexact.mesh2d.refinement.api.RefineStats` (``left`` and ``left_reasons``
+    as ``Refinement.left_triangles`` and ``left_reasons``)."""
 
     mesh: Mesh2
     steps: list[Step]
@@ -64,6 +73,7 @@ class CompiledRun:
     targets: int
     searches: int
     hops: int
+    left_reasons: tuple[LeftReason, ...] = ()
 
 
 def unsupported(mesh: Mesh2, **options: Any) -> str | None:
@@ -71,6 +81,9 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
     subset), or None when it can."""
     if not AVAILABLE:
         return "the compiled Lepp kernel is not built (no C compiler at install)"
+    unknown = sorted(set(options) - OPTIONS)
+    if unknown:
+        return f"it implements no option {', '.join(map(repr, unknown))}"
     criterion = options["criterion"]
     if not (
         options["method"] == "bisection"
@@ -79,8 +92,8 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
         return (f"it runs method 'bisection', and 'centroid' or 'quasi' with centroid "
                 f"'area', not method {options['method']!r} with centroid "
                 f"{options['centroid']!r}")
-    if criterion.angle_threshold is not None:
-        return "it runs no minimum-angle criterion"
+    if criterion.angle_threshold is not None and type(criterion) is not MinAngle:
+        return "the only minimum-angle criterion it runs is MinAngle"
     if type(criterion) is not AverageAreaFactor and (
         criterion.target_mean_area(mpq(1), 1) is not None
     ):
@@ -115,6 +128,7 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
         limit, on_step, Progress, doubled, type(criterion) is AverageAreaFactor,
         method=options["method"], constraint_midpoints=bool(options["constraint_midpoints"]),
         centroid=rounded_area_centroid,
+        threshold=criterion.threshold if type(criterion) is MinAngle else None,
     )
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)
@@ -123,10 +137,11 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
         steps=steps,
         digests=digests,
         status=status,
-        left=(),
+        left=kernel.left_triangles(),
         targets=kernel.targets,
         searches=kernel.searches,
         hops=kernel.hops,
+        left_reasons=kernel.left_reasons(),
     )
 
 

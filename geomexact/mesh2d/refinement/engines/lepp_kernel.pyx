@@ -34,6 +34,7 @@ Python predicate on the ``Point2`` objects.
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
 from libc.stdlib cimport malloc, free
+from libc.math cimport fabs, floor, frexp, ldexp
 from cpython.exc cimport PyErr_CheckSignals
 
 import hashlib
@@ -45,8 +46,12 @@ import immutables
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel import comparisons as _comparisons
+from geomexact.kernel import filter_bounds as _bounds
+from geomexact.kernel.angles import compare_angle as _compare_angle
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
+from geomexact.mesh2d.refinement.criteria import smallest_angle_cos2 as _smallest_angle_cos2
+from geomexact.mesh2d.refinement.driver import Refinement as _Refinement
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d.refinement.queue import rank as _rank
 from geomexact.mesh2d.snapshot import MAX_VERTICES, Mesh2
@@ -56,6 +61,7 @@ from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
     GridPoint,
+    filtered_orient,
     Pair,
     PairStack,
     filtered_dot,
@@ -108,6 +114,9 @@ cdef struct Entry:
     gx_i128 ikey       # the exact key when py < 0
     double rank        # geomexact.mesh2d.refinement.queue.rank(key) when py >= 0
     int64_t py         # index of the Python key in Kernel.pykeys, or -1
+    # MinAngle: rank is −cos² of the smallest angle within rad (certified); the exact key
+    # is made (py) only when two entries' intervals meet
+    double rad
     int64_t a
     int64_t b
     int64_t c
@@ -120,6 +129,31 @@ cdef struct Record:
     int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral
 
 cdef object GRID_LIMIT = 1 << 60
+
+# the constants of compare_angle's float filter (geomexact.kernel.angles)
+cdef double DOT_C = _bounds.DOT_C
+cdef double DOT_K = _bounds.DOT_K
+cdef double ANGLE_C = _bounds.ANGLE_C
+cdef double ANGLE_K = _bounds.ANGLE_K
+cdef double UNIT = 2.0 ** -53  # the unit roundoff of doubles
+cdef double INFINITY = float("inf")
+
+SHARP_CORNER = "sharp-corner"
+PROTECTED_TIP = "protected-tip"
+
+
+class _TipLimits:
+    """``Refinement.tip_limit`` reads ``start`` and ``tip_limits`` only: this holds them, so
+    the kernel takes the driver's own rule (once per input vertex)."""
+
+    __slots__ = ("start", "tip_limits")
+
+    def __init__(self, start):
+        self.start = start
+        self.tip_limits = {}
+
+    def limit(self, vertex):
+        return _Refinement.tip_limit(self, vertex)
 
 
 cdef inline bint _pair_less(int64_t a, int64_t b, int64_t c, int64_t d) nogil:
@@ -198,6 +232,15 @@ cdef class Kernel:
     cdef list points, pykeys, step_objects, inserted
     cdef dict segments, new_markers
     cdef object rate, contains, on_step, progress, scale, centroid
+    # a MinAngle criterion (rated in C): its AngleThreshold, cos2 as a double (maybe nan)
+    # and the sign of cos θ; the left triangles and why; the input's tip limits
+    cdef bint min_angle
+    cdef object threshold
+    cdef double cos2f
+    cdef int cos_sign
+    cdef dict left
+    cdef object tips
+    cdef dict tip_grid
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
@@ -211,7 +254,8 @@ cdef class Kernel:
 
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
                  on_step, progress, max_area_doubled, bint average=False,
-                 method="bisection", bint constraint_midpoints=True, centroid=None):
+                 method="bisection", bint constraint_midpoints=True, centroid=None,
+                 threshold=None):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
         grid triangles), else None (``criterion.rate`` rates every triangle).
         ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
@@ -220,7 +264,10 @@ cdef class Kernel:
         ``method``: ``"bisection"``, ``"centroid"`` or ``"quasi"``;
         ``constraint_midpoints`` as ``refine()``; ``centroid``: the function giving the
         point inserted into a terminal quadrilateral (``rounded_area_centroid``), recorded
-        as ``insert_in_quadrilateral`` (required for the methods other than bisection)."""
+        as ``insert_in_quadrilateral`` (required for the methods other than bisection).
+        ``threshold``: the ``AngleThreshold`` of a ``MinAngle`` criterion, rated in C
+        (``criterion.rate`` is then unused), with the small-angle rules of
+        ``Refinement``."""
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
         cdef int64_t g
@@ -290,6 +337,16 @@ cdef class Kernel:
         self.inserted = []
         self.contains = region.contains
         self.rate = criterion.rate
+        self.min_angle = threshold is not None
+        self.threshold = threshold
+        self.left = {}
+        self.tip_grid = {}
+        if self.min_angle:
+            if max_area_doubled is not None or average:
+                raise ValueError("a minimum angle is rated alone")
+            self.cos2f = threshold.cos2_float
+            self.cos_sign = threshold.cos_sign
+            self.tips = _TipLimits(start)
         self.on_step = on_step
         self.progress = progress
         self.step_objects = [] if on_step is not None else None
@@ -464,6 +521,131 @@ cdef class Kernel:
             and gx_grid_orient(pw.at.gx, pw.at.gy, pu.at.gx, pu.at.gy, cx, cy) == 1
         )
 
+    cdef bint _float_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
+                              int64_t *out) except -1:
+        """``rounded_area_centroid(u, v, w, x)`` from the doubles of corners off the grid,
+        when a certified float evaluation decides it: the rounding exponent (the shortest
+        squared side's floor(log2), from intervals around each side) and each rounded
+        coordinate floor(C / 2^e + 1/2) (no integer within the error bound of the float
+        value), giving a grid point that is then tested strictly inside the four new
+        triangles (``orient2d``, filter then exact).  ``out``: its grid coordinates; False
+        (the caller asks Python) when anything is undecided or off the kernel's grid.
+
+        Error bounds (u = 2^-53): each double is within u of its exact coordinate, so each
+        difference of two is within E = 6 u m (m the largest |coordinate|); products and
+        sums carry the errors of their operands plus u per rounding, every bound taken
+        with a margin."""
+        cdef GridPoint *pu = &self.vs[u].at
+        cdef GridPoint *pv = &self.vs[v].at
+        cdef GridPoint *pw = &self.vs[w].at
+        cdef GridPoint *px = &self.vs[x].at
+        cdef GridPoint *ring[5]
+        cdef GridPoint candidate
+        cdef double m, e, dx, dy, big, side, err, low, high
+        cdef double ax, ay, bx, by, cx, cy, sa, sb, sc, a1, a2, ea1, ea2, total, etotal
+        cdef double p1, p2, ep1, ep2, q1, q2, eq1, eq2, num, enum, off, eoff, base, value
+        cdef double ev, scaled, delta, slack, lower, upper
+        cdef int k, exp_low, exp_high, shift
+        cdef int64_t exponent, whole
+        ring[0], ring[1], ring[2], ring[3], ring[4] = pu, px, pv, pw, pu
+        m = 0.0
+        for k in range(4):
+            m = max(m, fabs(ring[k].fx), fabs(ring[k].fy))
+        if not (2.0 ** -400 < m < 2.0 ** 400):
+            return False
+        e = 6.0 * UNIT * m
+        # the exponent: floor(log2(shortest squared side)) // 2 - CENTROID_BITS
+        low = high = INFINITY
+        for k in range(4):
+            dx = ring[k + 1].fx - ring[k].fx
+            dy = ring[k + 1].fy - ring[k].fy
+            big = fabs(dx) + fabs(dy)
+            side = dx * dx + dy * dy
+            err = (e * (2.0 * big + 2.0 * e) + 3.0 * UNIT * big * big) * 1.0001
+            low = min(low, side - err)
+            high = min(high, side + err)
+        low *= 1.0 - 4.0 * UNIT
+        high *= 1.0 + 4.0 * UNIT
+        if not low > 0.0:
+            return False
+        frexp(low, &exp_low)
+        frexp(high, &exp_high)
+        if exp_low != exp_high:
+            return False
+        exponent = ((exp_low - 1) >> 1) - CENTROID_BITS
+        shift = <int>(exponent + self.F)
+        if shift < 0 or shift > 62:
+            return False
+        # the centroid, from u: u + (A1 (a + b) + A2 (a + c)) / 3 (A1 + A2)
+        ax = pv.fx - pu.fx
+        ay = pv.fy - pu.fy
+        bx = pw.fx - pu.fx
+        by = pw.fy - pu.fy
+        cx = px.fx - pu.fx
+        cy = px.fy - pu.fy
+        sa = fabs(ax) + fabs(ay)
+        sb = fabs(bx) + fabs(by)
+        sc = fabs(cx) + fabs(cy)
+        a1 = ax * by - ay * bx
+        a2 = cx * ay - cy * ax
+        ea1 = e * (sa + sb) + 2.0 * e * e + 3.0 * UNIT * sa * sb
+        ea2 = e * (sc + sa) + 2.0 * e * e + 3.0 * UNIT * sc * sa
+        total = 3.0 * (a1 + a2)
+        etotal = (3.0 * (ea1 + ea2) + 6.0 * UNIT * (fabs(a1) + fabs(a2))) * 1.0001
+        if not total > 2.0 * etotal:
+            return False
+        for k in range(2):
+            if k == 0:
+                p1, p2, base = ax + bx, ax + cx, pu.fx
+            else:
+                p1, p2, base = ay + by, ay + cy, pu.fy
+            ep1 = 2.0 * e + UNIT * fabs(p1)
+            ep2 = 2.0 * e + UNIT * fabs(p2)
+            q1 = a1 * p1
+            q2 = a2 * p2
+            eq1 = fabs(a1) * ep1 + fabs(p1) * ea1 + ea1 * ep1 + UNIT * fabs(q1)
+            eq2 = fabs(a2) * ep2 + fabs(p2) * ea2 + ea2 * ep2 + UNIT * fabs(q2)
+            num = q1 + q2
+            enum = eq1 + eq2 + UNIT * (fabs(q1) + fabs(q2))
+            off = num / total
+            eoff = (enum + fabs(off) * etotal) / (total - etotal) + UNIT * fabs(off)
+            value = base + off
+            ev = (eoff + e + UNIT * fabs(value)) * 1.001
+            # floor(C / 2^e + 1/2): no integer between the bounds of the float value
+            scaled = ldexp(value, <int>-exponent) + 0.5
+            if not fabs(scaled) < 2.0 ** 48:
+                return False
+            delta = (ldexp(ev, <int>-exponent) + UNIT * fabs(scaled)) * 1.001
+            slack = 8.0 * UNIT * fabs(scaled) + 2.0 ** -30
+            lower = floor(scaled - delta - slack)
+            upper = floor(scaled + delta + slack)
+            if lower != upper:
+                return False
+            whole = <int64_t>lower
+            if whole > (<int64_t>1 << (60 - shift)) or whole < -(<int64_t>1 << (60 - shift)):
+                return False
+            out[k] = whole << shift
+        candidate.grid = 1
+        candidate.gx = out[0]
+        candidate.gy = out[1]
+        candidate.fx = ldexp(<double>out[0], -self.F)
+        candidate.fy = ldexp(<double>out[1], -self.F)
+        return (self._orient_candidate(u, x, &candidate, out) == 1
+                and self._orient_candidate(x, v, &candidate, out) == 1
+                and self._orient_candidate(v, w, &candidate, out) == 1
+                and self._orient_candidate(w, u, &candidate, out) == 1)
+
+    cdef int _orient_candidate(self, int64_t a, int64_t b, GridPoint *c,
+                               int64_t *at) except -2:
+        """The sign of orient2d(a, b, the grid point ``at``) (its GridPoint ``c``)."""
+        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, c)
+        if result != 2:
+            return result
+        from geomexact.kernel.predicates2d import orient2d_exact
+        points = self.points
+        return int(orient2d_exact(points[a], points[b],
+                                  point2(mpq(at[0], self.unit), mpq(at[1], self.unit))))
+
     # -- predicates (exact): ckernel.pxd's, on these vertices -----------------------------
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
         return orient_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, self.points, a, b, c)
@@ -567,6 +749,8 @@ cdef class Kernel:
         entry.a = a
         entry.b = b
         entry.c = c
+        if self.min_angle:
+            return self._consider_angle(&entry)
         if self.max_area:
             va = &self.vs[a]
             vb = &self.vs[b]
@@ -589,13 +773,258 @@ cdef class Kernel:
         self.pykeys.append(key)
         return self._push(&entry)
 
+    # -- the minimum angle (MinAngle.rate and the small-angle rules of Refinement) ---------
+    cdef int _angle(self, int64_t a, int64_t b, int64_t c) except -2:
+        """``compare_angle(points[a], points[b], points[c], threshold)`` (the angle at b)
+        as -1, 0, 1: its two-stage float filter, same formulas and constants, else the
+        exact Python comparison."""
+        cdef GridPoint *pa = &self.vs[a].at
+        cdef GridPoint *pb = &self.vs[b].at
+        cdef GridPoint *pc = &self.vs[c].at
+        cdef double bx = pb.fx, by = pb.fy
+        cdef double ux = pa.fx - bx, uy = pa.fy - by, vx = pc.fx - bx, vy = pc.fy - by
+        cdef double dot = ux * vx + uy * vy
+        cdef double lu = ux * ux + uy * uy
+        cdef double lv = vx * vx + vy * vy
+        cdef double t = fabs(ux) + fabs(uy) + fabs(vx) + fabs(vy) + DOT_K
+        cdef double mt = fabs(bx) + fabs(by) + t
+        cdef double bound = t * mt * DOT_C
+        cdef double difference
+        cdef int dot_sign
+        if dot > bound:
+            dot_sign = 1
+        elif -dot > bound:
+            dot_sign = -1
+        else:
+            return self._angle_exact(a, b, c)
+        if dot_sign != self.cos_sign:
+            return -dot_sign
+        difference = self.cos2f * lu * lv - dot * dot
+        t += ANGLE_K
+        bound = t * t * t * (mt + ANGLE_K) * ANGLE_C
+        if difference > bound or -difference > bound:
+            return self.cos_sign if difference > 0.0 else -self.cos_sign
+        return self._angle_exact(a, b, c)
+
+    cdef int _angle_exact(self, int64_t a, int64_t b, int64_t c) except -2:
+        points = self.points
+        return int(_compare_angle(points[a], points[b], points[c], self.threshold))
+
+    cdef int _consider_angle(self, Entry *entry) except -1:
+        """``Refinement.consider`` for ``MinAngle``: its ``rate`` (the angle opposite the
+        shortest edge against the threshold; key −cos² of it, exact), then the
+        sharp-corner rule (left, not queued)."""
+        cdef int64_t a = entry.a, b = entry.b, c = entry.c, p, q, r
+        # the corner p opposite the shortest edge, and its arms q, r (smallest_angle_cos2)
+        if self._lengths(a, b, b, c) != 1:
+            if self._lengths(a, b, c, a) != 1:
+                p, q, r = c, a, b
+            else:
+                p, q, r = b, c, a
+        elif self._lengths(b, c, c, a) != 1:
+            p, q, r = a, b, c
+        else:
+            p, q, r = b, c, a
+        if self._angle(q, p, r) != -1:
+            return 0
+        if self._unimprovable(a, b, c):
+            self.left[(a, b, c)] = SHARP_CORNER
+            return 0
+        entry.ikey = 0
+        entry.py = -1
+        self._angle_rank(entry, p, q, r)
+        return self._push(entry)
+
+    cdef int _angle_rank(self, Entry *entry, int64_t p, int64_t q, int64_t r) except -1:
+        """Set ``rank`` and ``rad``: −cos² of the angle at p between q and r lies within
+        ``rad`` of ``rank``.  On the grid from the exact ``__int128`` dot product and
+        squared lengths (four roundings to double and three operations: relative error
+        below 12 u, 16 u taken); off the grid from the doubles, with the error of each
+        coordinate difference bounded by E = 6 u max|coordinate| and carried through the
+        dot product and lengths; else (extreme magnitudes) the exact key."""
+        cdef Vertex *vp = &self.vs[p]
+        cdef Vertex *vq = &self.vs[q]
+        cdef Vertex *vr = &self.vs[r]
+        cdef gx_i128 gux, guy, gvx, gvy
+        cdef double dot, lu, lv, cos2, ux, uy, vx, vy, m, e, su, sv, edot, elu, elv
+        cdef double low, high
+        if vp.at.grid and vq.at.grid and vr.at.grid:
+            gux = <gx_i128>vq.at.gx - vp.at.gx
+            guy = <gx_i128>vq.at.gy - vp.at.gy
+            gvx = <gx_i128>vr.at.gx - vp.at.gx
+            gvy = <gx_i128>vr.at.gy - vp.at.gy
+            dot = <double>(gux * gvx + guy * gvy)
+            lu = <double>(gux * gux + guy * guy)
+            lv = <double>(gvx * gvx + gvy * gvy)
+            cos2 = (dot * dot) / (lu * lv)
+            entry.rank = -cos2
+            entry.rad = 16.0 * UNIT * cos2
+            return 0
+        m = fabs(vp.at.fx)
+        m = max(m, fabs(vp.at.fy), fabs(vq.at.fx), fabs(vq.at.fy), fabs(vr.at.fx),
+                fabs(vr.at.fy))
+        ux = vq.at.fx - vp.at.fx
+        uy = vq.at.fy - vp.at.fy
+        vx = vr.at.fx - vp.at.fx
+        vy = vr.at.fy - vp.at.fy
+        su = fabs(ux) + fabs(uy)
+        sv = fabs(vx) + fabs(vy)
+        if not (m < 2.0 ** 200 and su > 2.0 ** -200 and sv > 2.0 ** -200
+                and m * 2.0 ** -100 < min(su, sv)):
+            return self._exact_rank(entry)
+        e = 6.0 * UNIT * m
+        dot = ux * vx + uy * vy
+        lu = ux * ux + uy * uy
+        lv = vx * vx + vy * vy
+        # (1.0001: the roundings of the bounds themselves)
+        edot = (e * (su + sv + 2.0 * e) + 3.0 * UNIT * su * sv) * 1.0001
+        elu = (e * (2.0 * su + 2.0 * e) + 3.0 * UNIT * su * su) * 1.0001
+        elv = (e * (2.0 * sv + 2.0 * e) + 3.0 * UNIT * sv * sv) * 1.0001
+        if not (dot > edot and lu > elu and lv > elv):
+            return self._exact_rank(entry)
+        low = (dot - edot) * (dot - edot) / ((lu + elu) * (lv + elv)) * (1.0 - 8.0 * UNIT)
+        high = (dot + edot) * (dot + edot) / ((lu - elu) * (lv - elv)) * (1.0 + 8.0 * UNIT)
+        entry.rank = -0.5 * (low + high)
+        entry.rad = 0.5 * (high - low) + 8.0 * UNIT * high
+        return 0
+
+    cdef int _exact_rank(self, Entry *entry) except -1:
+        """``rank`` from the exact key (correctly rounded, so within 2^-53 of it)."""
+        key = self._angle_key(entry)
+        entry.rank = float(key)
+        entry.rad = 2.0 * UNIT * abs(entry.rank)
+        return 0
+
+    cdef bint _sector(self, int64_t p, int64_t q, int64_t r, int64_t *ends) except -1:
+        """``Refinement.constraint_sector(p, q, r)``: False when p has no sector, else
+        True with the far ends of its two constraint edges in ``ends``."""
+        cdef int64_t first = q, last = r
+        while not self._constraint(p, first):
+            first = gx_map_get(&self.apex, gx_edge(first, p), -1)
+            if first == r:
+                return False  # all the way round
+        while not self._constraint(p, last):
+            last = gx_map_get(&self.apex, gx_edge(p, last), -1)
+        ends[0] = first
+        ends[1] = last
+        return True
+
+    cdef bint _sharp(self, int64_t p, int64_t q, int64_t r) except -1:
+        """``Refinement.sharp``: the triangle (p, q, r) lies in a sector at p whose
+        constraint edges meet at an angle below the threshold (under 180°)."""
+        cdef int64_t ends[2]
+        if not self._sector(p, q, r, ends):
+            return False
+        return self._orient(p, ends[0], ends[1]) == 1 and self._angle(ends[0], p, ends[1]) == -1
+
+    cdef bint _unimprovable(self, int64_t a, int64_t b, int64_t c) except -1:
+        """``Refinement.unimprovable``: an angle of (a, b, c) below the threshold lies in
+        an input angle below it."""
+        cdef int64_t p, q, r
+        cdef int k
+        for k in range(3):
+            if k == 0:
+                p, q, r = a, b, c
+            elif k == 1:
+                p, q, r = b, c, a
+            else:
+                p, q, r = c, a, b
+            if self._angle(q, p, r) != -1:
+                continue
+            if self._sharp(p, q, r):
+                return True
+        return False
+
+    cdef bint _under_tip(self, int64_t p, int64_t u, int64_t v) except -1:
+        """True when p (an input vertex) has a tip limit and the edge {u, v} is shorter
+        than it (``Refinement.protected``'s length test, exact)."""
+        cdef Vertex *vu
+        cdef Vertex *vv
+        cdef gx_i128 dx, dy
+        if p >= self.n0:
+            return False  # only input vertices have tip limits
+        entry = self.tip_grid.get(p)
+        if entry is None:
+            limit = self.tips.limit(p)
+            # the limit in grid units, rounded up: a grid length (an integer) is below the
+            # limit exactly when it is below this
+            bound = None if limit is None else min(-((-limit * self.scale) // 1), 1 << 124)
+            entry = self.tip_grid[p] = (limit, bound)
+        limit, bound = entry
+        if limit is None:
+            return False
+        vu = &self.vs[u]
+        vv = &self.vs[v]
+        if vu.at.grid and vv.at.grid:
+            dx = <gx_i128>vv.at.gx - vu.at.gx
+            dy = <gx_i128>vv.at.gy - vu.at.gy
+            return _from_i128(dx * dx + dy * dy) < bound
+        points = self.points
+        pu, pv = points[u], points[v]
+        ex, ey = pv[0] - pu[0], pv[1] - pu[1]
+        return ex * ex + ey * ey < limit
+
+    cdef bint _protected(self, int64_t u, int64_t v) except -1:
+        """``Refinement.protected``: the constraint edge {u, v} bounds a sharp input angle
+        at u or v and is shorter than that corner's tip limit."""
+        cdef int64_t p, s, left, right
+        cdef int k
+        if not self.min_angle:
+            return False
+        for k in range(2):
+            if k == 0:
+                p, s = u, v
+            else:
+                p, s = v, u
+            if not self._under_tip(p, u, v):
+                continue
+            left = gx_map_get(&self.apex, gx_edge(p, s), -1)
+            right = gx_map_get(&self.apex, gx_edge(s, p), -1)
+            if left >= 0 and self._sharp(p, s, left):
+                return True
+            if right >= 0 and self._sharp(p, right, s):
+                return True
+        return False
+
+    def left_triangles(self):
+        """``Refinement.left_triangles``: the left triangles still in the mesh, sorted."""
+        return tuple(sorted(t for t in self.left
+                            if gx_map_get(&self.apex, gx_edge(t[0], t[1]), -1) == t[2]))
+
+    def left_reasons(self):
+        """``Refinement.left_reasons``: why each of :meth:`left_triangles` was left."""
+        return tuple(self.left[t] for t in self.left_triangles())
+
     cdef inline int _less(self, Entry *x, Entry *y) except -1:
         """(key, triangle) of x < that of y, keys compared exactly."""
+        if self.min_angle:
+            # the certified intervals decide, else the exact keys
+            if x.rank + x.rad < y.rank - y.rad:
+                return True
+            if y.rank + y.rad < x.rank - x.rad:
+                return False
+            return self._less_exact_angle(x, y)
         if x.py < 0 and y.py < 0:
             if x.ikey != y.ikey:
                 return x.ikey < y.ikey
             return _triangle_less(x, y)
         return self._less_python(x, y)
+
+    cdef object _angle_key(self, Entry *entry):
+        """The exact MinAngle key of the entry's triangle (made once)."""
+        if entry.py < 0:
+            points = self.points
+            entry.py = len(self.pykeys)
+            self.pykeys.append(-_smallest_angle_cos2(points[entry.a], points[entry.b],
+                                                     points[entry.c]))
+        return self.pykeys[entry.py]
+
+    cdef int _less_exact_angle(self, Entry *x, Entry *y) except -1:
+        kx = self._angle_key(x)
+        ky = self._angle_key(y)
+        if not (kx == ky):
+            return bool(kx < ky)
+        return _triangle_less(x, y)
 
     cdef int _less_python(self, Entry *x, Entry *y) except -1:
         """_less when a key is a Python object."""
@@ -793,7 +1222,8 @@ cdef class Kernel:
         cdef int64_t at[2]
         if self.limit >= 0 and self.nrec >= self.limit:
             return -1
-        if self.grid_centroids and self._grid_centroid(u, v, w, x, at):
+        if self.grid_centroids and (self._grid_centroid(u, v, w, x, at)
+                                    or self._float_centroid(u, v, w, x, at)):
             qx = mpq(at[0], self.unit)
             qy = mpq(at[1], self.unit)
             point = tuple.__new__(Point2, (qx, qy, float(qx), float(qy)))
@@ -876,10 +1306,10 @@ cdef class Kernel:
         return self._legalize(n, star, 4)
 
     cdef int _split_pair(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
-        """``Refinement.split_pair`` (no angle threshold, so never refused): the midpoint
-        of a constraint second-longest edge of (u, v, w), then of (v, u, x), else the
-        centroid of the quadrilateral; legalized when Delaunay.  0, or -1 at the step
-        limit."""
+        """``Refinement.split_pair``: the midpoint of a constraint second-longest edge of
+        (u, v, w), then of (v, u, x), else the centroid of the quadrilateral; legalized
+        when Delaunay.  0; -1 at the step limit; 1 (no step) when that midpoint would
+        split a protected edge."""
         cdef int64_t p, q, r, n, side
         cdef Pair star[4]
         if self.constraint_midpoints:
@@ -894,6 +1324,8 @@ cdef class Kernel:
                 else:
                     p, q = r, p
                 if self._constraint(p, q):
+                    if self.min_angle and self._protected(p, q):
+                        return 1  # refused: the target is left
                     return self._insert_midpoint(p, q)
         n = self._centroid(u, v, w, x)
         if n < 0:
@@ -945,7 +1377,7 @@ cdef class Kernel:
         ``"step-limit"``."""
         cdef Entry target
         cdef int64_t a, b, c, u, v, w, x, n, hops
-        cdef int order
+        cdef int order, done
         cdef bint constrained
         cdef Pair star[4]
         if self.tracking and self._mean_reached():
@@ -994,14 +1426,22 @@ cdef class Kernel:
                     if self.quasi_flips and self._incircle(u, v, w, x) == 1:
                         if self._flip(u, v) < 0:
                             return "step-limit"
-                    elif self._split_pair(u, v, w, x) < 0:
-                        return "step-limit"
+                    else:
+                        done = self._split_pair(u, v, w, x)
+                        if done < 0:
+                            return "step-limit"
+                        if done > 0:
+                            self.left[(a, b, c)] = PROTECTED_TIP
+                            break
                     self._drain()
                     if self.tracking and self._mean_reached():
                         return "complete"
                     if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                         break
                     continue
+                if constrained and self.min_angle and self._protected(u, v):
+                    self.left[(a, b, c)] = PROTECTED_TIP  # its step would split one
+                    break
                 # bisect, then legalize around the midpoint
                 n = self._bisect(u, v)
                 if n < 0:
@@ -1099,6 +1539,18 @@ cdef class Kernel:
             if not 0 <= vertex < self.nv:
                 raise IndexError(vertex)
         if not self._grid_centroid(u, v, w, x, at):
+            return None
+        return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
+
+    def float_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x):
+        """The certified float path of ``rounded_area_centroid`` (corners off the grid)
+        for the quadrilateral of triangles (u, v, w), (v, u, x): the Point2, or None where
+        the kernel asks Python (for tests)."""
+        cdef int64_t at[2]
+        for vertex in (u, v, w, x):
+            if not 0 <= vertex < self.nv:
+                raise IndexError(vertex)
+        if not self._float_centroid(u, v, w, x, at):
             return None
         return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
 
