@@ -133,29 +133,32 @@ class MeshArrays:
             smallest_candidates |= low <= finite_high.min()
             largest_candidates |= high >= finite_low.max()
         chosen = np.flatnonzero(smallest_candidates | largest_candidates)
-        values = self._exact_twice_areas(chosen, exact[chosen])
-        smallest = min(values[i] for i in np.flatnonzero(smallest_candidates[chosen]).tolist())
-        largest = max(values[i] for i in np.flatnonzero(largest_candidates[chosen]).tolist())
+        values, which = self._exact_twice_areas(chosen, exact[chosen])
+        smallest = min(values[i] for i in np.unique(which[smallest_candidates[chosen]]).tolist())
+        largest = max(values[i] for i in np.unique(which[largest_candidates[chosen]]).tolist())
         return smallest / 2, largest / 2
 
-    def _exact_twice_areas(self, chosen: IntArray, exact: BoolArray) -> list[Rational]:
-        """Twice the exact signed areas of the triangles ``chosen`` (all-exact-double ones
-        computed once per distinct shape)."""
-        values: list[Rational] = [ZERO] * len(chosen)
+    def _exact_twice_areas(self, chosen: IntArray, exact: BoolArray
+                           ) -> tuple[list[Rational], IntArray]:
+        """Twice the exact signed areas of the triangles ``chosen``: distinct values and,
+        for each triangle, the index of its value (all-exact-double triangles computed once
+        per distinct shape)."""
+        which = np.zeros(len(chosen), dtype=np.int64)
         rows = self.triangles[chosen]
         points = self.points
-        for i in np.flatnonzero(~exact).tolist():
-            a, b, c = rows[i].tolist()
-            values[i] = 2 * signed_area(points[a], points[b], points[c])
+        values: list[Rational] = []
         picked = np.flatnonzero(exact)
         if len(picked):
             a, b, c = rows[picked, 0], rows[picked, 1], rows[picked, 2]
             arms = _split_differences(self.fx, self.fy, [(b, a), (c, a)])
             shapes, inverse = _distinct_rows(arms)
-            twice = [_twice_area_of_arms(row) for row in shapes.tolist()]
-            for i, shape in zip(picked.tolist(), inverse.tolist(), strict=True):
-                values[i] = twice[shape]
-        return values
+            values = [_twice_area_of_arms(row) for row in shapes.tolist()]
+            which[picked] = inverse
+        for i in np.flatnonzero(~exact).tolist():
+            a, b, c = rows[i].tolist()
+            which[i] = len(values)
+            values.append(2 * signed_area(points[a], points[b], points[c]))
+        return values, which
 
     # -- angles -------------------------------------------------------------------------
     def angle_extremes(self) -> tuple[float, float] | None:
@@ -351,7 +354,9 @@ def mesh_arrays(mesh: Mesh2) -> MeshArrays | None:
 
     def find(first: IntArray, second: IntArray) -> IntArray:
         wanted = first * n + second
-        at = np.searchsorted(ordered, wanted)
+        queries = np.argsort(wanted)  # sorted queries search the table in cache order
+        at = np.empty_like(queries)
+        at[queries] = np.searchsorted(ordered, wanted[queries])
         at_clipped = np.minimum(at, max(count - 1, 0))
         found = (at < count) & (ordered[at_clipped] == wanted) if count else at < 0
         return np.where(found, order[at_clipped], -1)
