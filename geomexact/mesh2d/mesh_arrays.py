@@ -62,7 +62,8 @@ _MAX_PACKED = 1 << 31
 class MeshArrays:
     """A consistent mesh as arrays.  ``points[i]`` is vertex i; ``fx``, ``fy`` its doubles;
     ``exact[i]`` when they are its exact coordinates.  Half-edge j is ``(hu[j], hv[j])``
-    with apex ``hw[j]`` and reverse half-edge ``twin[j]`` (-1 on the boundary).
+    with apex ``hw[j]``, reverse half-edge ``twin[j]`` (-1 on the boundary) and next
+    half-edge ``following[j]`` = (hv[j], hw[j]) of the same triangle.
     ``triangles`` are the canonical triangles (rows a < b, a < c) in table order."""
 
     mesh: Mesh2
@@ -74,6 +75,7 @@ class MeshArrays:
     hv: IntArray
     hw: IntArray
     twin: IntArray
+    following: IntArray
     triangles: IntArray
 
     # -- counts -------------------------------------------------------------------------
@@ -369,4 +371,4 @@ def mesh_arrays(mesh: Mesh2) -> MeshArrays | None:
     triangles = np.stack([hu[first], hv[first], hw[first]], axis=1)
     if len(triangles) != mesh.triangle_count:
         return None
-    return MeshArrays(mesh, points, fx, fy, exact, hu, hv, hw, twin, triangles)
+    return MeshArrays(mesh, points, fx, fy, exact, hu, hv, hw, twin, following, triangles)

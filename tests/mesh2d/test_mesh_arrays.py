@@ -1,6 +1,7 @@
-"""The vectorised mesh summary (``geomexact.mesh2d.mesh_arrays``, ``mesh_summary``) gives
-the answers of the scalar definitions (``scalar_mesh_summary``: ``measures``,
-``non_delaunay_edges``), key for key and bit for bit: on the shared data meshes, on
+"""The vectorised mesh summary (``geomexact.mesh2d.mesh_arrays``, ``mesh_summary``) and
+checker (``validation`` on arrays) give the answers of the scalar definitions
+(``scalar_mesh_summary``: ``measures``, ``non_delaunay_edges``; ``scalar_validate``), key
+for key and bit for bit: on the shared data meshes, on
 refinements of them, on random meshes of the strategies, and on grids of cocircular
 squares (every edge undecided by the float filter) scaled and moved to every magnitude,
 exactly or nearly cocircular."""
@@ -16,6 +17,7 @@ from hypothesis import strategies as st
 from geomexact.io import read
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import point2
+from geomexact.mesh2d import validation
 from geomexact.mesh2d.delaunay.triangulation import (
     make_delaunay,
     non_delaunay_edges,
@@ -45,6 +47,10 @@ def same_answers(mesh: Mesh2) -> None:
     assert arrays.non_delaunay_edges() == non_delaunay_edges(mesh)
     assert arrays.total_area() == total_area(mesh)
     assert mesh_summary(mesh, check_delaunay=False)["is_delaunay"] is None
+    for allow in (True, False):
+        assert validation._validate_arrays(mesh, arrays, check_digest=True,
+                                           allow_isolated=allow) == validation.scalar_validate(
+            mesh, allow_isolated=allow)
 
 
 def _meshes_of(path: Path) -> Mesh2:
