@@ -25,6 +25,7 @@ from __future__ import annotations
 import itertools
 import math
 import operator
+from typing import Any
 
 import attrs
 import numpy as np
@@ -40,7 +41,7 @@ from geomexact.mesh2d.snapshot import Edge, Mesh2, canonical_triangle
 
 __all__ = ["MeshArrays", "mesh_arrays"]
 
-IntArray = npt.NDArray[np.int64]
+IntArray = npt.NDArray[np.signedinteger[Any]]
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 
@@ -219,10 +220,10 @@ class MeshArrays:
         interior = (self.twin >= 0) & (self.hu < self.hv)
         if len(mesh.segments):
             size = len(self.points)
-            keys = self.hu * size + self.hv
-            constrained = np.fromiter(
-                (u * size + v for u, v in mesh.segments), dtype=np.int64,
-                count=len(mesh.segments))
+            keys = self.hu.astype(np.int64) * size + self.hv
+            constrained = np.fromiter(  # a segment of missing vertices is no edge
+                (u * size + v for u, v in mesh.segments if 0 <= u < size and 0 <= v < size),
+                dtype=np.int64)
             interior &= ~np.isin(keys, constrained)
         edges = np.flatnonzero(interior)
         u, v, w = self.hu[edges], self.hv[edges], self.hw[edges]
@@ -343,25 +344,31 @@ def mesh_arrays(mesh: Mesh2) -> MeshArrays | None:
     exact = np.fromiter((p[0] == p[2] and p[1] == p[3] for p in points), dtype=np.bool_,
                         count=n)
     count = len(halfedges)
-    keys = np.fromiter(itertools.chain.from_iterable(halfedges.keys()), dtype=np.int64,
-                       count=2 * count)
+    try:  # ids are int32 (vertex ids below 2^31 here); a wrong id does not fit or is caught
+        keys = np.fromiter(itertools.chain.from_iterable(halfedges.keys()), dtype=np.int32,
+                           count=2 * count)
+        hw = np.fromiter(halfedges.values(), dtype=np.int32, count=count)
+    except (OverflowError, TypeError):
+        return None
     hu, hv = keys[0::2].copy(), keys[1::2].copy()
-    hw = np.fromiter(halfedges.values(), dtype=np.int64, count=count)
+    del keys
     if count and (min(int(hu.min()), int(hv.min()), int(hw.min())) < 0
                   or max(int(hu.max()), int(hv.max()), int(hw.max())) >= n):
         return None
-    packed = hu * n + hv
+    packed = hu.astype(np.int64) * n + hv
     order = np.argsort(packed)
     ordered = packed[order]
+    del packed
 
     def find(first: IntArray, second: IntArray) -> IntArray:
-        wanted = first * n + second
+        wanted = first.astype(np.int64) * n + second
         queries = np.argsort(wanted)  # sorted queries search the table in cache order
         at = np.empty_like(queries)
         at[queries] = np.searchsorted(ordered, wanted[queries])
-        at_clipped = np.minimum(at, max(count - 1, 0))
-        found = (at < count) & (ordered[at_clipped] == wanted) if count else at < 0
-        return np.where(found, order[at_clipped], -1)
+        del queries
+        np.minimum(at, max(count - 1, 0), out=at)
+        found = ordered[at] == wanted if count else np.zeros(0, dtype=np.bool_)
+        return np.where(found, order[at], -1).astype(np.int32)
 
     following = find(hv, hw)
     if np.any(following < 0) or np.any(hw[np.maximum(following, 0)] != hu):

@@ -6,20 +6,23 @@ property tests and ``geomexact check``.  Invariants: ``specs/snapshot.md``.
 from __future__ import annotations
 
 import itertools
+import math
 from collections import Counter
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.array_filters import orient2d_signs
+from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.mesh_arrays import MeshArrays, mesh_arrays
-from geomexact.mesh2d.segments import meeting_pairs
+from geomexact.mesh2d.segments import meeting_pairs, segments_meet_improperly
 from geomexact.mesh2d.snapshot import Edge, Mesh2, canonical_triangle, full_digest
 
-IntArray = npt.NDArray[np.int64]
+IntArray = npt.NDArray[np.signedinteger[Any]]
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 
@@ -313,7 +316,10 @@ def _validate_arrays(mesh: Mesh2, arrays: MeshArrays, *, check_digest: bool,
         bu, bv = arrays.hu[boundary], arrays.hv[boundary]
         ordered = np.lexsort((bv, bu))
         edges = list(zip(bu[ordered].tolist(), bv[ordered].tolist(), strict=True))
-        found.extend(_boundary_crossings(mesh, edges))
+        found.extend(
+            Violation("overlap", f"boundary edges {first} and {second} intersect",
+                      (*first, *second))
+            for first, second in _meeting_pairs(points, edges))
         if not found and _component_count(arrays) > 1:
             found.extend(_stacked_components(mesh, [tuple(t) for t in tri.tolist()]))
     if check_digest:
@@ -421,3 +427,29 @@ def _component_count(arrays: MeshArrays) -> int:
                 break
             parent = grand
     return int(np.count_nonzero(parent == np.arange(len(parent))))
+
+
+def _meeting_pairs(points: list[Point2], segments: list[Edge]) -> list[tuple[Edge, Edge]]:
+    """:func:`~geomexact.mesh2d.segments.meeting_pairs` (the same pairs in the same order),
+    skipping the pairs whose y-ranges the doubles prove disjoint (rounding is monotone, so
+    doubles strictly apart order their rationals): segments on one vertical line are all
+    active at once in the sweep over x."""
+    ordered = sorted(
+        (min(points[u].x, points[v].x), max(points[u].x, points[v].x), u, v) for u, v in segments
+    )
+    found: list[tuple[Edge, Edge]] = []
+    active: list[tuple[object, float, float, int, int]] = []
+    for low, high, u, v in ordered:
+        active = [entry for entry in active if entry[0] >= low]  # type: ignore[operator]
+        fu, fv = points[u].fy, points[v].fy
+        if math.isnan(fu) or math.isnan(fv):  # beyond the doubles: no float range
+            bottom, top = -math.inf, math.inf
+        else:
+            bottom, top = min(fu, fv), max(fu, fv)
+        for _, lowest, highest, a, b in active:
+            if highest < bottom or top < lowest:
+                continue
+            if segments_meet_improperly(points, (a, b), (u, v)):
+                found.append(((a, b), (u, v)))
+        active.append((high, bottom, top, u, v))
+    return found

@@ -75,11 +75,11 @@ def test_shared_data_meshes(path: Path) -> None:
         pytest.skip("not a triangle mesh")
     same_answers(mesh)
     if mesh.triangle_count:
-        area = total_area(mesh) / mesh.triangle_count / 4
+        area = total_area(mesh) / mesh.triangle_count / 2
         refined = refine(mesh, criteria.MaxArea(area), method="bisection").mesh
         same_answers(refined)
         same_answers(refine(mesh, criteria.MinAngle(mpq(25)), method="centroid",
-                            max_steps=300).mesh)
+                            max_steps=150).mesh)
 
 
 def test_superior_and_its_refinements() -> None:
