@@ -167,49 +167,68 @@ class MeshArrays:
     def angle_extremes(self) -> tuple[float, float] | None:
         """The smallest and largest triangle angle in degrees, the same doubles as the
         minimum and maximum of :func:`~geomexact.mesh2d.measures.triangle_angles_degrees`
-        over the triangles (None without triangles)."""
+        over the triangles (None without triangles).
+
+        Every corner's angle is first computed in numpy from the differences of the
+        doubles.  Where the vertices are exact doubles (and the arms of ordinary size)
+        those are the arms ``triangle_angles_degrees`` uses, so only numpy's ``arctan2``
+        may differ (by a few units in the last place); elsewhere each arm is within
+        ``4u(m + |arm|)`` of its exact value (m: the largest coordinate), and so is the
+        arm that function uses, which bounds the angle's error.  The corners that can hold
+        the extremes are then recomputed as that function does."""
         if not len(self.triangles):
             return None
         tri = self.triangles
         fx, fy = self.fx, self.fy
         exact = self.exact[tri[:, 0]] & self.exact[tri[:, 1]] & self.exact[tri[:, 2]]
-        crosses = []
-        dots = []
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            size = np.maximum.reduce([np.abs(fx[tri[:, k]]) for k in range(3)]
+                                     + [np.abs(fy[tri[:, k]]) for k in range(3)])
+            crosses = []
+            dots = []
+            errors = []
             for p, q, r in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
                 ip, iq, ir = tri[:, p], tri[:, q], tri[:, r]
                 ux = fx[iq] - fx[ip]
                 uy = fy[iq] - fy[ip]
                 vx = fx[ir] - fx[ip]
                 vy = fy[ir] - fy[ip]
+                shortest = np.full(len(tri), np.inf)
                 for x, y in ((ux, uy), (vx, vy)):
-                    size = np.maximum(np.abs(x), np.abs(y))
-                    exact &= (size >= _BAND[0]) & (size <= _BAND[1])
+                    length = np.maximum(np.abs(x), np.abs(y))
+                    exact &= (length >= _BAND[0]) & (length <= _BAND[1])
+                    shortest = np.minimum(shortest, length)
                 crosses.append(np.abs(ux * vy - uy * vx))
                 dots.append(ux * vx + uy * vy)
-        cross = np.concatenate(crosses)
-        dot = np.concatenate(dots)
-        usable = np.concatenate([exact, exact, exact])
-        low = high = None
-        if np.any(usable):
-            cross, dot = cross[usable], dot[usable]
-            with np.errstate(invalid="ignore"):
-                angle = np.degrees(np.arctan2(cross, dot))
-            least, most = float(angle.min()), float(angle.max())
-            near = ((angle <= least * (1 + _ANGLE_SLACK) + 1e-300)
-                    | (angle >= most * (1 - _ANGLE_SLACK)))
-            pairs, _ = _distinct_rows(np.stack([cross[near], dot[near]], axis=1) + 0.0)
-            values = [math.degrees(math.atan2(y, x)) for y, x in pairs.tolist()]
-            low, high = min(values), max(values)
+                # radians: each arm's direction moves by at most about its relative error
+                # (inf-norm lengths: a factor 2), for both the doubles here and the arms
+                # triangle_angles_degrees rounds; generous factor, and 0 length -> inf
+                relative = 64 * _U * (size / shortest + 1)
+                ordinary = (shortest >= 2.0**-450) & (size <= 2.0**450)
+                errors.append(np.where(ordinary, np.degrees(relative), np.inf))
+            cross = np.concatenate(crosses)
+            dot = np.concatenate(dots)
+            angle = np.degrees(np.arctan2(cross, dot))
+            error = np.concatenate(errors)
+            usable = np.concatenate([exact, exact, exact])
+            error = np.where(usable, angle * _ANGLE_SLACK + 1e-300, error)
+            low_end = angle - error
+            high_end = angle + error
+            error_free = np.isfinite(low_end) & np.isfinite(high_end)
+            near = ~error_free
+            if error_free.any():
+                near |= low_end <= high_end[error_free].min()
+                near |= high_end >= low_end[error_free].max()
+        values: list[float] = []
+        chosen = near & usable
+        if chosen.any():
+            pairs, _ = _distinct_rows(np.stack([cross[chosen], dot[chosen]], axis=1) + 0.0)
+            values += [math.degrees(math.atan2(y, x)) for y, x in pairs.tolist()]
+        others = np.flatnonzero((near & ~usable).reshape(3, -1).any(axis=0))
         points = self.points
-        for a, b, c in tri[~exact].tolist():
-            values = list(triangle_angles_degrees(points[a], points[b], points[c]))
-            if low is None or high is None:
-                low, high = min(values), max(values)
-            else:
-                low, high = min(low, *values), max(high, *values)
-        assert low is not None and high is not None
-        return low, high
+        for a, b, c in tri[others].tolist():
+            values.extend(triangle_angles_degrees(points[a], points[b], points[c]))
+        return min(values), max(values)
 
     # -- Delaunay -----------------------------------------------------------------------
     def non_delaunay_edges(self) -> list[Edge]:
