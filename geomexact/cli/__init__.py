@@ -27,7 +27,6 @@ from geomexact.cli.exit_codes import (
     EXIT_OK,
 )
 from geomexact.cli.parser import build_parser
-from geomexact.errors import GeomexactError
 
 __all__ = [
     "EXIT_BAD_INPUT",
@@ -56,12 +55,15 @@ def _silence_stdout() -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``geomexact`` command with ``argv`` (default: ``sys.argv[1:]``); return the
     exit code."""
-    parser = build_parser()
+    words = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(words)  # only the command named is loaded
     try:
-        args = parser.parse_args(argv)
-        args.argv = ["geomexact", *(sys.argv[1:] if argv is None else argv)]
+        args = parser.parse_args(words)
+        args.argv = ["geomexact", *words]
     except SystemExit as stop:  # --help, --version and usage errors
         return stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
+    from geomexact.errors import GeomexactError
+
     try:
         return int(args.run(args))
     except (GeomexactError, UsageProblem) as error:

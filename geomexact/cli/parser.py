@@ -3,47 +3,52 @@
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
-from collections.abc import Callable
-from typing import NoReturn, cast
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, NoReturn, cast
 
 from geomexact._version import __version__
-from geomexact.cli import (
-    census,
-    check,
-    convert,
-    cuboid,
-    demo,
-    info,
-    octree,
-    polylla,
-    refine,
-    replay,
-    serve,
-    trace_tools,
-    triangulate,
-    view,
-)
-from geomexact.cli.arguments import Subcommands
 from geomexact.cli.exit_codes import EXIT_BAD_INPUT, EXIT_CODES_HELP
 
-COMMANDS: tuple[Callable[[Subcommands], None], ...] = (
-    info.add_parser,
-    check.add_parser,
-    convert.add_parser,
-    replay.add_parser,
-    trace_tools.add_parser,
-    triangulate.add_parser,
-    polylla.add_parser,
-    refine.add_parser,
-    cuboid.add_parser,
-    census.add_parser,
-    octree.add_parser,
-    view.add_parser,
-    serve.add_parser,
-    demo.add_parser,
+if TYPE_CHECKING:
+    from geomexact.cli.arguments import Subcommands
+
+COMMAND_TABLE: tuple[tuple[str, str, str], ...] = (
+    ("info", "info", "print statistics of meshes, PSLGs and polygon meshes"),
+    ("check", "check", "validate a triangle or polygon mesh, or a PSLG (exit 1 on "
+                       "violations)"),
+    ("convert", "convert", "convert a file to another format"),
+    ("replay", "replay", "replay a trace on its input mesh, checking digests"),
+    ("trace", "trace_tools",
+     "debug with traces: show a trace, diff two, bisect a failing property"),
+    ("triangulate", "triangulate",
+     "(constrained) Delaunay triangulation of points / a PSLG, or Lawson flips of a mesh"),
+    ("polylla", "polylla", "Polylla polygon mesh of a triangle mesh, optionally made convex"),
+    ("refine", "refine", "Lepp refinement (bisection, centroid, quasi-Delaunay) to a criterion"),
+    ("cuboid", "cuboid", "partition a 1-irregular cuboid pattern into tetrahedra "
+                         "(optionally improved by Joe's flips)"),
+    ("census", "census", "census of 1-irregular cuboid patterns: Joe's configurations "
+                         "of each partition and what the improvement does"),
+    ("octree", "octree", "mesh a box with tetrahedra by the octree mesher (refined where "
+                         "asked, balanced 2:1, each leaf partitioned by its pattern)"),
+    ("view", "view", "write the offline HTML viewer or a PNG/SVG/PDF picture of a mesh "
+                     "(and trace)"),
+    ("serve", "serve", "serve a directory's meshes in the viewer and refine uploads "
+                       "(local HTTP)"),
+    ("demo", "demo", "run the main job on the bundled Lake Superior PSLG"),
 )
-"""Each command's ``add_parser``, in the order ``geomexact --help`` lists them."""
+"""(command, its module in ``geomexact.cli``, its help line), in the order ``geomexact
+--help`` lists them.  A command's module (and the library it imports) is loaded only to
+parse that command: ``geomexact --help`` lists every command from this table alone
+(``tests/cli`` checks it against what each module's ``add_parser`` registers)."""
+
+
+def command_adder(module: str) -> Callable[[Subcommands], None]:
+    """The ``add_parser`` of the command module ``module`` (imported now)."""
+    loaded = importlib.import_module(f"geomexact.cli.{module}")
+    adder: Callable[[Subcommands], None] = loaded.add_parser
+    return adder
 
 
 class _Parser(argparse.ArgumentParser):
@@ -98,8 +103,19 @@ class _Version(argparse.Action):
         parser.exit(0)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``geomexact`` argument parser."""
+def chosen_command(argv: Sequence[str]) -> str | None:
+    """The command named on the command line ``argv`` (its first word that is not an
+    option: the top-level options take no value), or None."""
+    for word in argv:
+        if not word.startswith("-"):
+            return word
+    return None
+
+
+def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The ``geomexact`` argument parser.  Without ``argv`` every command is complete;
+    with it, only the command it names is (its module imported) and the others are listed
+    with their help line only, enough to parse ``argv``."""
     parser = _Parser(
         prog="geomexact",
         description="Exact, replayable mesh refinement on rational coordinates.",
@@ -109,8 +125,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action=_Version, nargs=0,
                         help="show the version and which compiled kernels are built, and exit")
     commands = cast(  # its subparsers are _Parser instances, so ArgumentParsers
-        Subcommands, parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+        "Subcommands", parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     )
-    for add_parser in COMMANDS:
-        add_parser(commands)
+    wanted = None if argv is None else chosen_command(argv)
+    for name, module, summary in COMMAND_TABLE:
+        if argv is None or name == wanted:
+            command_adder(module)(commands)
+        else:
+            commands.add_parser(name, help=summary)
     return parser

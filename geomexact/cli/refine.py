@@ -24,7 +24,7 @@ from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import distinct_outputs, write
 from geomexact.errors import OverwriteError
 from geomexact.io.trace_file import write_trace
-from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine
+from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine, is_delaunay
 from geomexact.mesh2d.engine_names import ENGINES, OLD_NAMES
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
@@ -155,6 +155,18 @@ def _refine_method(args: argparse.Namespace) -> tuple[Method, str | None]:
     return "bisection", None
 
 
+def _delaunay_guaranteed(method: str, no_delaunay: bool, start: Mesh2, *,
+                         triangulated: bool) -> bool:
+    """Whether the refinement keeps the mesh (constrained) Delaunay by construction:
+    Lepp-bisection and Lepp-centroid legalize around every new vertex, so they keep a
+    Delaunay start Delaunay (``specs/refine.md``); quasi-Delaunay and ``--no-delaunay`` do
+    not.  The start is Delaunay when this command triangulated it, else it is checked
+    (exactly; the input, not the larger result)."""
+    if method == "quasi" or no_delaunay:
+        return False
+    return triangulated or is_delaunay(start)
+
+
 def command_refine(args: argparse.Namespace) -> int:
     """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
     a region; writes the mesh, the trace and optionally every intermediate mesh."""
@@ -230,7 +242,9 @@ def command_refine(args: argparse.Namespace) -> int:
             written += write(directory / f"step-{index:0{width}d}.off", snapshot, "off",
                               overwrite=args.force, numbers="exact")
     violations = validate(result.mesh) if args.check else []
-    summary = mesh_summary(result.mesh)
+    checked = args.check_delaunay or not _delaunay_guaranteed(
+        method, args.no_delaunay, mesh, triangulated=construction is not None)
+    summary = mesh_summary(result.mesh, check_delaunay=checked)
     stats = result.stats
     report: dict[str, Any] = {
         "input": args.input,
@@ -239,6 +253,7 @@ def command_refine(args: argparse.Namespace) -> int:
         "criterion": criterion.parameters(),
         "region": region.parameters(),
         **summary,
+        "delaunay_checked": checked,
         "steps": stats.steps,
         "seconds": round(stats.seconds, 6),
         "status": stats.status,
@@ -260,6 +275,8 @@ def command_refine(args: argparse.Namespace) -> int:
         title = (f"{args.input}: Lepp-{method} refinement, {stats.steps} steps in "
                  f"{stats.seconds:.3f} s, {stats.status}")
         rows = {key: value for key, value in summary.items() if key != "total_area"}
+        if not checked:
+            rows["is_delaunay"] = "not checked (guaranteed by the method; --check-delaunay)"
         rows["left"] = len(stats.left)
         print_table(title, rows)
         for path in written if len(written) <= 20 else written[:2]:
@@ -334,7 +351,10 @@ def add_parser(commands: Subcommands) -> None:
     refine_.add_argument("--check", action="store_true",
                          help="validate the result (exit 1 on violations)")
     refine_.add_argument("--check-delaunay", action="store_true",
-                         help="exit 1 when the result is not (constrained) Delaunay")
+                         help="check (exactly) that the result is (constrained) Delaunay, "
+                              "exit 1 when it is not; without it the check is skipped "
+                              "where the method guarantees it (bisection, centroid with "
+                              "flips, from a Delaunay start): is_delaunay null")
     refine_.add_argument("--progress", action="store_true",
                          help="show progress on stderr")
     add_writing_options(refine_)

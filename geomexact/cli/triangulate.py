@@ -19,7 +19,7 @@ from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.writing import distinct_outputs, write
 from geomexact.io.trace_file import write_trace
-from geomexact.mesh2d.delaunay.triangulation import is_delaunay, make_delaunay
+from geomexact.mesh2d.delaunay.triangulation import make_delaunay
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
@@ -60,11 +60,12 @@ def command_triangulate(args: argparse.Namespace) -> int:
         write_trace(trace_path, trace, overwrite=args.force)
         written.append(trace_path)
     violations = validate(mesh) if args.check else []
-    delaunay_ok = is_delaunay(mesh)
+    summary = mesh_summary(mesh)
+    delaunay_ok = summary["is_delaunay"]
     report = {
         "input": args.input,
         "algorithm": algorithm,
-        **mesh_summary(mesh),
+        **summary,
         "steps": len(trace),
         "seconds": round(seconds, 6),
         "valid": not violations,

@@ -19,10 +19,17 @@ from collections.abc import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from geomexact.kernel.filter_bounds import LENGTHS_C, LENGTHS_K, ORIENT2D_C, ORIENT2D_K
+from geomexact.kernel.filter_bounds import (
+    INCIRCLE_C,
+    INCIRCLE_K,
+    LENGTHS_C,
+    LENGTHS_K,
+    ORIENT2D_C,
+    ORIENT2D_K,
+)
 from geomexact.kernel.points import Point2
 
-__all__ = ["orient2d_signs", "point_doubles", "squared_length_signs"]
+__all__ = ["incircle_signs", "orient2d_signs", "point_doubles", "squared_length_signs"]
 
 FloatArray = npt.NDArray[np.float64]
 SignArray = npt.NDArray[np.int8]
@@ -97,3 +104,35 @@ def squared_length_signs(
     m = np.abs(ax) + np.abs(ay) + np.abs(cx) + np.abs(cy)
     bound = t * (m + (t + t)) * LENGTHS_C
     return _signs(diff > bound, -diff > bound)
+
+
+@np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified
+def incircle_signs(
+    fx: FloatArray,
+    fy: FloatArray,
+    a: npt.ArrayLike,
+    b: npt.ArrayLike,
+    c: npt.ArrayLike,
+    d: npt.ArrayLike,
+) -> SignArray:
+    """``incircle(p[a[i]], p[b[i]], p[c[i]], p[d[i]])`` for every i as 1 (inside) or -1
+    (outside) where its float filter certifies it, else 0 (undecided).  O(n)."""
+    ax, ay = _doubles(fx, fy, a)
+    bx, by = _doubles(fx, fy, b)
+    cx, cy = _doubles(fx, fy, c)
+    dx, dy = _doubles(fx, fy, d)
+    adx = ax - dx
+    ady = ay - dy
+    bdx = bx - dx
+    bdy = by - dy
+    cdx = cx - dx
+    cdy = cy - dy
+    det = (
+        (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy)
+        + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy)
+        + (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady)
+    )
+    t = (np.abs(adx) + np.abs(ady) + np.abs(bdx) + np.abs(bdy) + np.abs(cdx) + np.abs(cdy)
+         + INCIRCLE_K)
+    bound = t * t * t * (np.abs(dx) + np.abs(dy) + t) * INCIRCLE_C
+    return _signs(det > bound, -det > bound)

@@ -652,3 +652,34 @@ def report_area(report: dict[str, Any]) -> object:
     from geomexact.kernel.numbers import parse_rational
 
     return parse_rational(report["total_area"])
+
+
+def test_the_command_table_is_what_the_command_modules_register() -> None:
+    """``geomexact --help`` lists the commands from ``COMMAND_TABLE`` without loading
+    their modules: the table names every command each module's ``add_parser`` registers,
+    in order, with the same help line."""
+    import argparse
+
+    from geomexact.cli.parser import COMMAND_TABLE, build_parser
+
+    def commands(parser: argparse.ArgumentParser) -> list[tuple[str, str | None]]:
+        action = next(a for a in parser._actions
+                      if isinstance(a, argparse._SubParsersAction))
+        return [(choice.dest, choice.help) for choice in action._choices_actions]
+
+    expected = [(name, summary) for name, _, summary in COMMAND_TABLE]
+    assert commands(build_parser()) == expected
+    assert commands(build_parser(["--help"])) == expected
+    assert commands(build_parser(["refine", "x.off"])) == expected
+
+
+def test_help_loads_no_command_module() -> None:
+    """``geomexact --help`` starts without the library: no io, numpy or mesh modules."""
+    script = ("import contextlib, io, json, sys\nfrom geomexact.cli import main\n"
+              "with contextlib.redirect_stdout(io.StringIO()):\n    main(['--help'])\n"
+              "print(json.dumps(sorted(sys.modules)))")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          check=True)
+    loaded = set(json.loads(done.stdout))
+    assert not {"numpy", "gmpy2", "geomexact.io", "geomexact.mesh2d.snapshot",
+                "geomexact.cli.refine"} & loaded

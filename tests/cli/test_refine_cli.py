@@ -239,6 +239,46 @@ def test_check_delaunay_fails_for_a_non_delaunay_result(
     assert "not Delaunay" in err
 
 
+@pytest.mark.parametrize(("options", "checked"), [
+    ((), False),
+    (("--check-delaunay",), True),
+    (("--method", "centroid"), False),
+    (("--method", "quasi"), True),
+    (("--no-delaunay",), True),
+])
+def test_the_delaunay_check_is_skipped_where_the_method_guarantees_it(
+    capsys: pytest.CaptureFixture[str], square: Path, options: tuple[str, ...], checked: bool
+) -> None:
+    """Lepp-bisection and Lepp-centroid with flips keep a Delaunay start Delaunay: the
+    result is not checked unless --check-delaunay asks (is_delaunay null,
+    delaunay_checked false); quasi-Delaunay and --no-delaunay results are always
+    checked."""
+    code, out, err = run(capsys, "refine", square, "--max-area", "1/64", *options, "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["delaunay_checked"] is checked
+    if checked:  # quasi-Delaunay results may be non-Delaunay: checked, not failed
+        assert isinstance(report["is_delaunay"], bool)
+    else:
+        assert report["is_delaunay"] is None
+    code, out, _ = run(capsys, "refine", square, "--max-area", "1/64", *options)
+    assert code == 0
+    assert ("not checked" in out) is not checked
+
+
+def test_a_non_delaunay_start_is_checked_without_asking(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """The guarantee needs a Delaunay start: from a non-Delaunay input the result is
+    checked (and reported false) without --check-delaunay, which alone makes it exit 1."""
+    path = tmp_path / "kite.off"
+    path.write_text("OFF\n4 2 0\n0 0 0\n4 0 0\n2 1 0\n2 -1 0\n3 0 1 2\n3 1 0 3\n")
+    code, out, _ = run(capsys, "refine", path, "--max-area", "100", "--json")
+    assert code == 0
+    report = json.loads(out)
+    assert report["delaunay_checked"] is True and report["is_delaunay"] is False
+
+
 def test_print_iter_writes_every_step(
     capsys: pytest.CaptureFixture[str], square: Path, tmp_path: Path
 ) -> None:

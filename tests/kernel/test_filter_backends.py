@@ -37,7 +37,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from geomexact.kernel.angles import AngleThreshold, compare_angle
-from geomexact.kernel.array_filters import orient2d_signs, point_doubles, squared_length_signs
+from geomexact.kernel.array_filters import (
+    incircle_signs,
+    orient2d_signs,
+    point_doubles,
+    squared_length_signs,
+)
 from geomexact.kernel.comparisons import compare_areas, compare_squared_lengths
 from geomexact.kernel.filter_bounds import filter_counters, reset_filter_counters
 from geomexact.kernel.numbers import Rational, mpq, scaled_to_integers, sign
@@ -355,6 +360,7 @@ PYTHON = [
 ]
 COPIES = [
     Case("numpy", "orient2d", TRIPLES2, 3, _numpy(orient2d_signs), orient2d_exact),
+    Case("numpy", "incircle", QUADRUPLES2, 4, _numpy(incircle_signs), incircle_exact),
     Case("numpy", "lengths2d", LENGTHS2, 4, _numpy(squared_length_signs), exact_lengths),
     Case("c", "orient2d", TRIPLES2, 3, _c("orient2d_filter"), orient2d_exact),
     Case("c", "incircle", QUADRUPLES2, 4, _c("incircle_filter"), incircle_exact),

@@ -16,10 +16,20 @@ from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import point2
 from geomexact.mesh2d.snapshot import Mesh2, full_digest
 from geomexact.mesh2d.transient import mesh_from_triangles
+from geomexact.mesh2d import validation
 from geomexact.mesh2d.validation import check, validate
 from geomexact.strategies import triangulations
 
 FEW = settings(max_examples=min(settings().max_examples, 40))
+
+
+@pytest.fixture(autouse=True, params=["scalar", "arrays"])
+def checker(request: pytest.FixtureRequest, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every test runs twice: small meshes with the element-by-element checker (as
+    ``validate`` checks them), then every mesh on arrays (as ``validate`` checks large
+    ones): the same violations in the same order."""
+    if request.param == "arrays":
+        monkeypatch.setattr(validation, "_VECTORISED_FROM", 0)
 
 Triple = tuple[int, int, int]
 
