@@ -14,6 +14,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from geomexact.errors import FormatError, RationalParseError, UnsupportedValueError
+from geomexact.io.bulk import rows_text, triangle_array
 from geomexact.io.files import read_lines
 from geomexact.io.registry import (
     Lines,
@@ -412,21 +413,37 @@ def write_off(
     mesh's markers, attributes and segments are dropped (and reported)."""
     number = NumberText(numbers)
     if isinstance(value, Mesh2):
-        points = [value.vertices[index] for index in range(value.vertex_count)]
-        faces: list[tuple[int, ...]] = list(value.triangles())
+        text = _mesh_off_text(value, number)
     elif isinstance(value, PolygonMesh):
         points = list(value.vertices)
         faces = list(value.polygons)
+        out = ["OFF", f"{len(points)} {len(faces)} 0"]
+        out.extend(f"{number(point.x)} {number(point.y)} 0" for point in points)
+        out.extend(f"{len(face)} {' '.join(map(str, face))}" for face in faces)
+        text = "\n".join(out) + "\n"
     else:
         raise UnsupportedValueError(
             f"the off format writes a Mesh2 or a PolygonMesh, not a {type(value).__name__}"
         )
-    out = ["OFF", f"{len(points)} {len(faces)} 0"]
-    out.extend(f"{number(point.x)} {number(point.y)} 0" for point in points)
-    out.extend(f"{len(face)} {' '.join(map(str, face))}" for face in faces)
     return write_files(
-        [(path, "\n".join(out) + "\n")],
+        [(path, text)],
         overwrite=overwrite,
         numbers=number,
         dropped=dropped_parts(value, ()),
+    )
+
+
+def _mesh_off_text(mesh: Mesh2, number: NumberText) -> str:
+    """The OFF text of a mesh: vertices in id order, triangles canonical and sorted, in
+    bulk (:mod:`geomexact.io.bulk`)."""
+    count = mesh.vertex_count
+    vertices = mesh.vertices
+    coordinates = number.texts(
+        coordinate for index in range(count) for coordinate in vertices[index][:2]
+    )
+    triangles = triangle_array(mesh)
+    return (
+        f"OFF\n{count} {len(triangles)} 0\n"
+        + rows_text("%s %s 0\n", count, coordinates)
+        + rows_text("3 %d %d %d\n", len(triangles), triangles.ravel().tolist())
     )

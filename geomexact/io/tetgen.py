@@ -16,6 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.io.bulk import numbered, rows_text
 from geomexact.io.registry import (
     NumberStyle,
     NumberText,
@@ -306,17 +307,24 @@ def tetgen_texts(mesh: Mesh3, number: NumberText) -> tuple[str, str, str]:
     itself writes (``specs/formats/tetgen.md``): 0-based; tetrahedra canonical, each
     positive in our orient3d (``det[b - a, c - a, d - a] > 0``); boundary faces inward
     (counter-clockwise seen from inside the mesh: each outward face reversed), marker 1."""
-    node = [f"{mesh.vertex_count} 3 0 0"]
-    for index in range(mesh.vertex_count):
-        p = mesh.vertices[index]
-        node.append(f"{index} {number(p.x)} {number(p.y)} {number(p.z)}")
-    tetrahedra = mesh.tetrahedra()
-    ele = [f"{len(tetrahedra)} 4 0"]
-    ele.extend(f"{i} {a} {b} {c} {d}" for i, (a, b, c, d) in enumerate(tetrahedra))
+    count = mesh.vertex_count
+    vertices = mesh.vertices
+    coordinates = number.texts(
+        coordinate for index in range(count) for coordinate in vertices[index][:3]
+    )
+    node = f"{count} 3 0 0\n" + rows_text(
+        "%s %s %s %s\n", count, numbered(coordinates, 3)
+    )
+    tetrahedra = mesh.tetrahedron_array()
+    ele = f"{len(tetrahedra)} 4 0\n" + rows_text(
+        "%s %s %s %s %s\n", len(tetrahedra), numbered(tetrahedra.ravel().tolist(), 4)
+    )
     faces = mesh.boundary_faces()
-    face = [f"{len(faces)} 1"]
-    face.extend(f"{i} {a} {c} {b} 1" for i, (a, b, c) in enumerate(faces))  # inward
-    return tuple("\n".join(rows) + "\n" for rows in (node, ele, face))  # type: ignore[return-value]
+    inward = [vertex for a, b, c in faces for vertex in (a, c, b)]
+    face = f"{len(faces)} 1\n" + rows_text(
+        "%s %s %s %s 1\n", len(faces), numbered(inward, 3)
+    )
+    return node, ele, face
 
 
 def write_tetgen(

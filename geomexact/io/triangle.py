@@ -15,12 +15,14 @@ numbered consecutively from there.  Boundary markers and attributes are kept.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from pathlib import Path
 
 import attrs
 
 from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.io.bulk import neighbour_array, numbered, rows_text, triangle_array
 from geomexact.io.registry import (
     Lines,
     NumberStyle,
@@ -206,14 +208,21 @@ def _node_text(
     number: NumberText,
 ) -> str:
     count, rows = uniform_attributes(attributes, "vertex")
-    out = [f"{len(points)} 2 {count} {1 if markers is not None else 0}"]
-    for index, point in enumerate(points):
-        fields = [str(index), number(point.x), number(point.y)]
-        fields.extend(number(value) for value in rows[index])
-        if markers is not None:
-            fields.append(str(markers[index]))
-        out.append(" ".join(fields))
-    return "\n".join(out) + "\n"
+    header = f"{len(points)} 2 {count} {1 if markers is not None else 0}\n"
+    columns: list[Sequence[object]] = [
+        range(len(points)),
+        number.texts(point.x for point in points),
+        number.texts(point.y for point in points),
+    ]
+    if count:
+        values = number.texts(value for row in rows for value in row)
+        columns.extend(values[column::count] for column in range(count))
+    if markers is not None:
+        columns.append(markers)
+    template = " ".join(["%s"] * len(columns)) + "\n"
+    return header + rows_text(
+        template, len(points), list(itertools.chain.from_iterable(zip(*columns, strict=True)))
+    )
 
 
 def _pslg_node_text(pslg: PSLG, number: NumberText) -> str:
@@ -711,26 +720,32 @@ def write_triangle(
     mesh = value
     stem = _mesh_stem(path)
     number = NumberText(numbers)
-    points = [mesh.vertices[index] for index in range(mesh.vertex_count)]
-    markers = [mesh.vertex_markers.get(index, 0) for index in range(mesh.vertex_count)]
+    vertices, vertex_markers = mesh.vertices, mesh.vertex_markers
+    points = [vertices[index] for index in range(mesh.vertex_count)]
+    markers = [vertex_markers.get(index, 0) for index in range(mesh.vertex_count)]
     vertex_attributes = [mesh.vertex_attributes.get(index) for index in range(len(points))]
     node_text = _node_text(points, markers, vertex_attributes, number)
-    triangles = mesh.triangles()
-    count, rows = uniform_attributes(
-        [mesh.triangle_attributes.get(triangle) for triangle in triangles], "triangle"
-    )
-    ele = [f"{len(triangles)} 3 {count}"]
-    for index, (a, b, c) in enumerate(triangles):
-        ele.append(" ".join([str(index), str(a), str(b), str(c), *map(number, rows[index])]))
-    neigh = [f"{len(triangles)} 3"]
-    neigh.extend(
-        f"{index} {n0} {n1} {n2}"
-        for index, (n0, n1, n2) in enumerate(expected_neighbours(triangles))
+    triangles = triangle_array(mesh)
+    flat = triangles.ravel().tolist()
+    total = len(triangles)
+    ele = f"{total} 3 0\n" + rows_text("%s %s %s %s\n", total, numbered(flat, 3))
+    if len(mesh.triangle_attributes):
+        keys = list(zip(flat[0::3], flat[1::3], flat[2::3], strict=True))
+        count, rows = uniform_attributes(
+            [mesh.triangle_attributes.get(triangle) for triangle in keys], "triangle"
+        )
+        lines = [f"{total} 3 {count}"]
+        for index, (a, b, c) in enumerate(keys):
+            lines.append(" ".join([str(index), str(a), str(b), str(c),
+                                   *map(number, rows[index])]))
+        ele = "\n".join(lines) + "\n"
+    neigh = f"{total} 3\n" + rows_text(
+        "%s %s %s %s\n", total, numbered(neighbour_array(triangles).ravel().tolist(), 3)
     )
     files = [
         (with_extension(stem, NODE), node_text),
-        (with_extension(stem, ELE), "\n".join(ele) + "\n"),
-        (with_extension(stem, NEIGH), "\n".join(neigh) + "\n"),
+        (with_extension(stem, ELE), ele),
+        (with_extension(stem, NEIGH), neigh),
     ]
     segments = mesh.segment_list()
     if segments:
