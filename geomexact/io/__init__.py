@@ -294,7 +294,8 @@ def write_with_report(
         numbers = "exact"
     if numbers not in NUMBER_STYLES:
         raise ValueError(f"numbers must be one of {', '.join(NUMBER_STYLES)}, not {numbers!r}")
-    return chosen.write(Path(path), value, overwrite=overwrite, numbers=numbers)
+    with collector_paused():  # a writer's tables are many small objects, freed at once
+        return chosen.write(Path(path), value, overwrite=overwrite, numbers=numbers)
 
 
 def write(

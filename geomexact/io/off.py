@@ -13,9 +13,23 @@ import itertools
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
+
 from geomexact.errors import FormatError, RationalParseError, UnsupportedValueError
+from geomexact.io.bulk import (
+    IntArray,
+    NotPlain,
+    PlainLines,
+    integer_column,
+    number_column,
+    oriented_rows,
+    rows_text,
+    triangle_array,
+    triangle_tuples,
+)
 from geomexact.io.files import read_lines
 from geomexact.io.registry import (
+    BulkOrientation,
     Lines,
     NumberedLine,
     NumberStyle,
@@ -260,6 +274,9 @@ def _vertex_shaped(tokens: list[str]) -> bool:
 def read_off(path: Path) -> tuple[Value, list[str]]:
     """An OFF file as a Mesh2 (all faces triangles) or a PolygonMesh.  The file is
     streamed: a bad line stops the reading there."""
+    bulk = _bulk_off(path)
+    if bulk is not None:
+        return bulk
     name = str(path)
     notes: list[str] = []
     lines = Lines(name, _off_lines(path, notes))
@@ -359,6 +376,67 @@ def read_off(path: Path) -> tuple[Value, list[str]]:
     return PolygonMesh(vertices=points, polygons=polygons), notes
 
 
+def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
+    """:func:`read_off` of a plain triangle OFF file (:mod:`geomexact.io.bulk`): the
+    keyword ``OFF``, regular lines ``x y 0`` and ``3 a b c`` of plain numbers, indices in
+    range, one orientation; None for anything else (the line reader then reads it, or
+    names the error, having read no further than its line)."""
+    points: list[Point2] = []
+    point_lines: list[int | None] = []
+    parts: list[IntArray] = []
+    face_lines: list[int | None] = []
+    reversed_count = 0
+    cache: dict[str, tuple[Rational, float]] = {}
+    try:
+        with PlainLines(path) as lines:
+            tokens, _ = lines.next_line()
+            if tokens[0] != "OFF":
+                return None
+            counts = tokens[1:] or lines.next_line()[0]
+            numbers = integer_column(counts) if len(counts) in (2, 3) else None
+            if numbers is None or int(numbers.min()) < 0:
+                return None
+            vertex_count, face_count = int(numbers[0]), int(numbers[1])
+            for tokens, rows_lines in lines.chunks(vertex_count, 3):
+                xs = number_column(tokens[0::3], cache)
+                ys = number_column(tokens[1::3], cache)
+                zs = number_column(tokens[2::3], cache)
+                if xs is None or ys is None or zs is None or any(zs[0]):
+                    return None
+                points.extend(map(Point2, xs[0], ys[0], xs[1], ys[1]))
+                point_lines.extend(rows_lines)
+            for tokens, rows_lines in lines.chunks(face_count, 4):
+                values = integer_column(tokens)
+                if values is None:
+                    return None
+                rows = values.reshape(-1, 4)
+                corners = rows[:, 1:]
+                if (not bool(np.all(rows[:, 0] == 3)) or int(corners.min()) < 0
+                        or int(corners.max()) >= vertex_count):
+                    return None
+                oriented = oriented_rows(points, corners)
+                if oriented is None or (parts and bool(oriented[1]) != bool(reversed_count)):
+                    return None  # degenerate, or mixed orientations
+                reversed_count += oriented[1]
+                parts.append(corners)
+                face_lines.extend(rows_lines)
+            if not lines.at_end():
+                return None
+    except NotPlain:
+        return None
+    corners = np.concatenate(parts) if parts else np.zeros((0, 3), dtype=np.int64)
+    name = str(path)
+    notes: list[str] = []
+    table = TriangleTable(path=name, triangles=triangle_tuples(corners), lines=face_lines)
+    mesh = build_mesh(
+        points, point_lines, table, point_path=name, notes=notes,
+        orienter=BulkOrientation(
+            corners[:, [0, 2, 1]] if reversed_count else corners, reversed_count
+        ),
+    )
+    return mesh, notes
+
+
 def _twice_area(points: list[Point2], polygon: tuple[int, ...]) -> Rational:
     total = ZERO
     previous = points[polygon[-1]]
@@ -412,21 +490,37 @@ def write_off(
     mesh's markers, attributes and segments are dropped (and reported)."""
     number = NumberText(numbers)
     if isinstance(value, Mesh2):
-        points = [value.vertices[index] for index in range(value.vertex_count)]
-        faces: list[tuple[int, ...]] = list(value.triangles())
+        text = _mesh_off_text(value, number)
     elif isinstance(value, PolygonMesh):
         points = list(value.vertices)
         faces = list(value.polygons)
+        out = ["OFF", f"{len(points)} {len(faces)} 0"]
+        out.extend(f"{number(point.x)} {number(point.y)} 0" for point in points)
+        out.extend(f"{len(face)} {' '.join(map(str, face))}" for face in faces)
+        text = "\n".join(out) + "\n"
     else:
         raise UnsupportedValueError(
             f"the off format writes a Mesh2 or a PolygonMesh, not a {type(value).__name__}"
         )
-    out = ["OFF", f"{len(points)} {len(faces)} 0"]
-    out.extend(f"{number(point.x)} {number(point.y)} 0" for point in points)
-    out.extend(f"{len(face)} {' '.join(map(str, face))}" for face in faces)
     return write_files(
-        [(path, "\n".join(out) + "\n")],
+        [(path, text)],
         overwrite=overwrite,
         numbers=number,
         dropped=dropped_parts(value, ()),
+    )
+
+
+def _mesh_off_text(mesh: Mesh2, number: NumberText) -> str:
+    """The OFF text of a mesh: vertices in id order, triangles canonical and sorted, in
+    bulk (:mod:`geomexact.io.bulk`)."""
+    count = mesh.vertex_count
+    vertices = mesh.vertices
+    coordinates = number.texts(
+        coordinate for index in range(count) for coordinate in vertices[index][:2]
+    )
+    triangles = triangle_array(mesh)
+    return (
+        f"OFF\n{count} {len(triangles)} 0\n"
+        + rows_text("%s %s 0\n", count, coordinates)
+        + rows_text("3 %d %d %d\n", len(triangles), triangles.ravel().tolist())
     )

@@ -29,12 +29,14 @@ from typing import Any, Literal, Protocol, TypeAlias
 
 import attrs
 import gmpy2
+import numpy as np
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
 from geomexact.io.files import read_lines, write_text_atomic
 from geomexact.kernel.numbers import (
     ZERO,
     Rational,
+    dyadic_decimal,
     exact_decimal,
     floor_log2,
     parse_rational,
@@ -582,6 +584,23 @@ class Orienter:
         return self.oriented
 
 
+@attrs.frozen(slots=True)
+class BulkOrientation:
+    """Triangles oriented in bulk by a reader's fast path (:mod:`geomexact.io.bulk`):
+    ``rows`` (T x 3 int64), all counter-clockwise; ``reversed_count`` of them were
+    clockwise in the file (0 or all: a fast path leaves mixed files to the
+    :class:`Orienter`)."""
+
+    rows: Any
+    reversed_count: int
+    noun: str = "triangle"
+
+    def finish(self, notes: list[str]) -> None:
+        """Note the reversal, as :meth:`Orienter.finish` does."""
+        if self.reversed_count:
+            notes.append(all_clockwise_note(self.reversed_count, self.noun))
+
+
 def orient_triangles(
     table: TriangleTable, points: Sequence[Point2], *, individually: bool, notes: list[str]
 ) -> list[tuple[int, int, int]]:
@@ -611,7 +630,7 @@ def build_mesh(
     segment_lines: Sequence[int | None] = (),
     segment_path: str | None = None,
     orient_individually: bool = False,
-    orienter: Orienter | None = None,
+    orienter: Orienter | BulkOrientation | None = None,
 ) -> Mesh2:
     """A :class:`Mesh2` from checked tables (indices already 0-based and in range).
 
@@ -622,26 +641,41 @@ def build_mesh(
     """
     used = {vertex for triangle in table.triangles for vertex in triangle}
     check_distinct_points(point_path, points, point_lines, used, notes, table.vertex_base)
-    if orienter is not None and len(orienter.oriented) == len(table.triangles):
+    rows: Any = None
+    oriented: list[tuple[int, int, int]]
+    if isinstance(orienter, BulkOrientation):
+        rows = orienter.rows
+        orienter.finish(notes)
+        oriented = []
+    elif orienter is not None and len(orienter.oriented) == len(table.triangles):
         oriented = orienter.finish(notes)
     else:
         oriented = orient_triangles(
             table, points, individually=orient_individually, notes=notes
         )
-    transient = Transient2(empty_mesh())
-    for index, point in enumerate(points):
-        marker = vertex_markers[index] if vertex_markers is not None else 0
-        attributes = vertex_attributes[index] if vertex_attributes is not None else ()
-        transient.add_vertex(point, marker, attributes)
     triangle_attributes = table.attributes
-    for index, (a, b, c) in enumerate(oriented):
-        values = triangle_attributes[index] if triangle_attributes is not None else None
-        try:
-            transient.add_triangle(a, b, c, values or None)
-        except PreconditionError as error:
-            raise FormatError(
-                table.path, table.lines[index], _overlap_problem(table, oriented, index)
-            ) from error
+    built = None
+    if triangle_attributes is None:
+        # imported here: the bulk module builds on the tables of this one
+        from geomexact.io.bulk import bulk_mesh2
+
+        if rows is None:
+            rows = np.array(oriented, dtype=np.int64).reshape(-1, 3)
+        built = bulk_mesh2(points, rows, vertex_markers, vertex_attributes)
+    if built is not None:
+        transient = built.transient()
+    else:  # triangle attributes, or an overlap to report: one triangle at a time
+        if rows is not None and not oriented:
+            oriented = [(a, b, c) for a, b, c in rows.tolist()]
+        transient = _transient_mesh(points, vertex_markers, vertex_attributes)
+        for index, (a, b, c) in enumerate(oriented):
+            values = triangle_attributes[index] if triangle_attributes is not None else None
+            try:
+                transient.add_triangle(a, b, c, values or None)
+            except PreconditionError as error:
+                raise FormatError(
+                    table.path, table.lines[index], _overlap_problem(table, oriented, index)
+                ) from error
     segment_file = segment_path or table.path
     not_edges = 0
     for index, (u, v, marker) in enumerate(segments):
@@ -674,6 +708,20 @@ def build_mesh(
             f"{'is' if unused == 1 else 'are'} in no triangle"
         )
     return mesh
+
+
+def _transient_mesh(
+    points: Sequence[Point2],
+    vertex_markers: Sequence[int] | None,
+    vertex_attributes: Sequence[Attributes] | None,
+) -> Transient2:
+    """A transient holding ``points`` with their markers and attributes, no triangle."""
+    transient = Transient2(empty_mesh())
+    for index, point in enumerate(points):
+        marker = vertex_markers[index] if vertex_markers is not None else 0
+        attributes = vertex_attributes[index] if vertex_attributes is not None else ()
+        transient.add_vertex(point, marker, attributes)
+    return transient
 
 
 def _overlap_problem(
@@ -743,30 +791,62 @@ class WriteReport:
 
 class NumberText:
     """The text of each number of one write, in one :data:`NumberStyle`, counting the
-    numbers it rounds.  A transient: one per write call."""
+    numbers it rounds.  A transient: one per write call.
 
-    __slots__ = ("rounded", "style")
+    Each distinct value is formatted once (a mesh repeats its coordinates: a refined grid
+    has a few hundred distinct ones among 10^5 vertices), through :func:`~geomexact.
+    kernel.numbers.dyadic_decimal` when its denominator is a power of two; a rounded value
+    is counted at every occurrence, as when it was formatted each time."""
+
+    __slots__ = ("_cache", "rounded", "style")
 
     def __init__(self, style: NumberStyle) -> None:
         if style not in NUMBER_STYLES:
             raise ValueError(f"unknown number style {style!r} (known: {NUMBER_STYLES})")
         self.style = style
         self.rounded = 0
+        self._cache: dict[Rational, tuple[str, bool]] = {}
 
     def __call__(self, value: Rational) -> str:
+        known = self._cache.get(value)
+        if known is None:
+            known = self._cache[value] = self._text(value)
+        if known[1]:
+            self.rounded += 1
+        return known[0]
+
+    def texts(self, values: Iterable[Rational]) -> list[str]:
+        """The text of each of ``values`` (:meth:`__call__` of each, in bulk)."""
+        cache = self._cache
+        get = cache.get
+        out: list[str] = []
+        append = out.append
+        rounded = 0
+        for value in values:
+            known = get(value)
+            if known is None:
+                known = cache[value] = self._text(value)
+            if known[1]:
+                rounded += 1
+            append(known[0])
+        self.rounded += rounded
+        return out
+
+    def _text(self, value: Rational) -> tuple[str, bool]:
+        """(text, rounded) of one value."""
         if self.style == "float":
             if value.denominator == 1 and abs(value.numerator) <= _EXACT_INTEGER_LIMIT:
-                return mpz_text(value.numerator)
+                return mpz_text(value.numerator), False
         else:
-            text = exact_decimal_text(value)
+            text = dyadic_decimal(value, plain_within=_ZEROS_WORTH_AN_EXPONENT)
+            if text is None:
+                text = exact_decimal_text(value)
             if text is not None:
-                return text
+                return text, False
             if self.style == "exact":
-                return f"{mpz_text(value.numerator)}/{mpz_text(value.denominator)}"
+                return f"{mpz_text(value.numerator)}/{mpz_text(value.denominator)}", False
         text, exact = nearest_double_text(value)
-        if not exact:
-            self.rounded += 1
-        return text
+        return text, not exact
 
 
 def mpz_text(value: Any) -> str:

@@ -15,7 +15,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.io.bulk import (
+    NotPlain,
+    PlainLines,
+    integer_column,
+    number_column,
+    numbered,
+    rows_text,
+)
 from geomexact.io.registry import (
     NumberStyle,
     NumberText,
@@ -33,6 +43,7 @@ from geomexact.io.registry import (
     with_extension,
     write_files,
 )
+from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3, point3
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates3d import orient3d
@@ -71,8 +82,12 @@ def node_dimension(path: Path) -> int | None:
 
 
 def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
-    """The points of a 3D ``.node`` file and its numbering base."""
+    """The points of a 3D ``.node`` file and its numbering base; a plain file in bulk
+    (:func:`_bulk_nodes`)."""
     name = str(path)
+    bulk = _bulk_nodes(path, notes)
+    if bulk is not None:
+        return bulk
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count 3 attributes markers'")
     if len(tokens) > 4:
@@ -120,11 +135,141 @@ def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
     return points, base
 
 
+def _node_fields(header: list[str]) -> int | None:
+    values = integer_column(header) if len(header) <= 4 else None
+    if values is None or len(values) < 2 or values[1] != 3 or (values < 0).any():
+        return None
+    attributes = int(values[2]) if len(values) > 2 else 0
+    markers = int(values[3]) if len(values) > 3 else 0
+    return 4 + attributes + markers if markers in (0, 1) else None
+
+
+def _bulk_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int] | None:
+    """:func:`_read_nodes` of a plain file (:mod:`geomexact.io.bulk`): regular lines,
+    vertices numbered 0, 1, … or 1, 2, …, plain numbers; None for anything else (the
+    line reader then reads it, or names the error)."""
+    points: list[Point3] = []
+    cache: dict[str, tuple[Rational, float]] = {}
+    dropped = 0
+    base = 0
+    try:
+        with PlainLines(path) as lines:
+            header, _ = lines.next_line()
+            fields = _node_fields(header)
+            if fields is None:
+                return None
+            count = int(header[0])
+            attributes = int(header[2]) if len(header) > 2 else 0
+            markers = fields - 4 - attributes
+            for tokens, _ in lines.chunks(count, fields):
+                if not points:
+                    base = 1 if tokens[0] == "1" else 0
+                first = base + len(points)
+                size = len(tokens) // fields
+                if tokens[0::fields] != [str(label) for label in range(first, first + size)]:
+                    return None
+                columns = [number_column(tokens[column::fields], cache)
+                           for column in range(1, 4 + attributes)]
+                marker_column = integer_column(tokens[fields - 1 :: fields]) if markers else None
+                if any(column is None for column in columns) or (
+                    markers and marker_column is None
+                ):
+                    return None
+                (xs, fxs), (ys, fys), (zs, fzs) = columns[:3]  # type: ignore[misc]
+                points.extend(map(Point3, xs, ys, zs, fxs, fys, fzs))
+                if marker_column is not None:
+                    dropped += int(np.count_nonzero(marker_column))
+            if not lines.at_end():
+                return None
+    except NotPlain:
+        return None
+    if attributes:
+        notes.append(f"dropped the {counted(attributes, 'attribute')} of each vertex")
+    if dropped:
+        notes.append(f"dropped {counted(dropped, 'nonzero vertex marker')}")
+    return points, base
+
+
+def _bulk_tetrahedra(
+    path: Path, points: list[Point3], base: int, notes: list[str]
+) -> tuple[list[tuple[int, int, int, int]], list[int]] | None:
+    """:func:`_read_tetrahedra` of a plain file (:mod:`geomexact.io.bulk`): regular
+    lines, tetrahedra numbered 0, 1, … or 1, 2, …, indices in range, distinct corners,
+    one orientation; None for anything else (the line reader then reads it, or names the
+    error, having read no further than its line)."""
+    tetrahedra: list[tuple[int, int, int, int]] = []
+    numbers: list[int] = []
+    positive = negative = False
+    first = 0
+    try:
+        with PlainLines(path) as lines:
+            header, _ = lines.next_line()
+            values = integer_column(header) if len(header) <= 3 else None
+            if values is None or (values < 0).any() or (len(values) > 1 and values[1] != 4):
+                return None
+            attributes = int(values[2]) if len(values) > 2 else 0
+            fields = 5 + attributes
+            for tokens, rows_lines in lines.chunks(int(values[0]), fields):
+                for column in range(5, fields):
+                    if number_column(tokens[column::fields], {}) is None:
+                        return None
+                corner_tokens = tokens if not attributes else [
+                    token for row in zip(*(tokens[c::fields] for c in range(5)), strict=True)
+                    for token in row
+                ]
+                found = integer_column(corner_tokens)
+                if found is None:
+                    return None
+                rows = found.reshape(-1, 5)
+                if not numbers:
+                    first = int(rows[0, 0])
+                start = first + len(numbers)
+                corners = rows[:, 1:] - base
+                ordered = np.sort(corners, axis=1)
+                if (
+                    first not in (0, 1)
+                    or not np.array_equal(rows[:, 0], np.arange(start, start + len(rows)))
+                    or int(corners.min()) < 0 or int(corners.max()) >= len(points)
+                    or bool(np.any(ordered[:, 1:] == ordered[:, :-1]))
+                ):
+                    return None
+                chunk = list(zip(*(corners[:, k].tolist() for k in range(4)), strict=True))
+                for a, b, c, d in chunk:
+                    orientation = orient3d(points[a], points[b], points[c], points[d])
+                    if orientation == Orientation.COUNTERCLOCKWISE:
+                        positive = True
+                    elif orientation == Orientation.CLOCKWISE:
+                        negative = True
+                    else:
+                        return None
+                if positive and negative:
+                    return None
+                tetrahedra.extend(chunk)
+                numbers.extend(rows_lines)
+            if not lines.at_end():
+                return None
+    except NotPlain:
+        return None
+    if negative:
+        tetrahedra = [(b, a, c, d) for a, b, c, d in tetrahedra]
+        notes.append(
+            f"all {counted(len(tetrahedra), 'tetrahedron', 'tetrahedra')} were negatively "
+            "oriented; reversed them"
+        )
+    if attributes:
+        notes.append(f"dropped the {counted(attributes, 'attribute')} of each tetrahedron")
+    return tetrahedra, numbers
+
+
 def _read_tetrahedra(
     path: Path, points: list[Point3], base: int, notes: list[str]
 ) -> tuple[list[tuple[int, int, int, int]], list[int]]:
-    """The tetrahedra of an ``.ele`` file (0-based), all positive, and their lines."""
+    """The tetrahedra of an ``.ele`` file (0-based), all positive, and their lines; a
+    plain file's tokens in bulk (:func:`_bulk_tetrahedra`)."""
     name = str(path)
+    bulk = _bulk_tetrahedra(path, points, base, notes)
+    if bulk is not None:
+        return bulk
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count 4 attributes'")
     if len(tokens) > 3:
@@ -306,17 +451,24 @@ def tetgen_texts(mesh: Mesh3, number: NumberText) -> tuple[str, str, str]:
     itself writes (``specs/formats/tetgen.md``): 0-based; tetrahedra canonical, each
     positive in our orient3d (``det[b - a, c - a, d - a] > 0``); boundary faces inward
     (counter-clockwise seen from inside the mesh: each outward face reversed), marker 1."""
-    node = [f"{mesh.vertex_count} 3 0 0"]
-    for index in range(mesh.vertex_count):
-        p = mesh.vertices[index]
-        node.append(f"{index} {number(p.x)} {number(p.y)} {number(p.z)}")
-    tetrahedra = mesh.tetrahedra()
-    ele = [f"{len(tetrahedra)} 4 0"]
-    ele.extend(f"{i} {a} {b} {c} {d}" for i, (a, b, c, d) in enumerate(tetrahedra))
+    count = mesh.vertex_count
+    vertices = mesh.vertices
+    coordinates = number.texts(
+        coordinate for index in range(count) for coordinate in vertices[index][:3]
+    )
+    node = f"{count} 3 0 0\n" + rows_text(
+        "%s %s %s %s\n", count, numbered(coordinates, 3)
+    )
+    tetrahedra = mesh.tetrahedron_array()
+    ele = f"{len(tetrahedra)} 4 0\n" + rows_text(
+        "%s %s %s %s %s\n", len(tetrahedra), numbered(tetrahedra.ravel().tolist(), 4)
+    )
     faces = mesh.boundary_faces()
-    face = [f"{len(faces)} 1"]
-    face.extend(f"{i} {a} {c} {b} 1" for i, (a, b, c) in enumerate(faces))  # inward
-    return tuple("\n".join(rows) + "\n" for rows in (node, ele, face))  # type: ignore[return-value]
+    inward = [vertex for a, b, c in faces for vertex in (a, c, b)]
+    face = f"{len(faces)} 1\n" + rows_text(
+        "%s %s %s %s 1\n", len(faces), numbered(inward, 3)
+    )
+    return node, ele, face
 
 
 def write_tetgen(

@@ -15,13 +15,29 @@ numbered consecutively from there.  Boundary markers and attributes are kept.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from pathlib import Path
 
 import attrs
+import numpy as np
 
 from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.io.bulk import (
+    IntArray,
+    NotPlain,
+    PlainLines,
+    integer_column,
+    neighbour_array,
+    number_column,
+    numbered,
+    oriented_rows,
+    rows_text,
+    triangle_array,
+    triangle_tuples,
+)
 from geomexact.io.registry import (
+    BulkOrientation,
     Lines,
     NumberStyle,
     NumberText,
@@ -155,8 +171,12 @@ def _read_vertices(
 
 
 def read_node_table(path: Path) -> VertexTable:
-    """The vertices of a ``.node`` file (nothing may follow them), streamed."""
+    """The vertices of a ``.node`` file (nothing may follow them), streamed; a plain
+    file in bulk (:func:`_bulk_node_table`)."""
     name = str(path)
+    bulk = _bulk_node_table(path)
+    if bulk is not None:
+        return bulk
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count dimension attributes markers'")
     count, attribute_count, markers = _read_vertex_header(name, number, tokens)
@@ -165,6 +185,82 @@ def read_node_table(path: Path) -> VertexTable:
     )
     lines.expect_end(f"the {counted(count, 'vertex', 'vertices')}")
     return table
+
+
+def _bulk_node_table(path: Path) -> VertexTable | None:
+    """:func:`read_node_table` of a plain ``.node`` file (:mod:`geomexact.io.bulk`):
+    regular lines, vertices numbered 0, 1, … or 1, 2, … as written by Triangle, plain
+    numbers; None for anything else (the line reader then reads it, or names the error)."""
+    name = str(path)
+    points: list[Point2] = []
+    point_lines: list[int | None] = []
+    markers: list[int] = []
+    attributes: list[Attributes] = []
+    cache: dict[str, tuple[Rational, float]] = {}
+    try:
+        with PlainLines(path) as lines:
+            tokens, number = lines.next_line()
+            try:
+                count, attribute_count, has_markers = _read_vertex_header(name, number, tokens)
+            except FormatError:
+                return None
+            fields = 3 + attribute_count + has_markers
+            base = 0
+            for tokens, numbers in lines.chunks(count, fields):
+                if not points:
+                    base = 1 if tokens[0] == "1" else 0
+                part = _bulk_vertices(tokens, fields, base + len(points), attribute_count,
+                                      bool(has_markers), cache)
+                if part is None:
+                    return None
+                points.extend(part[0])
+                markers.extend(part[1])
+                attributes.extend(part[2])
+                point_lines.extend(numbers)
+            if not lines.at_end():
+                return None
+    except NotPlain:
+        return None
+    return VertexTable(
+        name, points, point_lines, base, attribute_count, bool(has_markers), markers,
+        attributes,
+    )
+
+
+def _bulk_vertices(
+    tokens: list[str],
+    fields: int,
+    first: int,
+    attribute_count: int,
+    has_markers: bool,
+    cache: dict[str, tuple[Rational, float]],
+) -> tuple[list[Point2], list[int], list[Attributes]] | None:
+    """Points, markers and attributes of vertex lines of ``fields`` tokens each, or None
+    unless every token is plain and the lines are numbered ``first``, ``first + 1``, …"""
+    count = len(tokens) // fields
+    if tokens[0::fields] != [str(label) for label in range(first, first + count)]:
+        return None
+    xs = number_column(tokens[1::fields], cache)
+    ys = number_column(tokens[2::fields], cache)
+    if xs is None or ys is None:
+        return None
+    points = list(map(Point2, xs[0], ys[0], xs[1], ys[1]))
+    attributes: list[Attributes] = []
+    if attribute_count:
+        columns = []
+        for column in range(3, 3 + attribute_count):
+            values = number_column(tokens[column::fields], cache)
+            if values is None:
+                return None
+            columns.append(values[0])
+        attributes = list(zip(*columns, strict=True))
+    markers: list[int] = []
+    if has_markers:
+        marker_column = integer_column(tokens[fields - 1 :: fields])
+        if marker_column is None:
+            return None
+        markers = marker_column.tolist()
+    return points, markers, attributes
 
 
 def _pslg_vertex_tables(
@@ -206,14 +302,21 @@ def _node_text(
     number: NumberText,
 ) -> str:
     count, rows = uniform_attributes(attributes, "vertex")
-    out = [f"{len(points)} 2 {count} {1 if markers is not None else 0}"]
-    for index, point in enumerate(points):
-        fields = [str(index), number(point.x), number(point.y)]
-        fields.extend(number(value) for value in rows[index])
-        if markers is not None:
-            fields.append(str(markers[index]))
-        out.append(" ".join(fields))
-    return "\n".join(out) + "\n"
+    header = f"{len(points)} 2 {count} {1 if markers is not None else 0}\n"
+    columns: list[Sequence[object]] = [
+        range(len(points)),
+        number.texts(point.x for point in points),
+        number.texts(point.y for point in points),
+    ]
+    if count:
+        values = number.texts(value for row in rows for value in row)
+        columns.extend(values[column::count] for column in range(count))
+    if markers is not None:
+        columns.append(markers)
+    template = " ".join(["%s"] * len(columns)) + "\n"
+    return header + rows_text(
+        template, len(points), list(itertools.chain.from_iterable(zip(*columns, strict=True)))
+    )
 
 
 def _pslg_node_text(pslg: PSLG, number: NumberText) -> str:
@@ -465,13 +568,17 @@ class ElementTable:
 
     table: TriangleTable
     first_number: int
-    orienter: Orienter | None = None  # each triangle oriented as it was read
+    orienter: Orienter | BulkOrientation | None = None  # each triangle oriented as read
 
 
 def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
     """The triangles of an ``.ele`` file, streamed, each oriented as it is read (a
-    degenerate or mixed triangle stops the reading at its line)."""
+    degenerate or mixed triangle stops the reading at its line); a plain file in bulk
+    (:func:`_bulk_ele`)."""
     name = str(path)
+    bulk = _bulk_ele(path, nodes)
+    if bulk is not None:
+        return bulk
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count corners attributes'")
     if len(tokens) > 3:
@@ -548,8 +655,62 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
     return ElementTable(table, first, orienter)
 
 
+def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
+    """:func:`_read_ele` of a plain file without attributes (:mod:`geomexact.io.bulk`):
+    regular lines of integers, triangles numbered 0, 1, … or 1, 2, …, indices in range,
+    one orientation; None for anything else (the line reader then reads it, or names the
+    error, having read no further than its line)."""
+    base = nodes.base
+    parts: list[IntArray] = []
+    triangle_lines: list[int | None] = []
+    reversed_count = 0
+    try:
+        with PlainLines(path) as lines:
+            tokens, _ = lines.next_line()
+            if len(tokens) > 3 or tokens[1:] not in ([], ["3"], ["3", "0"]):
+                return None
+            header = integer_column(tokens[:1])
+            if header is None or header[0] < 0:
+                return None
+            first = 0
+            for tokens, numbers in lines.chunks(int(header[0]), 4):
+                values = integer_column(tokens)
+                if values is None:
+                    return None
+                rows = values.reshape(-1, 4)
+                if not parts:
+                    first = int(rows[0, 0])
+                start = first + len(triangle_lines)
+                corners = rows[:, 1:] - base
+                if (
+                    first not in (0, 1)
+                    or not np.array_equal(rows[:, 0], np.arange(start, start + len(rows)))
+                    or int(corners.min()) < 0 or int(corners.max()) >= len(nodes.points)
+                ):
+                    return None
+                oriented = oriented_rows(nodes.points, corners)
+                if oriented is None or (parts and bool(oriented[1]) != bool(reversed_count)):
+                    return None  # degenerate, or mixed orientations
+                reversed_count += oriented[1]
+                parts.append(corners)
+                triangle_lines.extend(numbers)
+            if not lines.at_end():
+                return None
+    except NotPlain:
+        return None
+    corners = np.concatenate(parts) if parts else np.zeros((0, 3), dtype=np.int64)
+    rows = corners[:, [0, 2, 1]] if reversed_count else corners
+    element_table = TriangleTable(
+        path=str(path), triangles=triangle_tuples(corners), lines=triangle_lines,
+        first_number=first, vertex_base=base,
+    )
+    return ElementTable(element_table, first, BulkOrientation(rows, reversed_count))
+
+
 def _check_neigh(path: Path, elements: ElementTable) -> None:
     name = str(path)
+    if _bulk_neigh_agrees(path, elements):
+        return
     triangles = elements.table.triangles
     count = len(triangles)
     first = elements.first_number
@@ -588,6 +749,36 @@ def _check_neigh(path: Path, elements: ElementTable) -> None:
                     continue
         _neigh_problem(name, number, tokens, index, elements, expected[index])
     lines.expect_end(f"the {counted(count, 'neighbour line')}")
+
+
+def _bulk_neigh_agrees(path: Path, elements: ElementTable) -> bool:
+    """True when a plain ``.neigh`` file lists exactly the neighbours of the mesh, checked
+    in bulk (:mod:`geomexact.io.bulk`); False leaves it to the line reader (which then
+    finds it right, or names the wrong line)."""
+    triangles = elements.table.triangles
+    count = len(triangles)
+    first = elements.first_number
+    expected = neighbour_array(np.array(triangles, dtype=np.int64).reshape(-1, 3))
+    done = 0
+    try:
+        with PlainLines(path) as lines:
+            if lines.next_line()[0] not in ([str(count)], [str(count), "3"]):
+                return False
+            for tokens, _ in lines.chunks(count, 4):
+                values = integer_column(tokens)
+                if values is None:
+                    return False
+                rows = values.reshape(-1, 4)
+                listed = np.where(rows[:, 1:] == -1, -1, rows[:, 1:] - first)
+                if not (
+                    np.array_equal(rows[:, 0], np.arange(first + done, first + done + len(rows)))
+                    and np.array_equal(listed, expected[done : done + len(rows)])
+                ):
+                    return False
+                done += len(rows)
+            return lines.at_end()
+    except NotPlain:
+        return False
 
 
 def _neigh_problem(
@@ -711,26 +902,32 @@ def write_triangle(
     mesh = value
     stem = _mesh_stem(path)
     number = NumberText(numbers)
-    points = [mesh.vertices[index] for index in range(mesh.vertex_count)]
-    markers = [mesh.vertex_markers.get(index, 0) for index in range(mesh.vertex_count)]
+    vertices, vertex_markers = mesh.vertices, mesh.vertex_markers
+    points = [vertices[index] for index in range(mesh.vertex_count)]
+    markers = [vertex_markers.get(index, 0) for index in range(mesh.vertex_count)]
     vertex_attributes = [mesh.vertex_attributes.get(index) for index in range(len(points))]
     node_text = _node_text(points, markers, vertex_attributes, number)
-    triangles = mesh.triangles()
-    count, rows = uniform_attributes(
-        [mesh.triangle_attributes.get(triangle) for triangle in triangles], "triangle"
-    )
-    ele = [f"{len(triangles)} 3 {count}"]
-    for index, (a, b, c) in enumerate(triangles):
-        ele.append(" ".join([str(index), str(a), str(b), str(c), *map(number, rows[index])]))
-    neigh = [f"{len(triangles)} 3"]
-    neigh.extend(
-        f"{index} {n0} {n1} {n2}"
-        for index, (n0, n1, n2) in enumerate(expected_neighbours(triangles))
+    triangles = triangle_array(mesh)
+    flat = triangles.ravel().tolist()
+    total = len(triangles)
+    ele = f"{total} 3 0\n" + rows_text("%s %s %s %s\n", total, numbered(flat, 3))
+    if len(mesh.triangle_attributes):
+        keys = list(zip(flat[0::3], flat[1::3], flat[2::3], strict=True))
+        count, rows = uniform_attributes(
+            [mesh.triangle_attributes.get(triangle) for triangle in keys], "triangle"
+        )
+        lines = [f"{total} 3 {count}"]
+        for index, (a, b, c) in enumerate(keys):
+            lines.append(" ".join([str(index), str(a), str(b), str(c),
+                                   *map(number, rows[index])]))
+        ele = "\n".join(lines) + "\n"
+    neigh = f"{total} 3\n" + rows_text(
+        "%s %s %s %s\n", total, numbered(neighbour_array(triangles).ravel().tolist(), 3)
     )
     files = [
         (with_extension(stem, NODE), node_text),
-        (with_extension(stem, ELE), "\n".join(ele) + "\n"),
-        (with_extension(stem, NEIGH), "\n".join(neigh) + "\n"),
+        (with_extension(stem, ELE), ele),
+        (with_extension(stem, NEIGH), neigh),
     ]
     segments = mesh.segment_list()
     if segments:

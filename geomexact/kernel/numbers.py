@@ -116,10 +116,34 @@ def exact_decimal(value: Rational, *, plain_within: int = 0) -> str | None:
     numerator = gmpy2.mpz(value.numerator)
     if numerator == 0:
         return "0"
-    sign = "-" if numerator < 0 else ""
     # value = digits * 10^-scale, least scale: 10^scale / (2^a 5^b) = 2^(scale-a) 5^(scale-b)
     scale = max(twos, fives)
     digits = str(abs(numerator) * gmpy2.mpz(2) ** (scale - twos) * gmpy2.mpz(5) ** (scale - fives))
+    return _decimal_text(numerator < 0, digits, scale, plain_within)
+
+
+_FIVE = gmpy2.mpz(5)
+
+
+def dyadic_decimal(value: Rational, *, plain_within: int = 0) -> str | None:
+    """:func:`exact_decimal` of ``value`` when its denominator is a power of two (an
+    integer, a midpoint, a grid coordinate: the common case of a writer), else None.
+    Cheaper: no factoring of the denominator (``value = n / 2^k`` is ``n 5^k / 10^k``)."""
+    denominator = value.denominator
+    if denominator & (denominator - 1):
+        return None
+    numerator = gmpy2.mpz(value.numerator)
+    if not numerator:
+        return "0"
+    scale = denominator.bit_length() - 1
+    digits = str(abs(numerator) * _FIVE**scale if scale else abs(numerator))
+    return _decimal_text(numerator < 0, digits, scale, plain_within)
+
+
+def _decimal_text(negative: bool, digits: str, scale: int, plain_within: int) -> str:
+    """The text of ``±digits * 10^-scale`` (digits without leading zeros): plain, or in
+    exponent form when that is shorter by more than ``plain_within`` characters."""
+    sign = "-" if negative else ""
     significant = digits.rstrip("0")
     plain: str
     if scale == 0:
