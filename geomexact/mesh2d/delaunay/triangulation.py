@@ -321,6 +321,50 @@ def _delaunay_engine(engine: str) -> str:
     return engine_named("triangulate", engine, ENGINES)
 
 
+@attrs.frozen(slots=True)
+class _PointsPlan:
+    """What a point triangulation runs: the start mesh, the first triangle's vertices, the
+    vertices inserted after it in order, and the merged duplicates."""
+
+    start: Mesh2
+    first: tuple[int, int, int]
+    rest: list[int]
+    duplicates: tuple[tuple[int, int], ...]
+
+
+def _plan_points(pslg: PSLG, merge_duplicates: bool, seed: int) -> _PointsPlan:
+    """Steps 1-3 of ``specs/delaunay.md``: duplicates, the insertion order, the first
+    triangle (raises :class:`PreconditionError` as :func:`triangulate_points` does)."""
+    vertices = pslg.vertices
+    duplicates = duplicate_points(vertices)
+    if duplicates and not merge_duplicates:
+        shown = ", ".join(f"{d} = {k}" for d, k in duplicates[:10])
+        more = f" and {len(duplicates) - 10} more" if len(duplicates) > 10 else ""
+        raise PreconditionError(
+            "triangulate",
+            f"{len(duplicates)} duplicate points (vertex = earlier vertex): {shown}{more}; "
+            "pass merge_duplicates=True to keep only the first copy",
+            duplicates=tuple(duplicates),
+        )
+    dropped = {d for d, _ in duplicates}
+    order = [v for v in insertion_order(vertices, seed=seed) if v not in dropped]
+    if len(order) < 3:
+        raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3",
+                                distinct=tuple(sorted(order)))
+    a, b = order[0], order[1]
+    third = next(
+        (k for k in range(2, len(order))
+         if orient2d(vertices[a], vertices[b], vertices[order[k]]) != COLLINEAR),
+        None,
+    )
+    if third is None:
+        raise PreconditionError("triangulate", "all points are collinear: no triangle exists",
+                                collinear=tuple(sorted(order)))
+    start = vertices_mesh(pslg)
+    c = order.pop(third)
+    return _PointsPlan(start, (a, b, c), order[2:], tuple(duplicates))
+
+
 def triangulate_points(
     points: PSLG | Sequence[Point2],
     *,
@@ -353,37 +397,13 @@ def triangulate_points(
     name = _delaunay_engine(engine)
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
-    duplicates = duplicate_points(vertices)
-    if duplicates and not merge_duplicates:
-        shown = ", ".join(f"{d} = {k}" for d, k in duplicates[:10])
-        more = f" and {len(duplicates) - 10} more" if len(duplicates) > 10 else ""
-        raise PreconditionError(
-            "triangulate",
-            f"{len(duplicates)} duplicate points (vertex = earlier vertex): {shown}{more}; "
-            "pass merge_duplicates=True to keep only the first copy",
-            duplicates=tuple(duplicates),
-        )
-    dropped = {d for d, _ in duplicates}
-    order = [v for v in insertion_order(vertices, seed=seed) if v not in dropped]
-    if len(order) < 3:
-        raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3",
-                                distinct=tuple(sorted(order)))
-    a, b = order[0], order[1]
-    third = next(
-        (k for k in range(2, len(order))
-         if orient2d(vertices[a], vertices[b], vertices[order[k]]) != COLLINEAR),
-        None,
-    )
-    if third is None:
-        raise PreconditionError("triangulate", "all points are collinear: no triangle exists",
-                                collinear=tuple(sorted(order)))
-    start = vertices_mesh(pslg)
-    c = order.pop(third)
+    plan = _plan_points(pslg, merge_duplicates, seed)
+    start, (a, b, c) = plan.start, plan.first
     from geomexact._version import __version__
 
     with collector_paused():
         compiled = (
-            run_compiled(vertices, start, (a, b, c), order[2:])
+            run_compiled(vertices, start, (a, b, c), plan.rest)
             if name in ("auto", "compiled") else None
         )
         if compiled is None and name == "compiled":
@@ -399,14 +419,14 @@ def triangulate_points(
         else:
             builder = BatchDelaunay(start)
             builder.make_triangle(a, b, c)
-            for vertex in order[2:]:
+            for vertex in plan.rest:
                 builder.insert(vertex)
             mesh, steps, digests = builder.seal(start), builder.steps, builder.digests
         # the engine is not a parameter of the construction: both record this trace
         trace = Trace(start.digest, steps, digests,
                       {"algorithm": "delaunay", "seed": seed,
                        "merge_duplicates": merge_duplicates}, __version__)
-    return Construction(start, mesh, trace, tuple(duplicates))
+    return Construction(start, mesh, trace, plan.duplicates)
 
 
 # ---------------------------------------------------------------------------------------
@@ -584,6 +604,11 @@ def triangulate(
     rest runs the reference ops on a transient).
     """
     pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
+    if (pslg.segments or pslg.holes) and _delaunay_engine(engine) in ("auto", "compiled"):
+        constrained = _constrained_in_kernel(pslg, keep_convex_hull, split_segments,
+                                             merge_duplicates, seed)
+        if constrained is not None:
+            return constrained
     points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed,
                                     engine=engine)
     if not (pslg.segments or pslg.holes or pslg.regions):
@@ -619,3 +644,47 @@ def triangulate(
         first.version,
     )
     return Construction(points_run.start, mesh, trace, points_run.duplicates, tuple(ignored))
+
+
+def _constrained_in_kernel(pslg: PSLG, keep_convex_hull: bool, split_segments: bool,
+                           merge_duplicates: bool, seed: int) -> Construction | None:
+    """:func:`triangulate` with the point triangulation, segment recovery, the Lawson
+    pass and carving in the compiled kernel, and the region seeds (few, at the end) by
+    the ops on a transient: the same steps, digests and mesh as the Python path.  None
+    when the kernel is not built or declines the run (then the Python path runs, and
+    raises what it raises)."""
+    if not compiled_delaunay.AVAILABLE:
+        return None
+    plan = _plan_points(pslg, merge_duplicates, seed)
+    remap = dict(plan.duplicates)
+    segments = [(remap.get(u, u), remap.get(v, v), marker) for u, v, marker in pslg.segments]
+    from geomexact._version import __version__
+
+    with collector_paused():
+        run = compiled_delaunay.run_compiled_constrained(
+            pslg.vertices, plan.start, plan.first, plan.rest, segments,
+            split_segments=split_segments,
+            carve_exterior=bool(pslg.segments) and not keep_convex_hull,
+            holes=pslg.holes,
+        )
+        if run is None:
+            return None
+        mesh, steps, digests = run.mesh, run.steps, run.digests
+        ignored = [("hole", index) for index in run.ignored_holes]
+        if pslg.regions:
+            transient = Transient2(mesh)
+            for index, region in enumerate(pslg.regions):
+                if containing_triangle(transient, region.point) is not None:
+                    set_region_in(transient, region.point.x, region.point.y,
+                                  (region.attribute,))
+                else:
+                    ignored.append(("region", index))
+            mesh = transient.seal()
+            steps = [*steps, *transient.steps]
+            digests = [*digests, *transient.step_digests]
+        trace = Trace(plan.start.digest, steps, digests,
+                      {"algorithm": "delaunay", "seed": seed,
+                       "merge_duplicates": merge_duplicates,
+                       "keep_convex_hull": keep_convex_hull,
+                       "split_segments": split_segments}, __version__)
+    return Construction(plan.start, mesh, trace, plan.duplicates, tuple(ignored))
