@@ -18,7 +18,9 @@ import attrs
 import immutables
 
 from geomexact.errors import PreconditionError, SegmentError
+from geomexact.kernel import digest as _digest
 from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
@@ -41,6 +43,7 @@ from geomexact.mesh2d.ops import (
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.segments import crossing_point, meeting_pairs, within_box
 from geomexact.mesh2d.snapshot import (
+    MAX_VERTICES,
     Edge,
     Mesh2,
     canonical_triangle,
@@ -115,11 +118,31 @@ class Construction:
 def vertices_mesh(pslg: PSLG) -> Mesh2:
     """The mesh of the PSLG's vertices (ids = PSLG ids, markers and attributes kept), with
     no triangles and no segments: the start of every triangulation trace."""
-    transient = Transient2(empty_mesh())
+    # Transient2.add_vertex for each vertex, in bulk: the same tables and digest
+    if len(pslg.vertices) > MAX_VERTICES:
+        raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+    empty = empty_mesh()
+    vertex_hash, attribute_hash = _digest.vertex_hash, _digest.attribute_hash
+    total = empty.digest
+    markers: dict[int, int] = {}
+    attributes: dict[int, tuple[Rational, ...]] = {}
     for index, point in enumerate(pslg.vertices):
-        attributes = pslg.vertex_attributes[index] if pslg.vertex_attributes else ()
-        transient.add_vertex(point, pslg.marker(index), attributes)
-    return transient.seal()
+        total += vertex_hash(index, point[:2])
+        marker = pslg.marker(index)
+        if marker:
+            markers[index] = marker
+            total += attribute_hash("vm", (index,), (marker,))
+        values = pslg.vertex_attributes[index] if pslg.vertex_attributes else ()
+        if values:
+            attributes[index] = tuple(values)
+            total += attribute_hash("va", (index,), values)
+    return attrs.evolve(
+        empty,
+        vertices=immutables.Map(enumerate(pslg.vertices)),
+        vertex_markers=immutables.Map(markers),
+        vertex_attributes=immutables.Map(attributes),
+        digest=total & (_digest.MODULUS - 1),
+    )
 
 
 def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
