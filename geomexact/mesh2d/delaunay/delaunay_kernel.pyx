@@ -554,12 +554,25 @@ cdef class Builder:
         return 0
 
     cdef int _t_flip(self, int64_t u, int64_t v) except -1:
-        """ops.flip_in on an edge known to be flippable."""
+        """ops.flip_in on an edge known to be flippable: remove (u, v, w), (v, u, x), add
+        (x, w, u), (w, x, v).  The four outer half-edges get their new apex in place (the
+        insertion numbers are unused in this phase), the hints as add_triangle writes
+        them: x -> w, w -> u, u -> x, then w -> x, x -> v, v -> w."""
         cdef int64_t w = self._get(u, v), x = self._get(v, u)
-        self._remove(u, v, w)
-        self._remove(v, u, x)
-        self._t_add(x, w, u)
-        self._t_add(w, x, v)
+        gx_map_del(&self.apex, gx_edge(u, v))
+        gx_map_del(&self.apex, gx_edge(v, u))
+        self._put(x, w, u)
+        self._put(w, u, x)
+        self._put(u, x, w)
+        self._put(w, x, v)
+        self._put(x, v, w)
+        self._put(v, w, x)
+        self.hints[u] = x
+        self.hints[w] = x
+        self.hints[x] = v
+        self.hints[v] = w
+        self.digest += self._hash(x, w, u) + self._hash(w, x, v)
+        self.digest -= self._hash(u, v, w) + self._hash(v, u, x)
         self._record(OP_FLIP, u, v, -1, -1)
         return 0
 
