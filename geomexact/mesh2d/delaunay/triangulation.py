@@ -9,7 +9,9 @@ Cocircular quadrilaterals count as Delaunay.  See ``specs/delaunay.md``.
 from __future__ import annotations
 
 import collections
+import itertools
 import math
+import operator
 import random
 from collections.abc import Sequence
 from typing import Literal, TypeAlias
@@ -173,6 +175,9 @@ def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
     return duplicates
 
 
+_DOUBLES = operator.itemgetter(2, 3)
+
+
 def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     """A biased randomized insertion order (Amenta–Choi–Rote): a seeded shuffle cut into
     rounds of doubling size, each round sorted along a snake (boustrophedon) curve over a
@@ -192,8 +197,11 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     random.Random(seed).shuffle(order)
     if not points:
         return order
-    shuffled = np.array(order, dtype=np.int64)
-    halves = np.array([(points[i].fx, points[i].fy) for i in order], dtype=np.float64) * 0.5
+    shuffled = np.fromiter(order, dtype=np.int64, count=len(order))
+    # the doubles (fields 2 and 3 of each Point2), read in C: the same values
+    doubles = np.fromiter(itertools.chain.from_iterable(map(_DOUBLES, points)),
+                          dtype=np.float64, count=2 * len(points)).reshape(-1, 2)
+    halves = doubles[shuffled] * 0.5
     finite = np.isfinite(halves)
     lows, highs = [], []
     for axis in (0, 1):
