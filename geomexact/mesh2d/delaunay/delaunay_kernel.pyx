@@ -13,6 +13,19 @@ inserted live half-edge out of each vertex): every half-edge here carries the se
 number of its insertion, kept when its apex is updated in place, as a dict does.
 ``geomexact.mesh2d.delaunay.compiled`` is the only caller.
 
+The constrained phase (``begin_constrained``, ``recover``, ``lawson``, ``carve_exterior``,
+``carve``, ``finish_constrained``) continues on the same tables what
+``triangulation.triangulate`` runs on a ``Transient2`` after the point triangulation:
+``_insert_segment`` (Sloan's walk from u along uv, a vertex on the segment splits it with
+``split_segments``, the FIFO queue of crossed edges), ``make_delaunay_in`` (the sorted
+stack, the four outer edges pushed back), ``ops.carve_exterior_in`` and ``ops.carve_in``
+(``containing_triangle``: the smallest canonical triangle whose closure holds the seed).
+Its edits are Transient2's: ``add_triangle`` writes the outgoing hints a -> b, b -> c,
+c -> a, ``remove_triangle`` leaves them, and sealing repairs a broken hint to the smallest
+neighbour.  Where the Python engine would insert a crossing point or raise (a
+``SegmentError``, a segment it cannot recover) ``recover`` answers ``DECLINED`` and the
+caller runs the Python ops from the start.
+
 Where the C data live:
 
 * half-edges ``(u, v) -> apex`` in an open-addressing hash table keyed by ``u << 32 | v``

@@ -631,8 +631,14 @@ def triangulate(
        and listed in ``Construction.ignored_seeds``.
 
     Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
-    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1; the
-    rest runs the reference ops on a transient).
+    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points`: with
+    ``"auto"`` or ``"compiled"`` and the kernel built, steps 1-4 run in the compiled
+    kernel (``compiled.run_compiled_constrained``: segment recovery, the Lawson pass and
+    carving recorded step for step as the ops below record them; region seeds then run
+    the ops on a transient); where the kernel declines (a crossing point to insert, a
+    :class:`SegmentError` to raise, a marker beyond int64) or with ``"python"``, step 1
+    runs in that engine and the rest runs the reference ops on a transient.  Both paths
+    record the same trace and build the same mesh (``tests/engines``).
     """
     pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
     if (pslg.segments or pslg.holes) and _delaunay_engine(engine) in ("auto", "compiled"):
