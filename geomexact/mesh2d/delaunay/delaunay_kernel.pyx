@@ -1006,7 +1006,8 @@ cdef class Builder:
                     repair[i] = 1
                     self.hints[i] = -1
                     broken = True
-            halfedges = {}
+            # the persistent map filled by a mutation: no intermediate dict
+            halfedges = immutables.Map().mutate()
             for i in range(slots):
                 key = self.apex.keys[i]
                 if key == GX_EMPTY:
@@ -1032,7 +1033,7 @@ cdef class Builder:
                 continue
             edge = (<int64_t>(key >> 32), <int64_t>(key & 0xFFFFFFFF))
             segments[edge] = self.segments.values[i]
-        return (immutables.Map(halfedges), immutables.Map(outgoing),
+        return (halfedges.finish(), immutables.Map(outgoing),
                 immutables.Map(segments), len(halfedges) // 3, _from_u128(self.digest))
 
     def run(self, int64_t a, int64_t b, int64_t c, rest):
@@ -1067,7 +1068,8 @@ cdef class Builder:
             for i in range(self.nv):
                 best[i] = -1
                 hint[i] = -1
-            halfedges = {}
+            # the persistent map filled by a mutation: no intermediate dict
+            halfedges = immutables.Map().mutate()
             for i in range(slots):
                 key = self.apex.keys[i]
                 if key == GX_EMPTY:
@@ -1091,7 +1093,7 @@ cdef class Builder:
             free(best)
             free(hint)
         count = len(halfedges) // 3
-        return (immutables.Map(halfedges), immutables.Map(outgoing), count,
+        return (halfedges.finish(), immutables.Map(outgoing), count,
                 _from_u128(self.digest))
 
     def steps(self):
