@@ -12,6 +12,13 @@ Workloads (fixed seed, so runs are comparable):
   very same points and their results are compared (same triangles, by vertex index).
 * ``superior``: the Lake Superior PSLG shipped in the package (518 vertices, 518 segments,
   6 islands as holes): constrained Delaunay triangulation with holes removed.
+* ``cdt-N`` (``--cdt-segments N``, default 30,000; 0 skips it): constrained Delaunay with
+  many segments — a star-shaped polygon of N vertices at random radii 0.3–0.45 around the
+  centre of the unit square (N segments, many of them crossing several Delaunay edges, so
+  segment recovery flips a lot), N random points of the unit square (those outside the
+  polygon are carved away with the exterior) and a square hole with its seed: segment
+  recovery, the Lawson pass and carving all run (in the compiled kernel when built).
+  Triangle runs ``pQ`` on the same input.
 
 Competitors, in the same run, on the same points:
 
@@ -37,6 +44,7 @@ import argparse
 import gc
 import importlib.resources
 import json
+import math
 import platform
 import random
 import sys
@@ -56,6 +64,8 @@ from geomexact.mesh2d.pslg import PSLG
 TARGET_SECONDS_1E4 = 0.4
 TARGET_SECT_SPEEDUP_1E4 = 25.0
 TARGET_TRIANGLE_RATIO_1E5 = 30.0
+TARGET_CDT_SECONDS = 1.5  # issue 15: the 30,000-segment CDT
+TARGET_TRIANGLE_RATIO_1E6 = 20.0  # issue 15: 1e6 points in-process
 
 
 # --- inputs -----------------------------------------------------------------------------------
@@ -97,6 +107,24 @@ def pslg_loops(pslg: PSLG) -> list[list[int]]:
             previous, current = current, following
         loops.append(loop)
     return loops
+
+
+def star_pslg(count: int, free: int, seed: int = 5) -> PSLG:
+    """The ``cdt-N`` workload: a star-shaped polygon of ``count`` vertices (random radii),
+    ``free`` random points of the unit square and a square hole with its seed."""
+    rng = random.Random(seed)
+    angles = sorted(rng.random() * 2 * math.pi for _ in range(count))
+    doubles = []
+    for angle in angles:
+        radius = 0.3 + 0.15 * rng.random()
+        doubles.append((0.5 + radius * math.cos(angle), 0.5 + radius * math.sin(angle)))
+    doubles += [(rng.random(), rng.random()) for _ in range(free)]
+    segments = [(i, (i + 1) % count, 1) for i in range(count)]
+    m = len(doubles)
+    doubles += [(0.45, 0.45), (0.55, 0.45), (0.55, 0.55), (0.45, 0.55)]
+    segments += [(m + i, m + (i + 1) % 4, 2) for i in range(4)]
+    return PSLG(vertices=tuple(point2(mpq(x), mpq(y)) for x, y in doubles),
+                segments=tuple(segments), holes=(point2(mpq(1, 2), mpq(1, 2)),))
 
 
 def twice_area(points: list[Point2]) -> Any:
@@ -213,6 +241,26 @@ def bench_superior(repeat: int, sect_repeat: int) -> dict[str, Any]:
     return row
 
 
+def bench_cdt(count: int, repeat: int) -> dict[str, Any]:
+    pslg = star_pslg(count, count)
+    row: dict[str, Any] = {"workload": f"cdt-{count}", "n": len(pslg.vertices),
+                           "segments": len(pslg.segments)}
+    ours_time, run = best_of(repeat, lambda: triangulate(pslg))
+    ours = index_triangles(run.mesh.triangles())
+    row.update(geomexact=ours_time, triangles=len(ours), trace_steps=len(run.trace))
+    tri = triangle_module()
+    if tri is not None:
+        triangle, numpy = tri
+        data = {
+            "vertices": numpy.array([[p.fx, p.fy] for p in pslg.vertices]),
+            "segments": numpy.array([[u, v] for u, v, _ in pslg.segments]),
+            "holes": numpy.array([[p.fx, p.fy] for p in pslg.holes]),
+        }
+        row["triangle"], result = best_of(repeat, lambda: triangle.triangulate(data, "pQ"))
+        row["same_as_triangle"] = index_triangles(result["triangles"].tolist()) == ours
+    return row
+
+
 # --- report -----------------------------------------------------------------------------------
 
 
@@ -232,6 +280,15 @@ def verdicts(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
         ratio = row["geomexact"] / row["triangle"]
         found.append({"target": "1e5 points <= 30x Triangle", "value": ratio,
                       "met": ratio <= TARGET_TRIANGLE_RATIO_1E5})
+    if 1_000_000 in by_n and "triangle" in by_n[1_000_000]:
+        row = by_n[1_000_000]
+        ratio = row["geomexact"] / row["triangle"]
+        found.append({"target": "1e6 points <= 20x Triangle", "value": ratio,
+                      "met": ratio <= TARGET_TRIANGLE_RATIO_1E6})
+    for row in rows:
+        if row["workload"] == "cdt-30000":
+            found.append({"target": "30,000-segment CDT <= 1.5 s", "value": row["geomexact"],
+                          "met": row["geomexact"] <= TARGET_CDT_SECONDS})
     return found
 
 
@@ -243,6 +300,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="largest point count given to sect (it is slow)")
     parser.add_argument("--sect-repeat", type=int, default=1, help="runs of sect")
     parser.add_argument("--no-superior", action="store_true")
+    parser.add_argument("--cdt-segments", type=int, default=30_000,
+                        help="segments (and free points) of the cdt-N workload; 0 skips it")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     options = parser.parse_args(argv)
 
@@ -250,6 +309,8 @@ def main(argv: list[str] | None = None) -> int:
             for n in options.sizes]
     if not options.no_superior:
         rows.append(bench_superior(options.repeat, options.sect_repeat))
+    if options.cdt_segments:
+        rows.append(bench_cdt(options.cdt_segments, options.repeat))
     for row in rows:
         if "triangle" in row:
             row["geomexact_over_triangle"] = row["geomexact"] / row["triangle"]

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import functools
 import importlib.resources
+import math
 import random
 import sys
 from collections.abc import Callable, Sequence
@@ -44,7 +45,7 @@ from geomexact.mesh2d.delaunay.triangulation import (
     triangulate,
     triangulate_points,
 )
-from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.pslg import PSLG, RegionSeed
 from geomexact.mesh2d.refinement.api import Progress, Result, refine
 from geomexact.mesh2d.refinement.criteria import (
     AverageAreaFactor,
@@ -784,6 +785,26 @@ def random_doubles(count: int, seed: int) -> list[Point2]:
     return [point2(mpq(rng.random()), mpq(rng.random())) for _ in range(count)]
 
 
+def star_pslg(count: int, free: int, seed: int) -> PSLG:
+    """A star-shaped polygon of ``count`` vertices with random radii (its segments cross
+    many Delaunay edges), ``free`` random points of the unit square, a square hole with
+    its seed, and a hole seed outside the domain."""
+    rng = random.Random(seed)
+    angles = sorted(rng.random() * 6.283185307179586 for _ in range(count))
+    vertices = []
+    for angle in angles:
+        radius = 0.3 + 0.15 * rng.random()
+        vertices.append(point2(mpq(0.5 + radius * math.cos(angle)),
+                               mpq(0.5 + radius * math.sin(angle))))
+    vertices += [point2(mpq(rng.random()), mpq(rng.random())) for _ in range(free)]
+    segments = [(i, (i + 1) % count, 1) for i in range(count)]
+    m = len(vertices)
+    vertices += [point2(mpq(x, 20), mpq(y, 20)) for x, y in ((9, 9), (11, 9), (11, 11), (9, 11))]
+    segments += [(m + i, m + (i + 1) % 4, 2) for i in range(4)]
+    return PSLG(vertices=vertices, segments=segments,
+                holes=(point2(mpq(1, 2), mpq(1, 2)), point2(mpq(-1), mpq(-1))))
+
+
 class DelaunaySuite:
     """Every Delaunay workload, run by ``engine``: replayed through the reference ops, and
     held against the Python engine's run."""
@@ -958,6 +979,105 @@ class DelaunaySuite:
         assert isinstance(mesh, Mesh2)
         assert self.same([mesh.point(v) for v in range(mesh.vertex_count)]) is not None
 
+    # -- constrained Delaunay with many segments (recovery, Lawson pass, carving in the
+    # compiled kernel; every run held against the Python ops) -----------------------------
+    @pytest.mark.parametrize("name", ["triangle-net/superior.poly",
+                                      "polylla-unified/pikachu_poly.poly"])
+    @pytest.mark.parametrize("keep_convex_hull", [False, True])
+    def test_shared_pslgs(self, shared_data: Path, name: str, keep_convex_hull: bool) -> None:
+        path = shared_data / name
+        if not path.exists():
+            pytest.skip(f"{path} not found")
+        pslg = io.read(path, format="poly")
+        assert isinstance(pslg, PSLG)
+        run = self.same(pslg, keep_convex_hull=keep_convex_hull)
+        assert run is not None and run.mesh.segments
+
+    @pytest.mark.parametrize(("count", "free", "seed"), [(60, 40, 1), (400, 300, 2),
+                                                         (1500, 800, 3)])
+    @pytest.mark.parametrize("keep_convex_hull", [False, True])
+    def test_star_polygons(self, count: int, free: int, seed: int,
+                           keep_convex_hull: bool) -> None:
+        """Long segments crossing many edges (Sloan's queue), free points, a square hole,
+        a hole seed outside the domain (ignored)."""
+        run = self.same(star_pslg(count, free, seed), keep_convex_hull=keep_convex_hull)
+        assert run is not None and len(run.mesh.segments) >= count
+
+    def test_star_polygon_regions_and_duplicates(self) -> None:
+        """Region seeds (set by the ops after the kernel), duplicate points merged (the
+        segments at a dropped copy use the kept one), segment markers beyond int64 (the
+        kernel declines)."""
+        pslg = star_pslg(300, 200, 4)
+        regions = (RegionSeed(point2(mpq(1, 2), mpq(1, 2)), mpq(7)),
+                   RegionSeed(point2(mpq(1, 2) + mpq(1, 5), mpq(1, 2)), mpq(-3, 2)),
+                   RegionSeed(point2(5, 5), mpq(1)))
+        run = self.same(attrs.evolve(pslg, regions=regions))
+        assert run is not None and run.mesh.triangle_attributes
+        copies = attrs.evolve(pslg, vertices=(*pslg.vertices, *pslg.vertices[:20]),
+                              segments=(*pslg.segments,
+                                        *((len(pslg.vertices) + i, len(pslg.vertices) + i + 1,
+                                           9) for i in range(19))))
+        assert self.same(copies) is not None
+        huge = attrs.evolve(pslg, segments=tuple((u, v, m << 70) for u, v, m in pslg.segments))
+        assert self.same(huge) is not None
+
+    @pytest.mark.parametrize("split", [False, True])
+    def test_collinear_segments(self, split: bool) -> None:
+        """Segments through lattice points (split at each vertex, or SegmentError from
+        every engine), along cocircular lattice squares (the Lawson ties)."""
+        points = lattice(12, 12)
+        index = {(p.x, p.y): i for i, p in enumerate(points)}
+        segments = [(index[(0, 0)], index[(11, 11)], 1), (index[(0, 11)], index[(11, 0)], 1),
+                    (index[(0, 5)], index[(11, 5)], 2), (index[(3, 0)], index[(3, 11)], 3),
+                    (index[(0, 0)], index[(11, 0)], 4), (index[(11, 0)], index[(11, 11)], 4),
+                    (index[(11, 11)], index[(0, 11)], 4), (index[(0, 11)], index[(0, 0)], 4)]
+        self.same(PSLG(vertices=points, segments=segments,
+                       holes=(point2(mpq(1, 2), mpq(1, 3)),)), split_segments=split)
+
+    def test_lattice_segments(self) -> None:
+        """Unit lattice diagonals as segments (no crossings), holes on an edge and on a
+        vertex (the smallest canonical triangle), every lattice square cocircular."""
+        points = lattice(10, 10)
+        index = {(p.x, p.y): i for i, p in enumerate(points)}
+        segments = [(index[(x, y)], index[(x + 1, y + 1)], x) for x in range(9)
+                    for y in range(9) if (x + y) % 3 == 0]
+        segments += [(index[(x, 0)], index[(x + 1, 0)], 5) for x in range(9)]
+        for holes in ((), (point2(mpq(1, 2), mpq(1, 2)),), (point2(4, 4),),
+                      (point2(mpq(9, 2), 0), point2(20, 20))):
+            self.same(PSLG(vertices=points, segments=segments, holes=holes))
+            self.same(PSLG(vertices=points, segments=segments, holes=holes),
+                      keep_convex_hull=True)
+
+    def test_near_degenerate_segments(self) -> None:
+        """Vertices within 10**-30 of a segment (off the kernel's grid), non-dyadic and
+        huge coordinates: the exact fallbacks decide."""
+        rng = random.Random(12)
+        square = [point2(0, 0), point2(3, 0), point2(3, 3), point2(0, 3)]
+        near = [point2(mpq(k, 7), mpq(k, 7) + mpq(1, 10**30) * (-1) ** k) for k in range(1, 21)]
+        free = [point2(mpq(rng.randrange(1, 3000), 1000), mpq(rng.randrange(1, 3000), 997))
+                for _ in range(150)]
+        points = [*square, *near, *free]
+        segments = [(0, 1, 1), (1, 2, 1), (2, 3, 1), (3, 0, 1), (0, 2, 2)]
+        pslg = PSLG(vertices=points, segments=segments, holes=(point2(mpq(5, 2), mpq(1, 2)),))
+        self.same(pslg)
+        for scale in (mpq(10) ** 300, mpq(2) ** -1100):
+            scaled = PSLG(vertices=[point2(p.x * scale, p.y * scale) for p in points],
+                          segments=segments,
+                          holes=(point2(mpq(5, 2) * scale, mpq(1, 2) * scale),))
+            self.same(scaled)
+
+    def test_holes_without_segments(self) -> None:
+        """Hole seeds without segments: the seed's region is everything."""
+        points = random_doubles(200, 9)
+        run = self.same(PSLG(vertices=points, holes=(point2(mpq(1, 2), mpq(1, 2)),)))
+        assert run is not None and run.mesh.triangle_count == 0
+
+    @every_engine
+    @given(pslgs(max_boundary=40, max_points=30), st.booleans(), st.booleans())
+    def test_random_pslgs_many_segments(self, pslg: PSLG, keep_convex_hull: bool,
+                                        split: bool) -> None:
+        self.same(pslg, keep_convex_hull=keep_convex_hull, split_segments=split)
+
 
 class TestPythonDelaunay(DelaunaySuite):
     engine = "python"
@@ -967,6 +1087,29 @@ class TestPythonDelaunay(DelaunaySuite):
                     reason="the compiled Delaunay kernel is not built")
 class TestCompiledDelaunay(DelaunaySuite):
     engine = "compiled"
+
+
+@pytest.mark.skipif(not compiled_delaunay.AVAILABLE,
+                    reason="the compiled Delaunay kernel is not built")
+def test_constrained_runs_in_the_kernel() -> None:
+    """The compiled engine's constrained runs above are the kernel's (segment recovery,
+    Lawson pass, carving), except where it declines: a crossing point to insert, a
+    SegmentError to raise, a marker beyond int64 (then the Python ops run)."""
+    from geomexact.mesh2d.delaunay.triangulation import _constrained_in_kernel
+
+    pslg = star_pslg(300, 200, 5)
+    assert _constrained_in_kernel(pslg, False, False, False, 0) is not None
+    assert _constrained_in_kernel(pslg, True, True, False, 0) is not None
+    huge = attrs.evolve(pslg, segments=tuple((u, v, m << 70) for u, v, m in pslg.segments))
+    assert _constrained_in_kernel(huge, False, False, False, 0) is None
+    crossing = PSLG(vertices=(point2(0, 0), point2(4, 0), point2(4, 4), point2(0, 4)),
+                    segments=((0, 2, 1), (1, 3, 1)))
+    assert _constrained_in_kernel(crossing, False, True, False, 0) is None
+    assert _constrained_in_kernel(crossing, False, False, False, 0) is None
+    through = PSLG(vertices=(point2(0, 0), point2(2, 2), point2(4, 4), point2(4, 0)),
+                   segments=((0, 2, 1),))
+    assert _constrained_in_kernel(through, False, False, False, 0) is None
+    assert _constrained_in_kernel(through, False, True, False, 0) is not None
 
 
 # --- the engine names ------------------------------------------------------------------------

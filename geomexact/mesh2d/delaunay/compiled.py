@@ -19,12 +19,13 @@ from typing import Any
 
 import attrs
 
-from geomexact.kernel.points import Point2
+from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.trace.step import Step
 
-__all__ = ["AVAILABLE", "CompiledConstruction", "run_compiled"]
+__all__ = ["AVAILABLE", "CompiledConstrained", "CompiledConstruction", "run_compiled",
+           "run_compiled_constrained"]
 
 
 _delaunay_kernel: Any = compiled_kernel("geomexact.mesh2d.delaunay.delaunay_kernel")
@@ -72,3 +73,67 @@ def run_compiled(
         digest=digest,
     )
     return CompiledConstruction(mesh, builder.steps(), builder.digests())
+
+
+@attrs.frozen(slots=True)
+class CompiledConstrained:
+    """What ``triangulate`` needs from a constrained run in the kernel: the sealed mesh,
+    the steps (the point triangulation's, then segment recovery, the Lawson pass and
+    carving) with the digest after each, and the indices of the hole seeds in no
+    triangle."""
+
+    mesh: Mesh2
+    steps: list[Step]
+    digests: list[int]
+    ignored_holes: tuple[int, ...]
+
+
+INT64 = range(-(1 << 63), 1 << 63)
+
+
+def run_compiled_constrained(
+    points: Sequence[Point2],
+    start: Mesh2,
+    first: tuple[int, int, int],
+    rest: Sequence[int],
+    segments: Sequence[tuple[int, int, int]],
+    *,
+    split_segments: bool,
+    carve_exterior: bool,
+    holes: Sequence[Point2],
+) -> CompiledConstrained | None:
+    """The constrained Delaunay triangulation in the kernel: ``run_compiled``'s point
+    triangulation, then each of ``segments`` (``(u, v, marker)``, duplicates remapped)
+    recovered in order, the Lawson pass, the exterior carved (when ``carve_exterior`` and
+    it is not empty) and each hole carved — what ``triangulate`` runs on a transient,
+    step for step.  None when the kernel is not built or declines: a marker beyond int64,
+    a crossing point to insert (``split_segments``), a :class:`SegmentError` to raise, a
+    run beyond its counters; then the caller runs the Python ops (and raises there)."""
+    if _delaunay_kernel is None or any(marker not in INT64 for _, _, marker in segments):
+        return None
+    builder = _delaunay_kernel.Builder(points, start.digest)
+    try:
+        builder.run(first[0], first[1], first[2], rest)
+        builder.begin_constrained()
+        if builder.recover(segments, split_segments) != _delaunay_kernel.RECOVERED:
+            return None
+        builder.lawson()
+        if carve_exterior:
+            builder.carve_exterior()
+        ignored = []
+        for index, hole in enumerate(holes):
+            seed = point2(hole.x, hole.y)
+            if builder.carve(seed, (seed.x, seed.y)) < 0:
+                ignored.append(index)
+    except OverflowError:
+        return None
+    halfedges, outgoing, segment_map, triangle_count, digest = builder.finish_constrained()
+    mesh = attrs.evolve(
+        start,
+        halfedges=halfedges,
+        outgoing=outgoing,
+        segments=segment_map,
+        triangle_count=triangle_count,
+        digest=digest,
+    )
+    return CompiledConstrained(mesh, builder.steps(), builder.digests(), tuple(ignored))

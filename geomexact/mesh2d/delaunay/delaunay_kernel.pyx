@@ -13,6 +13,19 @@ inserted live half-edge out of each vertex): every half-edge here carries the se
 number of its insertion, kept when its apex is updated in place, as a dict does.
 ``geomexact.mesh2d.delaunay.compiled`` is the only caller.
 
+The constrained phase (``begin_constrained``, ``recover``, ``lawson``, ``carve_exterior``,
+``carve``, ``finish_constrained``) continues on the same tables what
+``triangulation.triangulate`` runs on a ``Transient2`` after the point triangulation:
+``_insert_segment`` (Sloan's walk from u along uv, a vertex on the segment splits it with
+``split_segments``, the FIFO queue of crossed edges), ``make_delaunay_in`` (the sorted
+stack, the four outer edges pushed back), ``ops.carve_exterior_in`` and ``ops.carve_in``
+(``containing_triangle``: the smallest canonical triangle whose closure holds the seed).
+Its edits are Transient2's: ``add_triangle`` writes the outgoing hints a -> b, b -> c,
+c -> a, ``remove_triangle`` leaves them, and sealing repairs a broken hint to the smallest
+neighbour.  Where the Python engine would insert a crossing point or raise (a
+``SegmentError``, a segment it cannot recover) ``recover`` answers ``DECLINED`` and the
+caller runs the Python ops from the start.
+
 Where the C data live:
 
 * half-edges ``(u, v) -> apex`` in an open-addressing hash table keyed by ``u << 32 | v``
@@ -33,9 +46,9 @@ back to the exact Python predicate on the ``Point2`` objects.  The shared C piec
 """
 
 from libc.stdint cimport int64_t, uint64_t, int8_t
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport malloc, free, qsort
 from cpython.exc cimport PyErr_CheckSignals
-from libc.string cimport memset
+from libc.string cimport memmove, memset
 from libc.math cimport frexp, ldexp, fabs, floor, isfinite
 from cpython.object cimport PyObject_GenericSetAttr
 
@@ -55,6 +68,8 @@ from geomexact.kernel.ckernel cimport (
     _from_u128,
     _init_constants,
     _to_u128,
+    filtered_dot,
+    filtered_orient,
     gx_cell_hash,
     gx_edge,
     gx_map,
@@ -63,6 +78,7 @@ from geomexact.kernel.ckernel cimport (
     gx_map_free,
     gx_map_get,
     gx_map_grow,
+    gx_map_set,
     gx_map_slot,
     gx_u128,
     grow_array,
@@ -93,6 +109,9 @@ cdef enum:
     OP_ATTACH_IN_EDGE = 2
     OP_ATTACH_OUTSIDE = 3
     OP_FLIP = 4
+    OP_CONSTRAIN = 5
+    OP_CARVE_EXTERIOR = 6
+    OP_CARVE = 7
 
 cdef enum:
     WHERE_INSIDE = 0
@@ -104,7 +123,23 @@ cdef int64_t SEQ_LIMIT = (<int64_t>1 << 31) - 1
 cdef double GRID_BOUND = 1152921504606846976.0  # 2**60
 
 _OP_NAMES = ("make_triangle", "attach_in_triangle", "attach_in_edge", "attach_outside",
-             "flip")
+             "flip", "constrain", "carve_exterior", "carve")
+
+# what _crossed found walking from a along ab
+cdef enum:
+    CROSSED_REACHED = 0      # b: the crossed edges are in ``crossed``
+    CROSSED_VERTEX = 1       # a vertex on the open segment ab (``stop_vertex``)
+    CROSSED_CONSTRAINED = 2  # a constrained edge crosses ab
+    CROSSED_LOST = 3         # the walk left the mesh (the Python engine raises)
+
+# the answers of ``recover``
+RECOVERED = 0
+DECLINED = 1
+
+
+cdef int _compare_keys(const void *first, const void *second) noexcept nogil:
+    cdef uint64_t a = (<const uint64_t *>first)[0], b = (<const uint64_t *>second)[0]
+    return (a > b) - (a < b)
 
 
 cdef class Builder:
@@ -125,6 +160,16 @@ cdef class Builder:
     cdef int F
     cdef tuple points
     cdef public int64_t grid_vertices
+    # the constrained phase (``begin_constrained``): Transient2's outgoing hints, the
+    # constrained edges (min, max) -> marker, the work stacks, the probe (a seed point)
+    cdef int64_t *hints
+    cdef gx_map segments
+    cdef PairStack work, crossed, queue
+    cdef Py_ssize_t queue_head
+    cdef int64_t stop_vertex
+    cdef GridPoint probe
+    cdef object probe_point
+    cdef list carve_args
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
@@ -132,7 +177,12 @@ cdef class Builder:
         free(self.records)
         free(self.pending.items)
         free(self.visible)
+        free(self.hints)
+        free(self.work.items)
+        free(self.crossed.items)
+        free(self.queue.items)
         gx_map_free(&self.apex)
+        gx_map_free(&self.segments)
 
     def __init__(self, points, start_digest):
         """``points``: the ``Point2`` of every vertex id; ``start_digest``: the digest of the
@@ -462,6 +512,530 @@ cdef class Builder:
             push_pair(&self.pending, a, q)
         return 0
 
+    # -- the constrained phase: segment recovery, the Lawson pass, carving ------------------
+    # The edits below are Transient2's: add_triangle writes the outgoing hints a -> b,
+    # b -> c, c -> a; remove_triangle leaves them (a broken hint is repaired when sealing,
+    # to the smallest neighbour); the steps are those of ``geomexact.mesh2d.ops``.
+    def begin_constrained(self):
+        """Enter the constrained phase after ``run``: the outgoing hints of the sealed
+        point triangulation (the last inserted half-edge out of each vertex) become the
+        hints that Transient2 edits."""
+        cdef Py_ssize_t i, slots = self.apex.mask + 1
+        cdef int64_t *best
+        cdef uint64_t key
+        cdef int64_t u, seq
+        if self.hints != NULL:
+            raise RuntimeError("the constrained phase has begun already")
+        self.hints = <int64_t *>malloc(max(1, self.nv) * sizeof(int64_t))
+        best = <int64_t *>malloc(max(1, self.nv) * sizeof(int64_t))
+        if not self.hints or not best:
+            free(best)
+            raise MemoryError
+        for i in range(self.nv):
+            best[i] = -1
+            self.hints[i] = -1
+        for i in range(slots):
+            key = self.apex.keys[i]
+            if key == GX_EMPTY:
+                continue
+            u = <int64_t>(key >> 32)
+            seq = self.apex.values[i] >> 32
+            if seq > best[u]:
+                best[u] = seq
+                self.hints[u] = <int64_t>(key & 0xFFFFFFFF)
+        free(best)
+        if gx_map_alloc(&self.segments, 64) < 0:
+            raise MemoryError
+        self.work.capacity = self.crossed.capacity = self.queue.capacity = 64
+        self.work.items = <Pair *>malloc(64 * sizeof(Pair))
+        self.crossed.items = <Pair *>malloc(64 * sizeof(Pair))
+        self.queue.items = <Pair *>malloc(64 * sizeof(Pair))
+        if not self.work.items or not self.crossed.items or not self.queue.items:
+            raise MemoryError
+        self.work.count = self.crossed.count = self.queue.count = 0
+        self.carve_args = []
+
+    cdef int _t_add(self, int64_t a, int64_t b, int64_t c) except -1:
+        """Transient2.add_triangle (no attributes)."""
+        self._put(a, b, c)
+        self._put(b, c, a)
+        self._put(c, a, b)
+        self.hints[a] = b
+        self.hints[b] = c
+        self.hints[c] = a
+        self.digest += self._hash(a, b, c)
+        return 0
+
+    cdef int _t_flip(self, int64_t u, int64_t v) except -1:
+        """ops.flip_in on an edge known to be flippable: remove (u, v, w), (v, u, x), add
+        (x, w, u), (w, x, v).  The four outer half-edges get their new apex in place (the
+        insertion numbers are unused in this phase), the hints as add_triangle writes
+        them: x -> w, w -> u, u -> x, then w -> x, x -> v, v -> w."""
+        cdef int64_t w = self._get(u, v), x = self._get(v, u)
+        gx_map_del(&self.apex, gx_edge(u, v))
+        gx_map_del(&self.apex, gx_edge(v, u))
+        self._put(x, w, u)
+        self._put(w, u, x)
+        self._put(u, x, w)
+        self._put(w, x, v)
+        self._put(x, v, w)
+        self._put(v, w, x)
+        self.hints[u] = x
+        self.hints[w] = x
+        self.hints[x] = v
+        self.hints[v] = w
+        self.digest += self._hash(x, w, u) + self._hash(w, x, v)
+        self.digest -= self._hash(u, v, w) + self._hash(v, u, x)
+        self._record(OP_FLIP, u, v, -1, -1)
+        return 0
+
+    cdef inline bint _constrained(self, int64_t u, int64_t v) noexcept:
+        cdef uint64_t key = gx_edge(u, v) if u < v else gx_edge(v, u)
+        return self.segments.keys[gx_map_slot(&self.segments, key)] == key
+
+    cdef int _constrain(self, int64_t a, int64_t b, int64_t marker) except -1:
+        """ops.constrain_in on an existing, unconstrained edge."""
+        cdef int64_t low = a if a < b else b, high = b if a < b else a
+        if gx_map_set(&self.segments, gx_edge(low, high), marker) < 0:
+            raise MemoryError
+        self.digest += _to_u128(_digest.segment_hash(low, high, marker))
+        self._record(OP_CONSTRAIN, a, b, marker, -1)
+        return 0
+
+    cdef int _on_segment(self, int64_t w, int64_t a, int64_t b) except -1:
+        """For w on line ab: 1 when w is on the closed segment ab (``within_box``)."""
+        cdef int sign = filtered_dot(&self.vs[w].at, &self.vs[a].at, &self.vs[b].at)
+        if sign != 2:
+            return sign <= 0
+        from geomexact.mesh2d.segments import within_box
+        return 1 if within_box(self.points[w], self.points[a], self.points[b]) else 0
+
+    cdef int _crossed(self, int64_t a, int64_t b) except -1:
+        """``triangulation._crossed_edges``: the edges crossed by ab walking from a, into
+        ``crossed`` as (left of ab, right of ab); or where the walk stopped."""
+        cdef int64_t start = self.hints[a], first, previous, w, x, left = -1, right = -1, c
+        cdef int side, other
+        self.crossed.count = 0
+        if start < 0 or self._get(a, start) < 0:
+            return CROSSED_LOST
+        first = start
+        while True:  # walk_star: clockwise to the boundary, or all the way round
+            previous = self._get(first, a)
+            if previous < 0:
+                break
+            if previous == start:
+                first = start
+                break
+            first = previous
+        w = first
+        while True:
+            x = self._get(a, w)
+            if x < 0:
+                break
+            side = self._orient(a, b, w)
+            other = self._orient(a, b, x)
+            if side == 0 and self._on_segment(w, a, b):
+                self.stop_vertex = w
+                return CROSSED_VERTEX
+            if other == 0 and self._on_segment(x, a, b):
+                self.stop_vertex = x
+                return CROSSED_VERTEX
+            if side == -1 and other == 1:
+                left, right = x, w
+                break
+            w = x
+            if w == first:
+                break
+        if left < 0:
+            return CROSSED_LOST
+        while True:
+            if self._constrained(left, right):
+                return CROSSED_CONSTRAINED
+            push_pair(&self.crossed, left, right)
+            c = self._get(left, right)
+            if c < 0:
+                return CROSSED_LOST
+            if c == b:
+                return CROSSED_REACHED
+            side = self._orient(a, b, c)
+            if side == 0:
+                self.stop_vertex = c
+                return CROSSED_VERTEX
+            if side == 1:
+                left = c
+            else:
+                right = c
+
+    cdef int _enqueue(self, int64_t u, int64_t v) except -1:
+        """Append (u, v) to the FIFO ``queue`` (items ``queue_head`` .. ``count``)."""
+        cdef Py_ssize_t live
+        if self.queue.count == self.queue.capacity and self.queue_head:
+            live = self.queue.count - self.queue_head
+            memmove(self.queue.items, self.queue.items + self.queue_head, live * sizeof(Pair))
+            self.queue.count = live
+            self.queue_head = 0
+        push_pair(&self.queue, u, v)
+        return 0
+
+    cdef int _flip_out(self, int64_t a, int64_t b) except -1:
+        """``triangulation._flip_out``: 0 when ab is an edge now; 1 when the Python engine
+        would raise (then the run is declined)."""
+        cdef Py_ssize_t i, stalled = 0
+        cdef int64_t u, v, w, x
+        cdef int sw, sx
+        self.queue.count = self.queue_head = 0
+        for i in range(self.crossed.count):
+            self._enqueue(self.crossed.items[i].a, self.crossed.items[i].b)
+        while self.queue_head < self.queue.count:
+            u = self.queue.items[self.queue_head].a
+            v = self.queue.items[self.queue_head].b
+            self.queue_head += 1
+            w = self._get(u, v)
+            x = self._get(v, u)
+            if w < 0 or x < 0:
+                return 1
+            if self._orient(x, w, u) != 1 or self._orient(w, x, v) != 1:
+                self._enqueue(u, v)
+                stalled += 1
+                if stalled > self.queue.count - self.queue_head + 1:
+                    return 1
+                continue
+            stalled = 0
+            self._t_flip(u, v)
+            if (w == a and x == b) or (w == b and x == a):
+                continue
+            sw = self._orient(a, b, w)
+            sx = self._orient(a, b, x)
+            if sw * sx < 0:
+                if sw == 1:
+                    self._enqueue(w, x)
+                else:
+                    self._enqueue(x, w)
+        return 0
+
+    cdef int _recover(self, int64_t u, int64_t v, int64_t marker, bint split) except -1:
+        """``triangulation._insert_segment`` for one segment: RECOVERED, or DECLINED where
+        the Python engine inserts a crossing point or raises."""
+        cdef int64_t a, b
+        cdef int found
+        self.work.count = 0
+        push_pair(&self.work, u, v)
+        while pop_pair(&self.work, &a, &b):
+            if a == b:
+                continue
+            if self._get(a, b) >= 0 or self._get(b, a) >= 0:
+                if not self._constrained(a, b):
+                    self._constrain(a, b, marker)
+                continue
+            found = self._crossed(a, b)
+            if found == CROSSED_VERTEX:
+                if not split:
+                    return DECLINED
+                push_pair(&self.work, self.stop_vertex, b)
+                push_pair(&self.work, a, self.stop_vertex)
+                continue
+            if found != CROSSED_REACHED:
+                return DECLINED
+            if self._flip_out(a, b):
+                return DECLINED
+            self._constrain(a, b, marker)
+        return RECOVERED
+
+    def recover(self, segments, bint split):
+        """Recover each ``(u, v, marker)`` of ``segments`` in order (ids in range, markers
+        int64): RECOVERED, or DECLINED at the first segment the Python engine must do (a
+        crossing point to insert, a SegmentError to raise); the builder is then spent."""
+        cdef int64_t u, v, marker
+        cdef Py_ssize_t count = 0
+        if self.hints == NULL:
+            raise RuntimeError("call begin_constrained first")
+        for u, v, marker in segments:
+            if not (0 <= u < self.nv and 0 <= v < self.nv):
+                raise IndexError((u, v))
+            if self._recover(u, v, marker, split) != RECOVERED:
+                return DECLINED
+            count += 1
+            if not count & 1023:
+                PyErr_CheckSignals()
+        return RECOVERED
+
+    def lawson(self):
+        """``triangulation.make_delaunay_in`` (no triangle attributes yet): returns the
+        number of flips."""
+        cdef Py_ssize_t i, slots = self.apex.mask + 1, n = 0, flips = 0
+        cdef uint64_t key, swap
+        cdef uint64_t four[4]
+        cdef int64_t u, v, w, x
+        cdef uint64_t *edges = <uint64_t *>malloc(
+            (<Py_ssize_t>self.apex.count + 1) * sizeof(uint64_t))
+        cdef int j, k
+        if edges == NULL:
+            raise MemoryError
+        try:
+            for i in range(slots):
+                key = self.apex.keys[i]
+                if key == GX_EMPTY:
+                    continue
+                u = <int64_t>(key >> 32)
+                v = <int64_t>(key & 0xFFFFFFFF)
+                if u < v:
+                    edges[n] = key
+                    n += 1
+                elif self._get(v, u) < 0:
+                    edges[n] = gx_edge(v, u)
+                    n += 1
+            qsort(edges, n, sizeof(uint64_t), _compare_keys)
+            self.pending.count = 0
+            for i in range(n - 1, -1, -1):
+                push_pair(&self.pending, <int64_t>(edges[i] >> 32),
+                          <int64_t>(edges[i] & 0xFFFFFFFF))
+        finally:
+            free(edges)
+        while pop_pair(&self.pending, &u, &v):
+            w = self._get(u, v)
+            x = self._get(v, u)
+            if w < 0 or x < 0 or self._constrained(u, v):
+                continue
+            if self._incircle(u, v, w, x) != 1:
+                continue
+            if self._orient(x, w, u) != 1 or self._orient(w, x, v) != 1:
+                continue
+            self._t_flip(u, v)
+            flips += 1
+            four[0] = gx_edge(u, x) if u < x else gx_edge(x, u)
+            four[1] = gx_edge(x, v) if x < v else gx_edge(v, x)
+            four[2] = gx_edge(v, w) if v < w else gx_edge(w, v)
+            four[3] = gx_edge(w, u) if w < u else gx_edge(u, w)
+            for j in range(1, 4):  # insertion sort, ascending
+                k = j
+                while k > 0 and four[k - 1] > four[k]:
+                    swap = four[k - 1]
+                    four[k - 1] = four[k]
+                    four[k] = swap
+                    k -= 1
+            for j in range(3, -1, -1):  # the smallest on top
+                push_pair(&self.pending, <int64_t>(four[j] >> 32),
+                          <int64_t>(four[j] & 0xFFFFFFFF))
+            if not flips & 4095:
+                PyErr_CheckSignals()
+        return flips
+
+    cdef inline void _canonical(self, int64_t a, int64_t b, int64_t c, Pair *out) noexcept:
+        """The first two vertices of canonical_triangle(a, b, c)."""
+        if a < b and a < c:
+            out.a, out.b = a, b
+        elif b < c:
+            out.a, out.b = b, c
+        else:
+            out.a, out.b = c, a
+
+    cdef Py_ssize_t _flood_remove(self, PairStack *region) except -1:
+        """ops._flood from the canonical triangles in ``region`` (distinct), then remove
+        them all; returns the number removed."""
+        cdef gx_map seen
+        cdef Py_ssize_t i = 0, slots = 64
+        cdef int64_t a, b, c, e0, e1, w
+        cdef int k
+        cdef Pair canonical
+        cdef uint64_t key
+        while slots < 4 * region.count + 64:
+            slots *= 2
+        if gx_map_alloc(&seen, <uint64_t>slots) < 0:
+            raise MemoryError
+        try:
+            for i in range(region.count):
+                if gx_map_set(&seen, gx_edge(region.items[i].a, region.items[i].b), 1) < 0:
+                    raise MemoryError
+            i = 0
+            while i < region.count:
+                a = region.items[i].a
+                b = region.items[i].b
+                c = self._get(a, b)
+                i += 1
+                for k in range(3):
+                    if k == 0:
+                        e0, e1 = a, b
+                    elif k == 1:
+                        e0, e1 = b, c
+                    else:
+                        e0, e1 = c, a
+                    if self._constrained(e0, e1):
+                        continue
+                    w = self._get(e1, e0)
+                    if w < 0:
+                        continue
+                    self._canonical(e1, e0, w, &canonical)
+                    key = gx_edge(canonical.a, canonical.b)
+                    if gx_map_get(&seen, key, 0):
+                        continue
+                    if gx_map_set(&seen, key, 1) < 0:
+                        raise MemoryError
+                    push_pair(region, canonical.a, canonical.b)
+        finally:
+            gx_map_free(&seen)
+        for i in range(region.count):
+            a = region.items[i].a
+            b = region.items[i].b
+            self._remove(a, b, self._get(a, b))
+        return region.count
+
+    def carve_exterior(self):
+        """``ops.carve_exterior_in`` when ``exterior_triangles`` is not empty (else
+        nothing, no step): returns the number of triangles removed."""
+        cdef Py_ssize_t i, slots = self.apex.mask + 1, removed
+        cdef uint64_t key
+        cdef int64_t u, v
+        cdef Pair canonical
+        cdef PairStack region
+        region.count = 0
+        region.capacity = 64
+        region.items = <Pair *>malloc(64 * sizeof(Pair))
+        if region.items == NULL:
+            raise MemoryError
+        try:
+            for i in range(slots):
+                key = self.apex.keys[i]
+                if key == GX_EMPTY:
+                    continue
+                u = <int64_t>(key >> 32)
+                v = <int64_t>(key & 0xFFFFFFFF)
+                if self._get(v, u) >= 0 or self._constrained(u, v):
+                    continue
+                # one seed per triangle: a triangle may have several boundary edges
+                self._canonical(u, v, self.apex.values[i] & APEX_MASK, &canonical)
+                if not self._first_boundary(canonical.a, canonical.b, u, v):
+                    continue
+                push_pair(&region, canonical.a, canonical.b)
+            removed = self._flood_remove(&region)
+        finally:
+            free(region.items)
+        if removed:
+            self._record(OP_CARVE_EXTERIOR, -1, -1, -1, -1)
+        return removed
+
+    cdef bint _first_boundary(self, int64_t a, int64_t b, int64_t u, int64_t v) noexcept:
+        """For the canonical triangle (a, b, c) and its seeding half-edge (u, v): True when
+        (u, v) is the first of its unconstrained boundary half-edges (a, b), (b, c),
+        (c, a) — so each triangle is seeded once."""
+        cdef int64_t c = self._get(a, b), e0, e1
+        cdef int k
+        for k in range(3):
+            if k == 0:
+                e0, e1 = a, b
+            elif k == 1:
+                e0, e1 = b, c
+            else:
+                e0, e1 = c, a
+            if self._get(e1, e0) < 0 and not self._constrained(e0, e1):
+                return e0 == u and e1 == v
+        return False
+
+    cdef int _probe_orient(self, int64_t a, int64_t b) except -2:
+        """orient2d(points[a], points[b], the probe)."""
+        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, &self.probe)
+        if result != 2:
+            return result
+        from geomexact.kernel.predicates2d import orient2d_exact
+        return int(orient2d_exact(self.points[a], self.points[b], self.probe_point))
+
+    def carve(self, point, args):
+        """``ops.carve_in`` at ``point`` (a Point2) when a triangle contains it (the
+        smallest canonical one whose closure does, ``ops.containing_triangle``), recording
+        ``carve`` with ``args``; returns the number removed, or -1 when no triangle
+        contains the point (the seed is ignored, no step)."""
+        cdef Py_ssize_t i, slots = self.apex.mask + 1, removed
+        cdef uint64_t key
+        cdef int64_t a, b, c, ba = -1, bb = -1, bc = -1
+        cdef double value
+        cdef PairStack region
+        self.probe_point = point
+        self.probe.fx = point[2]
+        self.probe.fy = point[3]
+        self.probe.grid = 0
+        if (self._grid_value(self.probe.fx, &value)
+                and point[0] == self.probe.fx and point[1] == self.probe.fy):
+            self.probe.gx = <int64_t>value
+            if self._grid_value(self.probe.fy, &value):
+                self.probe.gy = <int64_t>value
+                self.probe.grid = 1
+        for i in range(slots):
+            key = self.apex.keys[i]
+            if key == GX_EMPTY:
+                continue
+            a = <int64_t>(key >> 32)
+            b = <int64_t>(key & 0xFFFFFFFF)
+            c = self.apex.values[i] & APEX_MASK
+            if not (a < b and a < c):
+                continue
+            if ba >= 0 and (a > ba or (a == ba and (b > bb or (b == bb and c >= bc)))):
+                continue
+            if (self._probe_orient(a, b) != -1 and self._probe_orient(b, c) != -1
+                    and self._probe_orient(c, a) != -1):
+                ba, bb, bc = a, b, c
+        if ba < 0:
+            return -1
+        region.count = 0
+        region.capacity = 64
+        region.items = <Pair *>malloc(64 * sizeof(Pair))
+        if region.items == NULL:
+            raise MemoryError
+        try:
+            push_pair(&region, ba, bb)
+            removed = self._flood_remove(&region)
+        finally:
+            free(region.items)
+        self.carve_args.append(args)
+        self._record(OP_CARVE, len(self.carve_args) - 1, -1, -1, -1)
+        return removed
+
+    def finish_constrained(self):
+        """(halfedges, outgoing, segments, triangle count, digest) as ``Transient2.seal``
+        makes them after the constrained phase: a broken hint (its half-edge removed) is
+        repaired to the smallest neighbour, or dropped for an isolated vertex."""
+        cdef Py_ssize_t i, slots = self.apex.mask + 1
+        cdef uint64_t key
+        cdef int64_t u, w
+        cdef bint broken = False
+        cdef int8_t *repair = <int8_t *>malloc(max(1, self.nv) * sizeof(int8_t))
+        if repair == NULL:
+            raise MemoryError
+        try:
+            for i in range(self.nv):
+                repair[i] = 0
+                if self.hints[i] >= 0 and self._get(i, self.hints[i]) < 0:
+                    repair[i] = 1
+                    self.hints[i] = -1
+                    broken = True
+            # the persistent map filled by a mutation: no intermediate dict
+            halfedges = immutables.Map().mutate()
+            for i in range(slots):
+                key = self.apex.keys[i]
+                if key == GX_EMPTY:
+                    continue
+                u = <int64_t>(key >> 32)
+                w = <int64_t>(key & 0xFFFFFFFF)
+                edge = (u, w)
+                PyObject_GC_UnTrack(<void *>edge)
+                halfedges[edge] = self.apex.values[i] & APEX_MASK
+                if broken and repair[u] and (self.hints[u] < 0 or w < self.hints[u]):
+                    self.hints[u] = w
+            outgoing = {}
+            for i in range(self.nv):
+                if self.hints[i] >= 0:
+                    outgoing[i] = self.hints[i]
+        finally:
+            free(repair)
+        segments = {}
+        slots = <Py_ssize_t>(self.segments.mask + 1)
+        for i in range(slots):
+            key = self.segments.keys[i]
+            if key == GX_EMPTY:
+                continue
+            edge = (<int64_t>(key >> 32), <int64_t>(key & 0xFFFFFFFF))
+            segments[edge] = self.segments.values[i]
+        return (halfedges.finish(), immutables.Map(outgoing),
+                immutables.Map(segments), len(halfedges) // 3, _from_u128(self.digest))
+
     def run(self, int64_t a, int64_t b, int64_t c, rest):
         """``make_triangle(a, b, c)``, then ``insert`` each vertex of ``rest`` in order."""
         cdef int64_t vertex
@@ -494,7 +1068,8 @@ cdef class Builder:
             for i in range(self.nv):
                 best[i] = -1
                 hint[i] = -1
-            halfedges = {}
+            # the persistent map filled by a mutation: no intermediate dict
+            halfedges = immutables.Map().mutate()
             for i in range(slots):
                 key = self.apex.keys[i]
                 if key == GX_EMPTY:
@@ -518,7 +1093,7 @@ cdef class Builder:
             free(best)
             free(hint)
         count = len(halfedges) // 3
-        return (immutables.Map(halfedges), immutables.Map(outgoing), count,
+        return (halfedges.finish(), immutables.Map(outgoing), count,
                 _from_u128(self.digest))
 
     def steps(self):
@@ -536,6 +1111,10 @@ cdef class Builder:
             op = names[record.op]
             if record.op == OP_FLIP:
                 args = (record.a, record.b)
+            elif record.op == OP_CARVE_EXTERIOR:
+                args = ()
+            elif record.op == OP_CARVE:
+                args = self.carve_args[record.a]
             elif record.op == OP_ATTACH_IN_TRIANGLE:
                 args = (record.a, record.b, record.c, record.d)
             else:

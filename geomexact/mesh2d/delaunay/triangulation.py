@@ -9,7 +9,9 @@ Cocircular quadrilaterals count as Delaunay.  See ``specs/delaunay.md``.
 from __future__ import annotations
 
 import collections
+import itertools
 import math
+import operator
 import random
 from collections.abc import Sequence
 from typing import Literal, TypeAlias
@@ -18,7 +20,9 @@ import attrs
 import immutables
 
 from geomexact.errors import PreconditionError, SegmentError
+from geomexact.kernel import digest as _digest
 from geomexact.kernel.collector import collector_paused
+from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
@@ -41,6 +45,7 @@ from geomexact.mesh2d.ops import (
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.segments import crossing_point, meeting_pairs, within_box
 from geomexact.mesh2d.snapshot import (
+    MAX_VERTICES,
     Edge,
     Mesh2,
     canonical_triangle,
@@ -127,11 +132,31 @@ class Construction:
 def vertices_mesh(pslg: PSLG) -> Mesh2:
     """The mesh of the PSLG's vertices (ids = PSLG ids, markers and attributes kept), with
     no triangles and no segments: the start of every triangulation trace."""
-    transient = Transient2(empty_mesh())
+    # Transient2.add_vertex for each vertex, in bulk: the same tables and digest
+    if len(pslg.vertices) > MAX_VERTICES:
+        raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+    empty = empty_mesh()
+    vertex_hash, attribute_hash = _digest.vertex_hash, _digest.attribute_hash
+    total = empty.digest
+    markers: dict[int, int] = {}
+    attributes: dict[int, tuple[Rational, ...]] = {}
     for index, point in enumerate(pslg.vertices):
-        attributes = pslg.vertex_attributes[index] if pslg.vertex_attributes else ()
-        transient.add_vertex(point, pslg.marker(index), attributes)
-    return transient.seal()
+        total += vertex_hash(index, point[:2])
+        marker = pslg.marker(index)
+        if marker:
+            markers[index] = marker
+            total += attribute_hash("vm", (index,), (marker,))
+        values = pslg.vertex_attributes[index] if pslg.vertex_attributes else ()
+        if values:
+            attributes[index] = tuple(values)
+            total += attribute_hash("va", (index,), values)
+    return attrs.evolve(
+        empty,
+        vertices=immutables.Map(enumerate(pslg.vertices)),
+        vertex_markers=immutables.Map(markers),
+        vertex_attributes=immutables.Map(attributes),
+        digest=total & (_digest.MODULUS - 1),
+    )
 
 
 def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
@@ -162,6 +187,9 @@ def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
     return duplicates
 
 
+_DOUBLES = operator.itemgetter(2, 3)
+
+
 def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     """A biased randomized insertion order (Amenta–Choi–Rote): a seeded shuffle cut into
     rounds of doubling size, each round sorted along a snake (boustrophedon) curve over a
@@ -181,8 +209,11 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     random.Random(seed).shuffle(order)
     if not points:
         return order
-    shuffled = np.array(order, dtype=np.int64)
-    halves = np.array([(points[i].fx, points[i].fy) for i in order], dtype=np.float64) * 0.5
+    shuffled = np.fromiter(order, dtype=np.int64, count=len(order))
+    # the doubles (fields 2 and 3 of each Point2), read in C: the same values
+    doubles = np.fromiter(itertools.chain.from_iterable(map(_DOUBLES, points)),
+                          dtype=np.float64, count=2 * len(points)).reshape(-1, 2)
+    halves = doubles[shuffled] * 0.5
     finite = np.isfinite(halves)
     lows, highs = [], []
     for axis in (0, 1):
@@ -333,6 +364,50 @@ def _delaunay_engine(engine: str) -> str:
     return engine_named("triangulate", engine, ENGINES)
 
 
+@attrs.frozen(slots=True)
+class _PointsPlan:
+    """What a point triangulation runs: the start mesh, the first triangle's vertices, the
+    vertices inserted after it in order, and the merged duplicates."""
+
+    start: Mesh2
+    first: tuple[int, int, int]
+    rest: list[int]
+    duplicates: tuple[tuple[int, int], ...]
+
+
+def _plan_points(pslg: PSLG, merge_duplicates: bool, seed: int) -> _PointsPlan:
+    """Steps 1-3 of ``specs/delaunay.md``: duplicates, the insertion order, the first
+    triangle (raises :class:`PreconditionError` as :func:`triangulate_points` does)."""
+    vertices = pslg.vertices
+    duplicates = duplicate_points(vertices)
+    if duplicates and not merge_duplicates:
+        shown = ", ".join(f"{d} = {k}" for d, k in duplicates[:10])
+        more = f" and {len(duplicates) - 10} more" if len(duplicates) > 10 else ""
+        raise PreconditionError(
+            "triangulate",
+            f"{len(duplicates)} duplicate points (vertex = earlier vertex): {shown}{more}; "
+            "pass merge_duplicates=True to keep only the first copy",
+            duplicates=tuple(duplicates),
+        )
+    dropped = {d for d, _ in duplicates}
+    order = [v for v in insertion_order(vertices, seed=seed) if v not in dropped]
+    if len(order) < 3:
+        raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3",
+                                distinct=tuple(sorted(order)))
+    a, b = order[0], order[1]
+    third = next(
+        (k for k in range(2, len(order))
+         if orient2d(vertices[a], vertices[b], vertices[order[k]]) != COLLINEAR),
+        None,
+    )
+    if third is None:
+        raise PreconditionError("triangulate", "all points are collinear: no triangle exists",
+                                collinear=tuple(sorted(order)))
+    start = vertices_mesh(pslg)
+    c = order.pop(third)
+    return _PointsPlan(start, (a, b, c), order[2:], tuple(duplicates))
+
+
 def triangulate_points(
     points: PSLG | Sequence[Point2],
     *,
@@ -365,37 +440,13 @@ def triangulate_points(
     name = _delaunay_engine(engine)
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
-    duplicates = duplicate_points(vertices)
-    if duplicates and not merge_duplicates:
-        shown = ", ".join(f"{d} = {k}" for d, k in duplicates[:10])
-        more = f" and {len(duplicates) - 10} more" if len(duplicates) > 10 else ""
-        raise PreconditionError(
-            "triangulate",
-            f"{len(duplicates)} duplicate points (vertex = earlier vertex): {shown}{more}; "
-            "pass merge_duplicates=True to keep only the first copy",
-            duplicates=tuple(duplicates),
-        )
-    dropped = {d for d, _ in duplicates}
-    order = [v for v in insertion_order(vertices, seed=seed) if v not in dropped]
-    if len(order) < 3:
-        raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3",
-                                distinct=tuple(sorted(order)))
-    a, b = order[0], order[1]
-    third = next(
-        (k for k in range(2, len(order))
-         if orient2d(vertices[a], vertices[b], vertices[order[k]]) != COLLINEAR),
-        None,
-    )
-    if third is None:
-        raise PreconditionError("triangulate", "all points are collinear: no triangle exists",
-                                collinear=tuple(sorted(order)))
-    start = vertices_mesh(pslg)
-    c = order.pop(third)
+    plan = _plan_points(pslg, merge_duplicates, seed)
+    start, (a, b, c) = plan.start, plan.first
     from geomexact._version import __version__
 
     with collector_paused():
         compiled = (
-            run_compiled(vertices, start, (a, b, c), order[2:])
+            run_compiled(vertices, start, (a, b, c), plan.rest)
             if name in ("auto", "compiled") else None
         )
         if compiled is None and name == "compiled":
@@ -411,14 +462,14 @@ def triangulate_points(
         else:
             builder = BatchDelaunay(start)
             builder.make_triangle(a, b, c)
-            for vertex in order[2:]:
+            for vertex in plan.rest:
                 builder.insert(vertex)
             mesh, steps, digests = builder.seal(start), builder.steps, builder.digests
         # the engine is not a parameter of the construction: both record this trace
         trace = Trace(start.digest, steps, digests,
                       {"algorithm": "delaunay", "seed": seed,
                        "merge_duplicates": merge_duplicates}, __version__)
-    return Construction(start, mesh, trace, tuple(duplicates))
+    return Construction(start, mesh, trace, plan.duplicates)
 
 
 # ---------------------------------------------------------------------------------------
@@ -592,10 +643,21 @@ def triangulate(
        and listed in ``Construction.ignored_seeds``.
 
     Every change is a recorded step: ``trace`` replays ``start`` (the isolated input
-    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points` (step 1; the
-    rest runs the reference ops on a transient).
+    vertices) to ``mesh``.  ``engine`` is that of :func:`triangulate_points`: with
+    ``"auto"`` or ``"compiled"`` and the kernel built, steps 1-4 run in the compiled
+    kernel (``compiled.run_compiled_constrained``: segment recovery, the Lawson pass and
+    carving recorded step for step as the ops below record them; region seeds then run
+    the ops on a transient); where the kernel declines (a crossing point to insert, a
+    :class:`SegmentError` to raise, a marker beyond int64) or with ``"python"``, step 1
+    runs in that engine and the rest runs the reference ops on a transient.  Both paths
+    record the same trace and build the same mesh (``tests/engines``).
     """
     pslg = pslg if isinstance(pslg, PSLG) else PSLG(vertices=tuple(pslg))
+    if (pslg.segments or pslg.holes) and _delaunay_engine(engine) in ("auto", "compiled"):
+        constrained = _constrained_in_kernel(pslg, keep_convex_hull, split_segments,
+                                             merge_duplicates, seed)
+        if constrained is not None:
+            return constrained
     points_run = triangulate_points(pslg, merge_duplicates=merge_duplicates, seed=seed,
                                     engine=engine)
     if not (pslg.segments or pslg.holes or pslg.regions):
@@ -631,3 +693,47 @@ def triangulate(
         first.version,
     )
     return Construction(points_run.start, mesh, trace, points_run.duplicates, tuple(ignored))
+
+
+def _constrained_in_kernel(pslg: PSLG, keep_convex_hull: bool, split_segments: bool,
+                           merge_duplicates: bool, seed: int) -> Construction | None:
+    """:func:`triangulate` with the point triangulation, segment recovery, the Lawson
+    pass and carving in the compiled kernel, and the region seeds (few, at the end) by
+    the ops on a transient: the same steps, digests and mesh as the Python path.  None
+    when the kernel is not built or declines the run (then the Python path runs, and
+    raises what it raises)."""
+    if not compiled_delaunay.AVAILABLE:
+        return None
+    plan = _plan_points(pslg, merge_duplicates, seed)
+    remap = dict(plan.duplicates)
+    segments = [(remap.get(u, u), remap.get(v, v), marker) for u, v, marker in pslg.segments]
+    from geomexact._version import __version__
+
+    with collector_paused():
+        run = compiled_delaunay.run_compiled_constrained(
+            pslg.vertices, plan.start, plan.first, plan.rest, segments,
+            split_segments=split_segments,
+            carve_exterior=bool(pslg.segments) and not keep_convex_hull,
+            holes=pslg.holes,
+        )
+        if run is None:
+            return None
+        mesh, steps, digests = run.mesh, run.steps, run.digests
+        ignored = [("hole", index) for index in run.ignored_holes]
+        if pslg.regions:
+            transient = Transient2(mesh)
+            for index, region in enumerate(pslg.regions):
+                if containing_triangle(transient, region.point) is not None:
+                    set_region_in(transient, region.point.x, region.point.y,
+                                  (region.attribute,))
+                else:
+                    ignored.append(("region", index))
+            mesh = transient.seal()
+            steps = [*steps, *transient.steps]
+            digests = [*digests, *transient.step_digests]
+        trace = Trace(plan.start.digest, steps, digests,
+                      {"algorithm": "delaunay", "seed": seed,
+                       "merge_duplicates": merge_duplicates,
+                       "keep_convex_hull": keep_convex_hull,
+                       "split_segments": split_segments}, __version__)
+    return Construction(plan.start, mesh, trace, plan.duplicates, tuple(ignored))
