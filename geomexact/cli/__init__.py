@@ -21,6 +21,7 @@ from geomexact.cli.errors import UsageProblem, os_error_text, print_error
 from geomexact.cli.exit_codes import (
     EXIT_BAD_INPUT,
     EXIT_BROKEN_PIPE,
+    EXIT_BUDGET,
     EXIT_CODES_HELP,
     EXIT_FAILED,
     EXIT_INTERRUPTED,
@@ -32,6 +33,7 @@ from geomexact.errors import GeomexactError
 __all__ = [
     "EXIT_BAD_INPUT",
     "EXIT_BROKEN_PIPE",
+    "EXIT_BUDGET",
     "EXIT_CODES_HELP",
     "EXIT_FAILED",
     "EXIT_INTERRUPTED",

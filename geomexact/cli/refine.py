@@ -8,7 +8,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from geomexact.cli.arguments import (
     Subcommands,
@@ -17,8 +17,9 @@ from geomexact.cli.arguments import (
     non_negative,
 )
 from geomexact.cli.errors import UsageProblem
-from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.exit_codes import EXIT_BUDGET, EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
+from geomexact.cli.progress import add_progress_flags
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import distinct_outputs, write
@@ -46,12 +47,14 @@ reference engine: the Python engine's trace replays through the reference ops)."
 
 class _RefineProgress:
     """A progress line on stderr for ``refine --progress``: steps, triangles, queue and
-    time, with a bouncing bar (the number of steps ahead is unknown).  On a terminal it is
-    redrawn in place at most ten times a second; otherwise a line is printed every second."""
+    time, with a bar that fills with the steps used out of the step limit (the default
+    budget), or bounces when there is no limit.  On a terminal it is redrawn in place at
+    most ten times a second; otherwise a line is printed every second."""
 
     WIDTH = 24
 
-    def __init__(self) -> None:
+    def __init__(self, limit: int | None = None) -> None:
+        self.limit = limit
         self.started = self.last = time.perf_counter()
         self.terminal = sys.stderr.isatty()
         self.interval = 0.1 if self.terminal else 1.0
@@ -68,17 +71,32 @@ class _RefineProgress:
         elapsed = time.perf_counter() - self.started
         if final:
             bar = "#" * self.WIDTH
+        elif self.limit:
+            filled = min(self.WIDTH, self.WIDTH * steps // self.limit)
+            bar = "#" * filled + "." * (self.WIDTH - filled)
         else:
             position = int(elapsed * 8) % (2 * self.WIDTH - 6)
             position = position if position < self.WIDTH - 3 else 2 * self.WIDTH - 6 - position
             bar = " " * position + "###" + " " * (self.WIDTH - 3 - position)
-        line = (f"refine [{bar}] {steps:,} steps, {triangles:,} triangles, "
+        of = f" of {self.limit:,}" if self.limit is not None and not final else ""
+        line = (f"refine [{bar}] {steps:,}{of} steps, {triangles:,} triangles, "
                 f"{pending:,} queued, {elapsed:.1f} s")
         if self.terminal:
             print("\r" + line, end="\n" if final else "", file=sys.stderr, flush=True)
         else:
             print(line, file=sys.stderr, flush=True)
         self.shown = True
+
+
+def step_limit(text: str) -> int | Literal["auto"] | None:
+    """``--max-steps``: an integer >= 0, ``auto`` (the default budget) or ``none`` (no
+    limit at all)."""
+    word = text.strip().lower()
+    if word == "none":
+        return None
+    if word == "auto":
+        return "auto"
+    return non_negative(text)
 
 
 def _refine_criterion(args: argparse.Namespace) -> Any:
@@ -189,11 +207,16 @@ def command_refine(args: argparse.Namespace) -> int:
         existing = sorted(Path(args.print_iter).glob("step-*.off"))
         if existing:
             raise OverwriteError(str(existing[0]))
-    progress = _RefineProgress() if args.progress else None
+    from geomexact.mesh2d.refinement.budget import default_budget
+
+    max_steps: int | Literal["auto"] | None = args.max_steps
+    limit = default_budget(mesh, criterion) if max_steps == "auto" else max_steps
+    show = args.progress if args.progress is not None else sys.stderr.isatty()
+    progress = _RefineProgress(limit) if show else None
     result = refine(
         mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
         centroid=args.centroid, constraint_midpoints=not args.plain_centroids,
-        max_steps=args.max_steps, on_step=progress, engine=args.engine,
+        max_steps=max_steps, on_step=progress, engine=args.engine,
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
@@ -268,7 +291,13 @@ def command_refine(args: argparse.Namespace) -> int:
             print(f"wrote {len(written) - 2} more files")
         for violation in violations:
             print(f"  {violation}")
-    if stats.status == "step-limit" and not stats.waiting:  # e.g. a region-wide criterion
+    if stats.status == "budget":
+        print(f"geomexact: refine stopped at its default step budget ({stats.steps} steps "
+              "= 100 x (input triangles + the criterion's estimate) + 10000): this "
+              "refinement may not end (specs/refine.md lists the known cases); the partial "
+              "result is written; pass --max-steps none to lift the budget, or --max-steps "
+              "N", file=sys.stderr)
+    elif stats.status == "step-limit" and not stats.waiting:  # e.g. a region-wide criterion
         print(f"geomexact: refine stopped at the step limit ({args.max_steps} steps): some "
               "triangles may not meet the criterion", file=sys.stderr)
     summary_of_left = stats.left_summary()
@@ -276,7 +305,9 @@ def command_refine(args: argparse.Namespace) -> int:
         print(f"geomexact: {summary_of_left}", file=sys.stderr)
     if not_delaunay:
         print("geomexact: the result is not Delaunay", file=sys.stderr)
-    return EXIT_FAILED if violations or not_delaunay else EXIT_OK
+    if violations or not_delaunay:
+        return EXIT_FAILED
+    return EXIT_BUDGET if stats.status == "budget" else EXIT_OK
 
 
 def add_parser(commands: Subcommands) -> None:
@@ -322,8 +353,11 @@ def add_parser(commands: Subcommands) -> None:
                               "python (the batch engine) or reference (the pure ops); all "
                               "record the same trace; fast and transient are old names of "
                               "auto and reference")
-    refine_.add_argument("--max-steps", type=non_negative, metavar="N",
-                         help="stop after N steps (status 'step-limit')")
+    refine_.add_argument("--max-steps", type=step_limit, metavar="N", default="auto",
+                         help="stop after N steps (status 'step-limit'); default: a budget "
+                              "of 100 x (input triangles + the criterion's estimate) + "
+                              "10000 steps (status 'budget', exit code 3), also "
+                              "'auto'; 'none': no limit")
     refine_.add_argument("--trace", metavar="FILE",
                          help="write the trace (JSON Lines; from a PSLG: from its vertices)")
     refine_.add_argument("--polylla", metavar="OFF",
@@ -335,6 +369,5 @@ def add_parser(commands: Subcommands) -> None:
                          help="validate the result (exit 1 on violations)")
     refine_.add_argument("--check-delaunay", action="store_true",
                          help="exit 1 when the result is not (constrained) Delaunay")
-    refine_.add_argument("--progress", action="store_true",
-                         help="show progress on stderr")
+    add_progress_flags(refine_)
     add_writing_options(refine_)

@@ -57,6 +57,7 @@ from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.engine_names import ENGINES, Engine, engine_named
+from geomexact.mesh2d.refinement.budget import default_budget
 from geomexact.mesh2d.refinement.criteria import Criterion, as_criterion
 from geomexact.mesh2d.refinement.driver import (
     TIP_DEPTH,
@@ -91,20 +92,21 @@ CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices")
 class RefineStats:
     """Counts of a run.
 
-    ``status``: ``"complete"`` (every triangle of the region meets the criterion or is
-    listed in ``left``; for an average-area criterion, the mean is reached) or
-    ``"step-limit"`` (stopped by ``max_steps``); ``steps``: trace length; ``bisections``:
-    edge midpoints inserted; ``centroids``: quadrilateral centroids inserted; ``flips``:
-    legalization and quasi-Delaunay flips; ``targets``: bad triangles taken from the
-    queue; ``lepp_searches`` / ``lepp_triangles``: Lepp paths computed and their total
-    length in triangles; ``left``: bad triangles of the final mesh left alone at input
-    angles below the minimum angle (sorted, canonical), and ``left_reasons`` why, one per
-    triangle of ``left`` (:data:`~geomexact.mesh2d.refinement.driver.LeftReason`):
+    ``status``: ``"complete"`` (every triangle of the region meets the
+    criterion or is listed in ``left``; for an average-area criterion, the mean is reached)
+    or ``"step-limit"`` (stopped by ``max_steps``) or ``"budget"`` (stopped by the default
+    budget, :func:`~geomexact.mesh2d.refinement.budget.default_budget`); ``steps``: trace
+    length; ``bisections``: edge midpoints inserted; ``centroids``: quadrilateral centroids
+    inserted; ``flips``: legalization and quasi-Delaunay flips; ``targets``: bad triangles
+    taken from the queue; ``lepp_searches`` / ``lepp_triangles``: Lepp paths computed and
+    their total length in triangles; ``left``: bad triangles of the final mesh left alone at
+    input angles below the minimum angle (sorted, canonical), and ``left_reasons`` why, one
+    per triangle of ``left`` (:data:`~geomexact.mesh2d.refinement.driver.LeftReason`):
     ``"sharp-corner"`` — an angle below it inside such an input angle — or
-    ``"protected-tip"`` — its Lepp step would split a constraint edge of such an input
-    angle shorter than 2^-TIP_DEPTH of its input length; ``waiting``: after a step limit,
-    the bad triangles of the region not refined yet (sorted; none for a region-wide
-    criterion or a complete run); ``seconds``: wall time."""
+    ``"protected-tip"`` — its Lepp step would split a constraint edge of such an input angle
+    shorter than 2^-TIP_DEPTH of its input length; ``waiting``: after a step limit, the bad
+    triangles of the region not refined yet (sorted; none for a region-wide criterion or a
+    complete run); ``seconds``: wall time."""
 
     status: Status
     steps: int
@@ -154,8 +156,9 @@ class RefineStats:
                 "length)"
             )
         if self.waiting:
+            limit = "default step budget" if self.status == "budget" else "step limit"
             parts.append(
-                f"{len(self.waiting)} not refined yet: the run stopped at the step limit "
+                f"{len(self.waiting)} not refined yet: the run stopped at the {limit} "
                 f"({self.steps} steps)"
             )
         if not parts:
@@ -176,7 +179,7 @@ class Result:
 
     @property
     def status(self) -> Status:
-        """``"complete"`` or ``"step-limit"``."""
+        """``"complete"``, ``"step-limit"`` or ``"budget"``."""
         return self.stats.status
 
 
@@ -189,7 +192,7 @@ def refine(
     delaunay: bool = True,
     centroid: Literal["area", "area-exact", "vertices"] = "area",
     constraint_midpoints: bool = True,
-    max_steps: int | None = None,
+    max_steps: int | Literal["auto"] | None = "auto",
     on_step: Callable[[Progress], None] | None = None,
     engine: Engine = "auto",
 ) -> Result:
@@ -231,7 +234,10 @@ def refine(
         Stop before the step that would exceed it, with status ``"step-limit"`` (a run may
         stop inside a legalization: the mesh is valid but need not be Delaunay).  Required
         with a minimum-angle criterion for Lepp-bisection and for ``delaunay=False``, which
-        cannot meet it in general.
+        cannot meet it in general.  ``"auto"`` (the default) is the budget
+        :func:`~geomexact.mesh2d.refinement.budget.default_budget` derived from the input
+        and the criterion; a run it stops has status ``"budget"``.  ``None`` runs without
+        any limit.
     on_step:
         Called with a :class:`Progress` after every step.
     engine:
@@ -260,11 +266,11 @@ def refine(
             "refine", f"unknown centroid {centroid!r}; choose from {CENTROIDS}"
         )
     name = engine_named("refine", engine)
-    if max_steps is not None and (
+    if max_steps is not None and max_steps != "auto" and (
         isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 0
     ):
         raise PreconditionError("refine", f"max_steps must be an integer >= 0, not {max_steps!r}")
-    if rule.angle_threshold is not None and max_steps is None:
+    if rule.angle_threshold is not None and (max_steps is None or max_steps == "auto"):
         if method == "bisection":
             raise PreconditionError(
                 "refine",
@@ -280,6 +286,8 @@ def refine(
                 "only split angles), so a minimum-angle criterion may never be met; pass "
                 "delaunay=True to allow flips, or give a step limit max_steps=N",
             )
+    budget = default_budget(mesh, rule) if max_steps == "auto" else None
+    limit = budget if max_steps == "auto" else max_steps
     began = time.perf_counter()
     options: dict[str, Any] = {
         "criterion": rule,
@@ -299,8 +307,9 @@ def refine(
             )
     with collector_paused():  # a large run makes millions of small tuples
         compiled = (
-            run_compiled(mesh, max_steps, **options) if name in ("auto", "compiled") else None
+            run_compiled(mesh, limit, **options) if name in ("auto", "compiled") else None
         )
+        status: Status
         if compiled is not None:
             status, result, steps, digests = (
                 compiled.status, compiled.mesh, compiled.steps, compiled.digests
@@ -312,18 +321,20 @@ def refine(
         else:
             run: Refinement
             if name == "reference":
-                run = ReferenceRefinement(mesh, max_steps, **options)
+                run = ReferenceRefinement(mesh, limit, **options)
             else:
-                run = BatchRefinement(mesh, max_steps, **options)
+                run = BatchRefinement(mesh, limit, **options)
             run.start_queue(sorted(mesh.iter_triangles()))
             status = run.run()
             result, steps, digests = run.finish(mesh)
             left, reasons = run.left_triangles(), run.left_reasons()
             targets, searches, hops = run.targets, run.searches, run.hops
             del run  # its work tables go now, before the collector would scan them
+    if budget is not None and status == "step-limit":
+        status = "budget"
     from geomexact._version import __version__
 
-    parameters = {
+    parameters: dict[str, Any] = {
         "algorithm": "lepp",
         "method": method,
         "delaunay": delaunay,
@@ -331,8 +342,10 @@ def refine(
         "constraint_midpoints": constraint_midpoints,
         "criterion": rule.parameters(),
         "region": area.parameters(),
-        "max_steps": max_steps,
+        "max_steps": None if max_steps == "auto" else max_steps,
     }
+    if budget is not None:
+        parameters["step_budget"] = budget
     trace = Trace(mesh.digest, steps, digests, parameters, __version__)
     ops = Counter(step.op for step in steps)
     stats = RefineStats(
@@ -348,7 +361,7 @@ def refine(
         left=left,
         seconds=time.perf_counter() - began,
         left_reasons=reasons,
-        waiting=_waiting(result, rule, area, left) if status == "step-limit" else (),
+        waiting=_waiting(result, rule, area, left) if status != "complete" else (),
     )
     return Result(mesh, result, trace, stats)
 

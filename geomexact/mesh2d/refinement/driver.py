@@ -21,7 +21,7 @@ from geomexact.mesh2d.snapshot import Attributes, Edge, Mesh2, Triangle
 from geomexact.trace.step import Step
 
 Method: TypeAlias = Literal["bisection", "centroid", "quasi"]
-Status: TypeAlias = Literal["complete", "step-limit"]
+Status: TypeAlias = Literal["complete", "step-limit", "budget"]
 LeftReason: TypeAlias = Literal["sharp-corner", "protected-tip"]
 """Why a bad triangle was left (``specs/refine.md``, small input angles): ``"sharp-corner"``
 — its angle below the threshold lies in an input angle below it, which no triangulation
