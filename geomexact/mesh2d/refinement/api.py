@@ -70,6 +70,15 @@ from geomexact.mesh2d.refinement.driver import (
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
 from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
 from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
+from geomexact.mesh2d.refinement.presets import (
+    CENTROIDS,
+    CentroidKind,
+    FactorStop,
+    Order,
+    Preset,
+    SecondLongestRule,
+    rules,
+)
 from geomexact.mesh2d.refinement.regions import Region, Whole, as_region
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.record import Trace
@@ -85,7 +94,6 @@ __all__ = [
 ]
 
 METHODS: tuple[str, ...] = ("bisection", "centroid", "quasi")
-CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices")
 
 
 @attrs.frozen(slots=True)
@@ -190,11 +198,15 @@ def refine(
     region: Region | Callable[[Point2], object] | None = None,
     method: Method = "bisection",
     delaunay: bool = True,
-    centroid: Literal["area", "area-exact", "vertices"] = "area",
-    constraint_midpoints: bool = True,
+    centroid: CentroidKind | None = None,
+    constraint_midpoints: bool | None = None,
     max_steps: int | Literal["auto"] | None = "auto",
     on_step: Callable[[Progress], None] | None = None,
     engine: Engine = "auto",
+    preset: Preset | None = None,
+    order: Order | None = None,
+    second_longest_rule: SecondLongestRule | None = None,
+    factor_stop: FactorStop | None = None,
 ) -> Result:
     """Refine the triangles of ``region`` that ``criterion`` rates bad, by Lepp steps.
 
@@ -218,18 +230,18 @@ def refine(
         Legalize after each insertion (bisection, centroid) or flip non-Delaunay terminal
         pairs (quasi).  ``False`` never flips.
     centroid:
-        The point inserted into a terminal quadrilateral: ``"area"`` (its area centroid
-        rounded to 24 bits below its shortest side, step ``insert_in_quadrilateral``; see
-        :mod:`geomexact.mesh2d.refinement.centroids`), ``"area-exact"`` (the exact area centroid,
-        step
-        ``insert_centroid``: coordinate sizes grow geometrically, for small runs only) or
-        ``"vertices"`` (the mean of its four vertices, exact, step
+        (Default ``"area"``, or the preset's.)  The point inserted into a terminal
+        quadrilateral: ``"area"`` (its area centroid rounded to 24 bits below its shortest
+        side, step ``insert_in_quadrilateral``; see
+        :mod:`geomexact.mesh2d.refinement.centroids`), ``"area-exact"`` (the exact area
+        centroid, step ``insert_centroid``: coordinate sizes grow geometrically, for small
+        runs only) or ``"vertices"`` (the mean of its four vertices, exact, step
         ``insert_vertex_centroid``).
     constraint_midpoints:
-        Centroid and quasi methods: when a terminal triangle's second-longest edge is a
-        constraint edge, insert that edge's midpoint instead of the centroid (Rivara &
-        Rodríguez's rule for convergence near constraints).  ``False`` always inserts the
-        centroid into an unconstrained terminal pair (as QLepp2D does).
+        The older name of ``second_longest_rule``: True is ``"bisect-second"`` (when a
+        terminal triangle's second-longest edge is a constraint edge, insert that edge's
+        midpoint instead of the centroid: Rivara & Rodríguez's rule for convergence near
+        constraints), False ``"centroid"`` (always the centroid, as QLepp2D does).
     max_steps:
         Stop before the step that would exceed it, with status ``"step-limit"`` (a run may
         stop inside a legalization: the mesh is valid but need not be Delaunay).  Required
@@ -246,6 +258,20 @@ def refine(
         is not built or does not implement this run), ``"python"`` (the batch engine) or
         ``"reference"`` (the ops on a transient; slower).  All record the same trace.
         ``"fast"`` and ``"transient"`` are old names of ``"auto"`` and ``"reference"``.
+    preset:
+        ``"pineda"`` or ``"mellado"``: the rules of that paper's program
+        (:mod:`geomexact.mesh2d.refinement.presets`, ``specs/refine.md``), each of which
+        the options below (and ``centroid``) override one by one.  None: geomexact's rules.
+    order:
+        ``"worst-first"`` (default: a priority queue, worst key first) or ``"passes"``
+        (the bad triangles in passes, each pass in vertex-id order, until none is left).
+    second_longest_rule:
+        What a terminal pair whose triangle has a constraint second-longest edge gets:
+        ``"bisect-second"`` (default: that edge's midpoint), ``"centroid"`` (ignored: the
+        centroid) or ``"bisect-longest"`` (the midpoint of the terminal edge).
+    factor_stop:
+        ``"action"`` (default: an average-area factor is checked after every action) or
+        ``"target"`` (after each refined target).
 
     Raises :class:`~geomexact.errors.PreconditionError` for an unknown method, centroid or
     engine, engine ``"compiled"`` where the kernel cannot run, a negative ``max_steps``,
@@ -261,10 +287,11 @@ def refine(
     area = as_region(region)
     if method not in METHODS:
         raise PreconditionError("refine", f"unknown method {method!r}; choose from {METHODS}")
-    if centroid not in CENTROIDS:
-        raise PreconditionError(
-            "refine", f"unknown centroid {centroid!r}; choose from {CENTROIDS}"
-        )
+    chosen = rules(preset, centroid=centroid, order=order,
+                   second_longest_rule=second_longest_rule, factor_stop=factor_stop,
+                   constraint_midpoints=constraint_midpoints)
+    centroid = chosen.centroid
+    constraint_midpoints = chosen.second_longest_rule == "bisect-second"
     name = engine_named("refine", engine)
     if max_steps is not None and max_steps != "auto" and (
         isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 0
@@ -297,6 +324,9 @@ def refine(
         "centroid": centroid,
         "constraint_midpoints": constraint_midpoints,
         "on_step": on_step,
+        "order": chosen.order,
+        "second_longest_rule": chosen.second_longest_rule,
+        "factor_stop": chosen.factor_stop,
     }
     if name == "compiled":
         reason = unsupported(mesh, **options)
@@ -344,8 +374,12 @@ def refine(
         "region": area.parameters(),
         "max_steps": None if max_steps == "auto" else max_steps,
     }
-    if budget is not None:
+    if status == "budget":  # a run the budget did not stop never depended on it
         parameters["step_budget"] = budget
+    if preset is not None:
+        parameters["preset"] = preset
+    parameters.update({name: value for name, value in chosen.changed().items()
+                       if name != "centroid"})
     trace = Trace(mesh.digest, steps, digests, parameters, __version__)
     ops = Counter(step.op for step in steps)
     stats = RefineStats(
