@@ -173,6 +173,16 @@ def _refine_method(args: argparse.Namespace) -> tuple[Method, str | None]:
     return "bisection", None
 
 
+def _second_longest_rule(args: argparse.Namespace) -> Any:
+    """``--second-longest-rule``, or ``centroid`` for ``--plain-centroids``."""
+    if args.plain_centroids:
+        if args.second_longest_rule not in (None, "centroid"):
+            raise UsageProblem("--plain-centroids contradicts --second-longest-rule "
+                               f"{args.second_longest_rule}")
+        return "centroid"
+    return args.second_longest_rule
+
+
 def command_refine(args: argparse.Namespace) -> int:
     """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
     a region; writes the mesh, the trace and optionally every intermediate mesh."""
@@ -215,8 +225,9 @@ def command_refine(args: argparse.Namespace) -> int:
     progress = _RefineProgress(limit) if show else None
     result = refine(
         mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
-        centroid=args.centroid, constraint_midpoints=not args.plain_centroids,
-        max_steps=max_steps, on_step=progress, engine=args.engine,
+        centroid=args.centroid, second_longest_rule=_second_longest_rule(args),
+        max_steps=max_steps, on_step=progress, engine=args.engine, preset=args.preset,
+        order=args.order, factor_stop=args.factor_stop,
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
@@ -339,14 +350,31 @@ def add_parser(commands: Subcommands) -> None:
                               "bisection cannot meet, else bisection)")
     refine_.add_argument("--no-delaunay", action="store_true",
                          help="never flip (no legalization, no quasi-Delaunay flips)")
+    refine_.add_argument("--preset", choices=("pineda", "mellado"),
+                         help="the rules of a paper's program (docs/papers.md): pineda "
+                              "(--second-longest-rule centroid --factor-stop target), "
+                              "mellado (--centroid vertices --order passes); each rule "
+                              "option below overrides it")
+    refine_.add_argument("--order", choices=("worst-first", "passes"),
+                         help="worst-first (default: the worst bad triangle first) or "
+                              "passes (the bad triangles in passes, each in vertex-id order)")
+    refine_.add_argument("--second-longest-rule",
+                         choices=("bisect-second", "centroid", "bisect-longest"),
+                         help="a terminal triangle whose second-longest edge is a "
+                              "constraint: bisect that edge (default), ignore it (insert "
+                              "the centroid), or bisect the longest edge (Mellado's literal "
+                              "rule; it may not end)")
+    refine_.add_argument("--factor-stop", choices=("action", "target"),
+                         help="--factor: check the mean after every action (default) or "
+                              "after each refined triangle (Pineda, Alg. 3)")
     refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices"),
-                         default="area",
                          help="point inserted in a terminal quadrilateral: area centroid "
                               "rounded to 24 bits (default), exact area centroid (slow: "
                               "coordinates grow), or the mean of the four vertices")
     refine_.add_argument("--plain-centroids", action="store_true",
                          help="do not bisect a constraint second-longest edge of a terminal "
-                              "triangle; always insert the centroid")
+                              "triangle; always insert the centroid (= --second-longest-rule "
+                              "centroid)")
     refine_.add_argument("--engine", choices=(*ENGINES, *OLD_NAMES), default="auto",
                          help="auto (default: compiled where it applies, else python), "
                               "compiled (the kernel; an error where it does not apply), "
