@@ -15,8 +15,8 @@ needs:
 * ``AverageAreaFactor(f)``: ⌈T / f⌉;
 * ``MinAngle`` and callables: 0 (the size is set by the input's features, which T counts).
 
-Every terminating run measured in the termination suite (``tests/mesh2d/refinement/
-test_refine_termination.py``) uses under a tenth of it.
+The terminating runs measured for the termination suite (``tests/mesh2d/refinement/
+test_refine_termination.py``) use under a tenth of it.
 
 >>> from geomexact.mesh2d.transient import mesh_from_triangles
 >>> from geomexact.mesh2d.refinement.criteria import MaxArea, MinAngle
