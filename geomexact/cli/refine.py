@@ -367,10 +367,12 @@ def add_parser(commands: Subcommands) -> None:
     refine_.add_argument("--factor-stop", choices=("action", "target"),
                          help="--factor: check the mean after every action (default) or "
                               "after each refined triangle (Pineda, Alg. 3)")
-    refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices"),
+    refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices", "midpoint"),
                          help="point inserted in a terminal quadrilateral: area centroid "
                               "rounded to 24 bits (default), exact area centroid (slow: "
-                              "coordinates grow), or the mean of the four vertices")
+                              "coordinates grow), the mean of the four vertices, or "
+                              "midpoint: bisect the terminal edge instead (Mellado's "
+                              "centroid=false variant)")
     refine_.add_argument("--plain-centroids", action="store_true",
                          help="do not bisect a constraint second-longest edge of a terminal "
                               "triangle; always insert the centroid (= --second-longest-rule "

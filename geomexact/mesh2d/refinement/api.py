@@ -235,8 +235,10 @@ def refine(
         side, step ``insert_in_quadrilateral``; see
         :mod:`geomexact.mesh2d.refinement.centroids`), ``"area-exact"`` (the exact area
         centroid, step ``insert_centroid``: coordinate sizes grow geometrically, for small
-        runs only) or ``"vertices"`` (the mean of its four vertices, exact, step
-        ``insert_vertex_centroid``).
+        runs only), ``"vertices"`` (the mean of its four vertices, exact, step
+        ``insert_vertex_centroid``) or ``"midpoint"`` (no centroid: the terminal edge is
+        bisected, Mellado's ``centroid=false`` variant; with ``method="quasi"`` it is
+        Lepp-bisection with quasi-Delaunay flips).
     constraint_midpoints:
         The older name of ``second_longest_rule``: True is ``"bisect-second"`` (when a
         terminal triangle's second-longest edge is a constraint edge, insert that edge's

@@ -359,6 +359,9 @@ class Refinement:
                         return False
                     self.insert_midpoint(p, q)
                     return True
+        if self.centroid_kind == "midpoint":  # Mellado's centroid=false: bisect e
+            self.insert_midpoint(u, v)
+            return True
         vertex = self.centroid(u, v)
         if self.legalize_insertions:
             self.legalize(vertex)

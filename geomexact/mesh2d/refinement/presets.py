@@ -54,13 +54,13 @@ __all__ = [
     "rules",
 ]
 
-CentroidKind: TypeAlias = Literal["area", "area-exact", "vertices"]
+CentroidKind: TypeAlias = Literal["area", "area-exact", "vertices", "midpoint"]
 Order: TypeAlias = Literal["worst-first", "passes"]
 SecondLongestRule: TypeAlias = Literal["bisect-second", "centroid", "bisect-longest"]
 FactorStop: TypeAlias = Literal["action", "target"]
 Preset: TypeAlias = Literal["pineda", "mellado"]
 
-CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices")
+CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices", "midpoint")
 ORDERS: tuple[str, ...] = ("worst-first", "passes")
 SECOND_LONGEST_RULES: tuple[str, ...] = ("bisect-second", "centroid", "bisect-longest")
 FACTOR_STOPS: tuple[str, ...] = ("action", "target")

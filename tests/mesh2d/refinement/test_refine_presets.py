@@ -171,3 +171,18 @@ def test_command_preset_and_rule_flags(
                      "--second-longest-rule", "bisect-second"])
     err = capsys.readouterr().err
     assert code == 2 and "contradicts" in err and "Traceback" not in err
+
+
+def test_quasi_with_midpoint_insertion(superior: Mesh2, notch: Mesh2) -> None:
+    """centroid="midpoint": no centroid step, only bisections and flips; ends on Superior
+    at 25° with every angle at least 25° (or left); both Python engines agree."""
+    result = refine(superior, MinAngle(25), method="quasi", centroid="midpoint")
+    assert result.status == "complete" and result.stats.centroids == 0
+    assert result.mesh.triangle_count == 1819
+    assert {step.op for step in result.trace.steps} == {"bisect", "flip"}
+    runs = [refine(notch, MinAngle(25), method="quasi", centroid="midpoint", engine=engine)
+            for engine in ("reference", "python")]
+    assert runs[0].trace.steps == runs[1].trace.steps
+    assert unsupported(notch, criterion=MinAngle(25), region=Whole(), method="quasi",
+                       delaunay=True, centroid="midpoint", constraint_midpoints=True,
+                       on_step=None) is not None
