@@ -155,6 +155,9 @@ def _refine_region(args: argparse.Namespace) -> Any:
     if args.rectangle is not None:
         x, y, width, height = (parse_rational(text) for text in args.rectangle)
         return regions.Rectangle(x, y, width, height)
+    if args.centred_rectangle is not None:
+        x, y, width, height = (parse_rational(text) for text in args.centred_rectangle)
+        return regions.Rectangle(x - width / 2, y - height / 2, width, height)
     if args.polygon is not None:
         return regions.Polygon(_polygon_region_vertices(args.polygon, None, args.verbose))
     return regions.Whole()
@@ -171,6 +174,18 @@ def _refine_method(args: argparse.Namespace) -> tuple[Method, str | None]:
         return "centroid", ("--min-angle without --method: using --method centroid "
                             "(Lepp-bisection does not raise angles)")
     return "bisection", None
+
+
+def _region_mesh(mesh: Mesh2, region: Any) -> Mesh2:
+    """The triangles of ``mesh`` in ``region`` (a vertex inside) as a mesh of their own
+    (Pineda's ``-print_region``)."""
+    from geomexact.mesh2d.transient import mesh_from_triangles
+
+    chosen = [t for t in mesh.triangles()
+              if any(region.contains(mesh.point(v)) for v in t)]
+    ids = {v: i for i, v in enumerate(sorted({v for t in chosen for v in t}))}
+    return mesh_from_triangles([mesh.point(v) for v in ids],
+                               [[ids[v] for v in t] for t in chosen])
 
 
 def _second_longest_rule(args: argparse.Namespace) -> Any:
@@ -207,9 +222,25 @@ def command_refine(args: argparse.Namespace) -> int:
     else:
         raise UsageProblem(f"{args.input}: a polygon mesh cannot be refined; give a triangle "
                            "mesh or a PSLG")
+    polylla_input = None
+    if args.output and (args.output.endswith(("/", "\\")) or Path(args.output).is_dir()):
+        # Pineda's -output DIR -filename NAME: NAME.off, and with --polylla the Polylla
+        # meshes of the input and of the result beside it
+        stem = args.filename or Path(args.input).name.split(".")[0]
+        directory = Path(args.output)
+        directory.mkdir(parents=True, exist_ok=True)
+        args.output = str(directory / f"{stem}.off")
+        if args.polylla is not None:
+            polylla_input = str(directory / f"{stem}_input_polylla.off")
+            args.polylla = str(directory / f"{stem}_polylla.off")
+    elif args.filename:
+        raise UsageProblem("--filename names the files of --output DIR (a directory)")
+    if args.polylla == "":
+        raise UsageProblem("--polylla without a file name needs --output DIR")
     distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file"),
-                      ("--polylla", args.polylla, None)])
-    outputs = [args.output, args.trace, args.polylla]
+                      ("--polylla", args.polylla, None),
+                      ("--print-region", args.print_region, None)])
+    outputs = [args.output, args.trace, args.polylla, polylla_input, args.print_region]
     for path in outputs:
         if path and Path(path).exists() and not args.force:
             raise OverwriteError(str(path))
@@ -253,6 +284,12 @@ def command_refine(args: argparse.Namespace) -> int:
 
         written += write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
                           numbers=args.numbers)
+        if polylla_input:
+            written += write(polylla_input, polylla(mesh), None, overwrite=args.force,
+                              numbers=args.numbers)
+    if args.print_region:
+        written += write(args.print_region, _region_mesh(mesh, region), None,
+                          overwrite=args.force, numbers=args.numbers)
     if args.print_iter:
         from geomexact.trace.playback import replay_iter
 
@@ -342,6 +379,9 @@ def add_parser(commands: Subcommands) -> None:
                        help="refine only triangles with a vertex in this disk")
     where.add_argument("--rectangle", nargs=4, metavar=("X", "Y", "W", "H"),
                        help="refine only triangles with a vertex in [X, X+W] x [Y, Y+H]")
+    where.add_argument("--centred-rectangle", nargs=4, metavar=("CX", "CY", "W", "H"),
+                       help="as --rectangle, given by its centre and full sizes (Pineda's "
+                            "-rectangle)")
     where.add_argument("--polygon", metavar="FILE",
                        help="refine only triangles with a vertex in this polygon (OFF with "
                             "one polygon, or a PSLG whose segments form one loop)")
@@ -390,8 +430,16 @@ def add_parser(commands: Subcommands) -> None:
                               "'auto'; 'none': no limit")
     refine_.add_argument("--trace", metavar="FILE",
                          help="write the trace (JSON Lines; from a PSLG: from its vertices)")
-    refine_.add_argument("--polylla", metavar="OFF",
-                         help="also write the Polylla polygon mesh of the result (OFF)")
+    refine_.add_argument("--polylla", metavar="OFF", nargs="?", const="",
+                         help="also write the Polylla polygon mesh of the result (OFF); "
+                              "with -o DIR and no file name: DIR/NAME_polylla.off and the "
+                              "input's, DIR/NAME_input_polylla.off (Pineda's -polylla)")
+    refine_.add_argument("--filename", metavar="NAME",
+                         help="with -o DIR (a directory, Pineda's -output): the files' "
+                              "name, DIR/NAME.off (default: the input's name)")
+    refine_.add_argument("--print-region", metavar="FILE",
+                         help="write the input's triangles in the region as a mesh file "
+                              "(Pineda's -print_region)")
     refine_.add_argument("--print-iter", metavar="DIR",
                          help="write the mesh before and after every step to "
                               "DIR/step-NNNNNN.off (exact)")
