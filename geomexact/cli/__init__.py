@@ -21,6 +21,7 @@ from geomexact.cli.errors import UsageProblem, os_error_text, print_error
 from geomexact.cli.exit_codes import (
     EXIT_BAD_INPUT,
     EXIT_BROKEN_PIPE,
+    EXIT_BUDGET,
     EXIT_CODES_HELP,
     EXIT_FAILED,
     EXIT_INTERRUPTED,
@@ -31,6 +32,7 @@ from geomexact.cli.parser import build_parser
 __all__ = [
     "EXIT_BAD_INPUT",
     "EXIT_BROKEN_PIPE",
+    "EXIT_BUDGET",
     "EXIT_CODES_HELP",
     "EXIT_FAILED",
     "EXIT_INTERRUPTED",

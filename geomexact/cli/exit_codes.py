@@ -5,6 +5,7 @@ from __future__ import annotations
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
+EXIT_BUDGET = 3  # refine stopped by its default step budget (specs/refine.md)
 EXIT_INTERRUPTED = 130  # what a shell reports for a command stopped by Ctrl-C (SIGINT)
 EXIT_BROKEN_PIPE = 141  # what a shell reports for a command killed by SIGPIPE
 
@@ -15,4 +16,6 @@ exit codes:
      diff) or a property fails after some step (trace bisect)
   2  bad input or usage: unreadable or malformed file, wrong kind of input, refusal to
      overwrite an existing file (use --force), trace recorded on another mesh, bad option
+  3  refine stopped at its default step budget (the refinement may not end; the partial
+     result is written; --max-steps none lifts the budget)
 """

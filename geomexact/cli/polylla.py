@@ -47,9 +47,14 @@ def command_polylla(args: argparse.Namespace) -> int:
     run = polylla_run(mesh)
     result = run.mesh
     inserted: tuple[tuple[int, int], ...] = ()
+    nonconvex = -1
     if convex:
-        decomposition = convex_decomposition(run.mesh, criterion_one=not args.no_opt)
+        decomposition = convex_decomposition(
+            run.mesh, criterion_one=not args.no_opt, reflex=args.reflex,
+            criterion_one_rule=args.criterion_one_rule, preset=args.preset,
+        )
         result, inserted = decomposition.mesh, decomposition.inserted_edges
+        nonconvex = decomposition.nonconvex_before  # by its reflex rule
     seconds = time.perf_counter() - started
     violations = result.validate(mesh) if args.check else []
     written: list[Path] = []
@@ -64,7 +69,8 @@ def command_polylla(args: argparse.Namespace) -> int:
         pictures.plot(result, args.picture, overwrite=args.force, title=title,
                       highlight_edges=inserted)
         written.append(Path(args.picture))
-    nonconvex = len(nonconvex_polygons(run.mesh))
+    if nonconvex < 0:
+        nonconvex = len(nonconvex_polygons(run.mesh))
     report = {
         "input": args.input,
         "triangulated": isinstance(loaded.value, PSLG),
@@ -115,6 +121,17 @@ def add_parser(commands: Subcommands) -> None:
     polylla_.add_argument("--no-opt", action="store_true",
                           help="convex decomposition without criterion 1 (angle-first mode; "
                                "implies --convex)")
+    polylla_.add_argument("--preset", choices=("pineda",),
+                          help="--convex with Pineda's rules: --reflex straight "
+                               "--criterion-one-rule first (docs/papers.md)")
+    polylla_.add_argument("--reflex", choices=("strict", "straight"), default="strict",
+                          help="--convex: a reflex corner is above 180 degrees (default) or "
+                               "also at exactly 180 (straight; Pineda, Alg. 10)")
+    polylla_.add_argument("--criterion-one-rule", choices=("bisector", "first"),
+                          default="bisector",
+                          help="--convex: criterion 1 takes the edge closest to the "
+                               "bisector in a first pass (default) or the first edge found, "
+                               "corner by corner (Pineda, Alg. 11)")
     polylla_.add_argument("--picture", metavar="PNG",
                           help="draw the result (.png, .svg or .pdf; inserted edges in "
                                "orange, non-convex polygons filled)")

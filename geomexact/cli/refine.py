@@ -8,7 +8,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from geomexact.cli.arguments import (
     Subcommands,
@@ -17,8 +17,9 @@ from geomexact.cli.arguments import (
     non_negative,
 )
 from geomexact.cli.errors import UsageProblem
-from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.exit_codes import EXIT_BUDGET, EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
+from geomexact.cli.progress import add_progress_flags
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import distinct_outputs, write
@@ -46,12 +47,14 @@ reference engine: the Python engine's trace replays through the reference ops)."
 
 class _RefineProgress:
     """A progress line on stderr for ``refine --progress``: steps, triangles, queue and
-    time, with a bouncing bar (the number of steps ahead is unknown).  On a terminal it is
-    redrawn in place at most ten times a second; otherwise a line is printed every second."""
+    time, with a bar that fills with the steps used out of the step limit (the default
+    budget), or bounces when there is no limit.  On a terminal it is redrawn in place at
+    most ten times a second; otherwise a line is printed every second."""
 
     WIDTH = 24
 
-    def __init__(self) -> None:
+    def __init__(self, limit: int | None = None) -> None:
+        self.limit = limit
         self.started = self.last = time.perf_counter()
         self.terminal = sys.stderr.isatty()
         self.interval = 0.1 if self.terminal else 1.0
@@ -68,17 +71,32 @@ class _RefineProgress:
         elapsed = time.perf_counter() - self.started
         if final:
             bar = "#" * self.WIDTH
+        elif self.limit:
+            filled = min(self.WIDTH, self.WIDTH * steps // self.limit)
+            bar = "#" * filled + "." * (self.WIDTH - filled)
         else:
             position = int(elapsed * 8) % (2 * self.WIDTH - 6)
             position = position if position < self.WIDTH - 3 else 2 * self.WIDTH - 6 - position
             bar = " " * position + "###" + " " * (self.WIDTH - 3 - position)
-        line = (f"refine [{bar}] {steps:,} steps, {triangles:,} triangles, "
+        of = f" of {self.limit:,}" if self.limit is not None and not final else ""
+        line = (f"refine [{bar}] {steps:,}{of} steps, {triangles:,} triangles, "
                 f"{pending:,} queued, {elapsed:.1f} s")
         if self.terminal:
             print("\r" + line, end="\n" if final else "", file=sys.stderr, flush=True)
         else:
             print(line, file=sys.stderr, flush=True)
         self.shown = True
+
+
+def step_limit(text: str) -> int | Literal["auto"] | None:
+    """``--max-steps``: an integer >= 0, ``auto`` (the default budget) or ``none`` (no
+    limit at all)."""
+    word = text.strip().lower()
+    if word == "none":
+        return None
+    if word == "auto":
+        return "auto"
+    return non_negative(text)
 
 
 def _refine_criterion(args: argparse.Namespace) -> Any:
@@ -137,6 +155,9 @@ def _refine_region(args: argparse.Namespace) -> Any:
     if args.rectangle is not None:
         x, y, width, height = (parse_rational(text) for text in args.rectangle)
         return regions.Rectangle(x, y, width, height)
+    if args.centred_rectangle is not None:
+        x, y, width, height = (parse_rational(text) for text in args.centred_rectangle)
+        return regions.Rectangle(x - width / 2, y - height / 2, width, height)
     if args.polygon is not None:
         return regions.Polygon(_polygon_region_vertices(args.polygon, None, args.verbose))
     return regions.Whole()
@@ -167,6 +188,28 @@ def _delaunay_guaranteed(method: str, no_delaunay: bool, start: Mesh2, *,
     return triangulated or is_delaunay(start)
 
 
+def _region_mesh(mesh: Mesh2, region: Any) -> Mesh2:
+    """The triangles of ``mesh`` in ``region`` (a vertex inside) as a mesh of their own
+    (Pineda's ``-print_region``)."""
+    from geomexact.mesh2d.transient import mesh_from_triangles
+
+    chosen = [t for t in mesh.triangles()
+              if any(region.contains(mesh.point(v)) for v in t)]
+    ids = {v: i for i, v in enumerate(sorted({v for t in chosen for v in t}))}
+    return mesh_from_triangles([mesh.point(v) for v in ids],
+                               [[ids[v] for v in t] for t in chosen])
+
+
+def _second_longest_rule(args: argparse.Namespace) -> Any:
+    """``--second-longest-rule``, or ``centroid`` for ``--plain-centroids``."""
+    if args.plain_centroids:
+        if args.second_longest_rule not in (None, "centroid"):
+            raise UsageProblem("--plain-centroids contradicts --second-longest-rule "
+                               f"{args.second_longest_rule}")
+        return "centroid"
+    return args.second_longest_rule
+
+
 def command_refine(args: argparse.Namespace) -> int:
     """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
     a region; writes the mesh, the trace and optionally every intermediate mesh."""
@@ -191,9 +234,25 @@ def command_refine(args: argparse.Namespace) -> int:
     else:
         raise UsageProblem(f"{args.input}: a polygon mesh cannot be refined; give a triangle "
                            "mesh or a PSLG")
+    polylla_input = None
+    if args.output and (args.output.endswith(("/", "\\")) or Path(args.output).is_dir()):
+        # Pineda's -output DIR -filename NAME: NAME.off, and with --polylla the Polylla
+        # meshes of the input and of the result beside it
+        stem = args.filename or Path(args.input).name.split(".")[0]
+        directory = Path(args.output)
+        directory.mkdir(parents=True, exist_ok=True)
+        args.output = str(directory / f"{stem}.off")
+        if args.polylla is not None:
+            polylla_input = str(directory / f"{stem}_input_polylla.off")
+            args.polylla = str(directory / f"{stem}_polylla.off")
+    elif args.filename:
+        raise UsageProblem("--filename names the files of --output DIR (a directory)")
+    if args.polylla == "":
+        raise UsageProblem("--polylla without a file name needs --output DIR")
     distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file"),
-                      ("--polylla", args.polylla, None)])
-    outputs = [args.output, args.trace, args.polylla]
+                      ("--polylla", args.polylla, None),
+                      ("--print-region", args.print_region, None)])
+    outputs = [args.output, args.trace, args.polylla, polylla_input, args.print_region]
     for path in outputs:
         if path and Path(path).exists() and not args.force:
             raise OverwriteError(str(path))
@@ -201,11 +260,17 @@ def command_refine(args: argparse.Namespace) -> int:
         existing = sorted(Path(args.print_iter).glob("step-*.off"))
         if existing:
             raise OverwriteError(str(existing[0]))
-    progress = _RefineProgress() if args.progress else None
+    from geomexact.mesh2d.refinement.budget import default_budget
+
+    max_steps: int | Literal["auto"] | None = args.max_steps
+    limit = default_budget(mesh, criterion) if max_steps == "auto" else max_steps
+    show = args.progress if args.progress is not None else sys.stderr.isatty()
+    progress = _RefineProgress(limit) if show else None
     result = refine(
         mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
-        centroid=args.centroid, constraint_midpoints=not args.plain_centroids,
-        max_steps=args.max_steps, on_step=progress, engine=args.engine,
+        centroid=args.centroid, second_longest_rule=_second_longest_rule(args),
+        max_steps=max_steps, on_step=progress, engine=args.engine, preset=args.preset,
+        order=args.order, factor_stop=args.factor_stop,
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
@@ -231,6 +296,12 @@ def command_refine(args: argparse.Namespace) -> int:
 
         written += write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
                           numbers=args.numbers)
+        if polylla_input:
+            written += write(polylla_input, polylla(mesh), None, overwrite=args.force,
+                              numbers=args.numbers)
+    if args.print_region:
+        written += write(args.print_region, _region_mesh(mesh, region), None,
+                          overwrite=args.force, numbers=args.numbers)
     if args.print_iter:
         from geomexact.trace.playback import replay_iter
 
@@ -285,7 +356,13 @@ def command_refine(args: argparse.Namespace) -> int:
             print(f"wrote {len(written) - 2} more files")
         for violation in violations:
             print(f"  {violation}")
-    if stats.status == "step-limit" and not stats.waiting:  # e.g. a region-wide criterion
+    if stats.status == "budget":
+        print(f"geomexact: refine stopped at its default step budget ({stats.steps} steps "
+              "= 100 x (input triangles + the criterion's estimate) + 10000): this "
+              "refinement may not end (specs/refine.md lists the known cases); the partial "
+              "result is written; pass --max-steps none to lift the budget, or --max-steps "
+              "N", file=sys.stderr)
+    elif stats.status == "step-limit" and not stats.waiting:  # e.g. a region-wide criterion
         print(f"geomexact: refine stopped at the step limit ({args.max_steps} steps): some "
               "triangles may not meet the criterion", file=sys.stderr)
     summary_of_left = stats.left_summary()
@@ -293,7 +370,9 @@ def command_refine(args: argparse.Namespace) -> int:
         print(f"geomexact: {summary_of_left}", file=sys.stderr)
     if not_delaunay:
         print("geomexact: the result is not Delaunay", file=sys.stderr)
-    return EXIT_FAILED if violations or not_delaunay else EXIT_OK
+    if violations or not_delaunay:
+        return EXIT_FAILED
+    return EXIT_BUDGET if stats.status == "budget" else EXIT_OK
 
 
 def add_parser(commands: Subcommands) -> None:
@@ -317,6 +396,9 @@ def add_parser(commands: Subcommands) -> None:
                        help="refine only triangles with a vertex in this disk")
     where.add_argument("--rectangle", nargs=4, metavar=("X", "Y", "W", "H"),
                        help="refine only triangles with a vertex in [X, X+W] x [Y, Y+H]")
+    where.add_argument("--centred-rectangle", nargs=4, metavar=("CX", "CY", "W", "H"),
+                       help="as --rectangle, given by its centre and full sizes (Pineda's "
+                            "-rectangle)")
     where.add_argument("--polygon", metavar="FILE",
                        help="refine only triangles with a vertex in this polygon (OFF with "
                             "one polygon, or a PSLG whose segments form one loop)")
@@ -325,26 +407,56 @@ def add_parser(commands: Subcommands) -> None:
                               "bisection cannot meet, else bisection)")
     refine_.add_argument("--no-delaunay", action="store_true",
                          help="never flip (no legalization, no quasi-Delaunay flips)")
-    refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices"),
-                         default="area",
+    refine_.add_argument("--preset", choices=("pineda", "mellado"),
+                         help="the rules of a paper's program (docs/papers.md): pineda "
+                              "(--second-longest-rule centroid --factor-stop target), "
+                              "mellado (--centroid vertices --order passes); each rule "
+                              "option below overrides it")
+    refine_.add_argument("--order", choices=("worst-first", "passes"),
+                         help="worst-first (default: the worst bad triangle first) or "
+                              "passes (the bad triangles in passes, each in vertex-id order)")
+    refine_.add_argument("--second-longest-rule",
+                         choices=("bisect-second", "centroid", "bisect-longest"),
+                         help="a terminal triangle whose second-longest edge is a "
+                              "constraint: bisect that edge (default), ignore it (insert "
+                              "the centroid), or bisect the longest edge (Mellado's literal "
+                              "rule; it may not end)")
+    refine_.add_argument("--factor-stop", choices=("action", "target"),
+                         help="--factor: check the mean after every action (default) or "
+                              "after each refined triangle (Pineda, Alg. 3)")
+    refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices", "midpoint"),
                          help="point inserted in a terminal quadrilateral: area centroid "
                               "rounded to 24 bits (default), exact area centroid (slow: "
-                              "coordinates grow), or the mean of the four vertices")
+                              "coordinates grow), the mean of the four vertices, or "
+                              "midpoint: bisect the terminal edge instead (Mellado's "
+                              "centroid=false variant)")
     refine_.add_argument("--plain-centroids", action="store_true",
                          help="do not bisect a constraint second-longest edge of a terminal "
-                              "triangle; always insert the centroid")
+                              "triangle; always insert the centroid (= --second-longest-rule "
+                              "centroid)")
     refine_.add_argument("--engine", choices=(*ENGINES, *OLD_NAMES), default="auto",
                          help="auto (default: compiled where it applies, else python), "
                               "compiled (the kernel; an error where it does not apply), "
                               "python (the batch engine) or reference (the pure ops); all "
                               "record the same trace; fast and transient are old names of "
                               "auto and reference")
-    refine_.add_argument("--max-steps", type=non_negative, metavar="N",
-                         help="stop after N steps (status 'step-limit')")
+    refine_.add_argument("--max-steps", type=step_limit, metavar="N", default="auto",
+                         help="stop after N steps (status 'step-limit'); default: a budget "
+                              "of 100 x (input triangles + the criterion's estimate) + "
+                              "10000 steps (status 'budget', exit code 3), also "
+                              "'auto'; 'none': no limit")
     refine_.add_argument("--trace", metavar="FILE",
                          help="write the trace (JSON Lines; from a PSLG: from its vertices)")
-    refine_.add_argument("--polylla", metavar="OFF",
-                         help="also write the Polylla polygon mesh of the result (OFF)")
+    refine_.add_argument("--polylla", metavar="OFF", nargs="?", const="",
+                         help="also write the Polylla polygon mesh of the result (OFF); "
+                              "with -o DIR and no file name: DIR/NAME_polylla.off and the "
+                              "input's, DIR/NAME_input_polylla.off (Pineda's -polylla)")
+    refine_.add_argument("--filename", metavar="NAME",
+                         help="with -o DIR (a directory, Pineda's -output): the files' "
+                              "name, DIR/NAME.off (default: the input's name)")
+    refine_.add_argument("--print-region", metavar="FILE",
+                         help="write the input's triangles in the region as a mesh file "
+                              "(Pineda's -print_region)")
     refine_.add_argument("--print-iter", metavar="DIR",
                          help="write the mesh before and after every step to "
                               "DIR/step-NNNNNN.off (exact)")
@@ -355,6 +467,5 @@ def add_parser(commands: Subcommands) -> None:
                               "exit 1 when it is not; without it the check is skipped "
                               "where the method guarantees it (bisection, centroid with "
                               "flips, from a Delaunay start): is_delaunay null")
-    refine_.add_argument("--progress", action="store_true",
-                         help="show progress on stderr")
+    add_progress_flags(refine_)
     add_writing_options(refine_)

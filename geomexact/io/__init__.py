@@ -4,7 +4,7 @@ format beside it).
 
 >>> from geomexact import io
 >>> sorted(io.FORMATS)  # doctest: +NORMALIZE_WHITESPACE
-['geomview3d', 'geomview3d-boundary', 'meshio', 'node', 'off', 'poly', 'pslg',
+['geomview3d', 'geomview3d-boundary', 'mellado', 'meshio', 'node', 'off', 'poly', 'pslg',
  'tetgen', 'triangle', 'trilist', 'vect']
 >>> io.detect_format("pikachu.1.ele")
 'triangle'
@@ -29,6 +29,7 @@ from types import MappingProxyType
 
 from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.geomview3d import write_boundary_off, write_tetrahedra_off, write_vect
+from geomexact.io.mellado_text import read_mellado, write_mellado
 from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
 from geomexact.io.meshio_bridge import read_meshio, write_meshio
 from geomexact.io.off import read_off, write_off
@@ -147,6 +148,14 @@ _FORMATS: tuple[Format, ...] = (
         "one triangle per line 'x1 y1 x2 y2 x3 y3'",
         read_triangle_list,
         write_triangle_list,
+        (Mesh2,),
+    ),
+    Format(
+        "mellado",
+        (".mellado",),
+        "Mellado's text: Vertices/Triangles/Neighbors sections of v/t/n lines (0-based)",
+        read_mellado,
+        write_mellado,
         (Mesh2,),
     ),
     Format(

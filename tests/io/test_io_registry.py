@@ -20,8 +20,8 @@ MESH = mesh_from_triangles([(0, 0), (1, 0), (0, 1)], [(0, 1, 2)])
 
 def test_registry_lists_every_format() -> None:
     """The registry's names, and every extension maps back to its format."""
-    assert sorted(io.FORMATS) == ["geomview3d", "geomview3d-boundary", "meshio", "node",
-                                  "off", "poly", "pslg", "tetgen", "triangle", "trilist",
+    assert sorted(io.FORMATS) == ["geomview3d", "geomview3d-boundary", "mellado", "meshio",
+                                  "node", "off", "poly", "pslg", "tetgen", "triangle", "trilist",
                                   "vect"]
     for name, fmt in io.FORMATS.items():
         assert isinstance(fmt, Format) and fmt.name == name and fmt.description

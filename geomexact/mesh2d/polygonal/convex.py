@@ -34,6 +34,7 @@ Spec: ``specs/convex.md``.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Literal, TypeAlias
 
 import attrs
 import numpy as np
@@ -58,6 +59,17 @@ __all__ = [
 ]
 
 _CW = Orientation.CLOCKWISE
+_COLLINEAR = Orientation.COLLINEAR
+
+ReflexRule: TypeAlias = Literal["strict", "straight"]
+"""``"strict"``: a corner is reflex when it is above 180°; ``"straight"``: also at exactly
+180° (Pineda 2023, Alg. 10)."""
+
+CriterionOneRule: TypeAlias = Literal["bisector", "first"]
+"""``"bisector"``: a first pass over the corners inserts, at each, the criterion-1
+candidate closest to its bisector; ``"first"``: each corner, as it is treated, takes the
+first criterion-1 candidate in its fan (clockwise from the previous vertex) and otherwise
+criteria 2 and 3 at once, one sweep (Pineda 2023, Alg. 11)."""
 
 
 @attrs.frozen(slots=True)
@@ -71,10 +83,18 @@ class ConvexDecomposition:
     inserted_edges: tuple[Edge, ...]
     criterion_one: bool
     nonconvex_before: int
+    reflex: ReflexRule = "strict"
+    criterion_one_rule: CriterionOneRule = "bisector"
 
 
 def convex_decomposition(
-    polygons: PolygonMesh, /, *, criterion_one: bool = True
+    polygons: PolygonMesh,
+    /,
+    *,
+    criterion_one: bool = True,
+    reflex: ReflexRule = "strict",
+    criterion_one_rule: CriterionOneRule = "bisector",
+    preset: Literal["pineda"] | None = None,
 ) -> ConvexDecomposition:
     """Split every polygon of ``polygons`` into convex polygons by inserting edges of its
     source triangles (see the module docstring for the rules).
@@ -84,7 +104,23 @@ def convex_decomposition(
     polygon must be a simple polygon that is the union of its source triangles
     (:class:`PreconditionError` otherwise).  Deterministic; O(n) plus O(d) exact angle
     comparisons per reflex corner with d candidate edges.
+
+    ``reflex`` and ``criterion_one_rule`` (:data:`ReflexRule`, :data:`CriterionOneRule`)
+    choose the rules; ``preset="pineda"`` selects Pineda 2023's (``"straight"``,
+    ``"first"``) where they are left at their defaults (``specs/convex.md``).
     """
+    if preset is not None:
+        if preset != "pineda":
+            raise PreconditionError("convex_decomposition",
+                                    f"unknown preset {preset!r}; choose 'pineda'")
+        reflex = "straight" if reflex == "strict" else reflex
+        criterion_one_rule = "first" if criterion_one_rule == "bisector" else criterion_one_rule
+    if reflex not in ("strict", "straight"):
+        raise PreconditionError("convex_decomposition", f"unknown reflex rule {reflex!r}")
+    if criterion_one_rule not in ("bisector", "first"):
+        raise PreconditionError("convex_decomposition",
+                                f"unknown criterion-1 rule {criterion_one_rule!r}")
+    straight = reflex == "straight"
     if not polygons.sources:
         raise PreconditionError(
             "convex_decomposition",
@@ -94,15 +130,17 @@ def convex_decomposition(
     with collector_paused():
         table = _table_of(polygons)
         cycles = _cycles(table, polygons)
-        reflex = _reflex_corners(table, polygons, cycles)
+        corner_lists = _reflex_corners(table, polygons, cycles, straight)
         inserted: list[Edge] = []
-        for corners in reflex:
-            _decompose(table, corners, criterion_one, inserted)
+        for corners in corner_lists:
+            _decompose(table, corners, criterion_one, inserted, straight,
+                       criterion_one_rule == "first")
         result = table.sealed(*table.all_polygons())
     bad = nonconvex_polygons(result)
     if bad:
         raise ConvexDecompositionError([result.polygons[index] for index in bad])
-    return ConvexDecomposition(result, tuple(sorted(inserted)), criterion_one, len(reflex))
+    return ConvexDecomposition(result, tuple(sorted(inserted)), criterion_one,
+                               len(corner_lists), reflex, criterion_one_rule)
 
 
 # -----------------------------------------------------------------------------------------
@@ -196,7 +234,7 @@ def _cycles(table: HalfEdgeTable, polygons: PolygonMesh) -> list[list[int]]:
 # corners
 # -----------------------------------------------------------------------------------------
 def _reflex_corners(
-    table: HalfEdgeTable, polygons: PolygonMesh, cycles: list[list[int]]
+    table: HalfEdgeTable, polygons: PolygonMesh, cycles: list[list[int]], straight: bool
 ) -> list[list[int]]:
     """For each non-convex polygon, the half-edges arriving at its reflex corners, in
     polygon order from its smallest vertex."""
@@ -213,7 +251,8 @@ def _reflex_corners(
     position = 0
     for polygon, cycle in zip(polygons.polygons, cycles, strict=True):
         count = len(polygon)
-        reflex = [i for i in range(count) if signs[position + i] < 0]
+        reflex = [i for i in range(count)
+                  if signs[position + i] < 0 or (straight and signs[position + i] == 0)]
         position += count
         if reflex:
             start = polygon.index(min(polygon))
@@ -238,8 +277,9 @@ class _Corner:
     n: int
     fan: tuple[int, ...]
 
-    def reflex(self, points: Sequence[Point2]) -> bool:
-        return orient2d(points[self.p], points[self.v], points[self.n]) == _CW
+    def reflex(self, points: Sequence[Point2], straight: bool = False) -> bool:
+        turn = orient2d(points[self.p], points[self.v], points[self.n])
+        return turn == _CW or (straight and turn == _COLLINEAR and bool(self.fan))
 
 
 def _corner(table: HalfEdgeTable, arriving: int) -> _Corner:
@@ -250,25 +290,29 @@ def _corner(table: HalfEdgeTable, arriving: int) -> _Corner:
 
 
 def _decompose(
-    table: HalfEdgeTable, corners: list[int], criterion_one: bool, inserted: list[Edge]
+    table: HalfEdgeTable, corners: list[int], criterion_one: bool, inserted: list[Edge],
+    straight: bool = False, first_found: bool = False,
 ) -> None:
     """Insert edges at the reflex corners of one polygon (given by their arriving
     half-edges, in polygon order) until none is left."""
     points = table.points
-    if criterion_one:
+    if criterion_one and not first_found:
         for arriving in corners:
             corner = _corner(table, arriving)
-            if corner.reflex(points):
-                chosen = _criterion_one(table, corner)
+            if corner.reflex(points, straight):
+                chosen = _criterion_one(table, corner, straight)
                 if chosen is not None:
                     _insert(table, chosen, inserted)
     pending = list(reversed(corners))
     while pending:
         arriving = pending.pop()
         corner = _corner(table, arriving)
-        if not corner.reflex(points):
+        if not corner.reflex(points, straight):
             continue
-        chosen_edges = _angle_choice(table, corner)
+        repair = None
+        if criterion_one and first_found:
+            repair = _criterion_one(table, corner, straight, first=True)
+        chosen_edges = [repair] if repair is not None else _angle_choice(table, corner)
         for g in chosen_edges:
             _insert(table, g, inserted)
         # the pieces at v (arriving along h and along each new edge) and the piece of the
@@ -292,8 +336,11 @@ def _both_halves_convex(points: Sequence[Point2], p: int, v: int, n: int, w: int
     return orient2d(pv, points[n], pw) != _CW and orient2d(pv, pw, points[p]) != _CW
 
 
-def _criterion_one(table: HalfEdgeTable, corner: _Corner) -> int | None:
-    """The criterion-1 candidate of a reflex corner closest to its bisector, or None."""
+def _criterion_one(
+    table: HalfEdgeTable, corner: _Corner, straight: bool = False, first: bool = False
+) -> int | None:
+    """The criterion-1 candidate of a reflex corner closest to its bisector (``first``:
+    the first in its fan), or None."""
     points, origin, twin, frontier = table.points, table.origin, table.twin, table.frontier
     found = []
     for g in corner.fan:
@@ -313,9 +360,12 @@ def _criterion_one(table: HalfEdgeTable, corner: _Corner) -> int | None:
             o = twin[r]
             r = o - 1 if o % 3 else o + 2
         p_w = origin[r]
-        if orient2d(points[p_w], points[w], points[n_w]) != _CW:
+        turn = orient2d(points[p_w], points[w], points[n_w])
+        if turn != _CW and not (straight and turn == _COLLINEAR):
             continue
         if _both_halves_convex(points, p_w, w, n_w, corner.v):
+            if first:
+                return g
             found.append(g)
     if not found:
         return None

@@ -57,6 +57,7 @@ from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.engine_names import ENGINES, Engine, engine_named
+from geomexact.mesh2d.refinement.budget import default_budget
 from geomexact.mesh2d.refinement.criteria import Criterion, as_criterion
 from geomexact.mesh2d.refinement.driver import (
     TIP_DEPTH,
@@ -69,6 +70,15 @@ from geomexact.mesh2d.refinement.driver import (
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
 from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
 from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
+from geomexact.mesh2d.refinement.presets import (
+    CENTROIDS,
+    CentroidKind,
+    FactorStop,
+    Order,
+    Preset,
+    SecondLongestRule,
+    rules,
+)
 from geomexact.mesh2d.refinement.regions import Region, Whole, as_region
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.record import Trace
@@ -84,27 +94,27 @@ __all__ = [
 ]
 
 METHODS: tuple[str, ...] = ("bisection", "centroid", "quasi")
-CENTROIDS: tuple[str, ...] = ("area", "area-exact", "vertices")
 
 
 @attrs.frozen(slots=True)
 class RefineStats:
     """Counts of a run.
 
-    ``status``: ``"complete"`` (every triangle of the region meets the criterion or is
-    listed in ``left``; for an average-area criterion, the mean is reached) or
-    ``"step-limit"`` (stopped by ``max_steps``); ``steps``: trace length; ``bisections``:
-    edge midpoints inserted; ``centroids``: quadrilateral centroids inserted; ``flips``:
-    legalization and quasi-Delaunay flips; ``targets``: bad triangles taken from the
-    queue; ``lepp_searches`` / ``lepp_triangles``: Lepp paths computed and their total
-    length in triangles; ``left``: bad triangles of the final mesh left alone at input
-    angles below the minimum angle (sorted, canonical), and ``left_reasons`` why, one per
-    triangle of ``left`` (:data:`~geomexact.mesh2d.refinement.driver.LeftReason`):
+    ``status``: ``"complete"`` (every triangle of the region meets the
+    criterion or is listed in ``left``; for an average-area criterion, the mean is reached)
+    or ``"step-limit"`` (stopped by ``max_steps``) or ``"budget"`` (stopped by the default
+    budget, :func:`~geomexact.mesh2d.refinement.budget.default_budget`); ``steps``: trace
+    length; ``bisections``: edge midpoints inserted; ``centroids``: quadrilateral centroids
+    inserted; ``flips``: legalization and quasi-Delaunay flips; ``targets``: bad triangles
+    taken from the queue; ``lepp_searches`` / ``lepp_triangles``: Lepp paths computed and
+    their total length in triangles; ``left``: bad triangles of the final mesh left alone at
+    input angles below the minimum angle (sorted, canonical), and ``left_reasons`` why, one
+    per triangle of ``left`` (:data:`~geomexact.mesh2d.refinement.driver.LeftReason`):
     ``"sharp-corner"`` — an angle below it inside such an input angle — or
-    ``"protected-tip"`` — its Lepp step would split a constraint edge of such an input
-    angle shorter than 2^-TIP_DEPTH of its input length; ``waiting``: after a step limit,
-    the bad triangles of the region not refined yet (sorted; none for a region-wide
-    criterion or a complete run); ``seconds``: wall time."""
+    ``"protected-tip"`` — its Lepp step would split a constraint edge of such an input angle
+    shorter than 2^-TIP_DEPTH of its input length; ``waiting``: after a step limit, the bad
+    triangles of the region not refined yet (sorted; none for a region-wide criterion or a
+    complete run); ``seconds``: wall time."""
 
     status: Status
     steps: int
@@ -154,8 +164,9 @@ class RefineStats:
                 "length)"
             )
         if self.waiting:
+            limit = "default step budget" if self.status == "budget" else "step limit"
             parts.append(
-                f"{len(self.waiting)} not refined yet: the run stopped at the step limit "
+                f"{len(self.waiting)} not refined yet: the run stopped at the {limit} "
                 f"({self.steps} steps)"
             )
         if not parts:
@@ -176,7 +187,7 @@ class Result:
 
     @property
     def status(self) -> Status:
-        """``"complete"`` or ``"step-limit"``."""
+        """``"complete"``, ``"step-limit"`` or ``"budget"``."""
         return self.stats.status
 
 
@@ -187,11 +198,15 @@ def refine(
     region: Region | Callable[[Point2], object] | None = None,
     method: Method = "bisection",
     delaunay: bool = True,
-    centroid: Literal["area", "area-exact", "vertices"] = "area",
-    constraint_midpoints: bool = True,
-    max_steps: int | None = None,
+    centroid: CentroidKind | None = None,
+    constraint_midpoints: bool | None = None,
+    max_steps: int | Literal["auto"] | None = "auto",
     on_step: Callable[[Progress], None] | None = None,
     engine: Engine = "auto",
+    preset: Preset | None = None,
+    order: Order | None = None,
+    second_longest_rule: SecondLongestRule | None = None,
+    factor_stop: FactorStop | None = None,
 ) -> Result:
     """Refine the triangles of ``region`` that ``criterion`` rates bad, by Lepp steps.
 
@@ -215,23 +230,28 @@ def refine(
         Legalize after each insertion (bisection, centroid) or flip non-Delaunay terminal
         pairs (quasi).  ``False`` never flips.
     centroid:
-        The point inserted into a terminal quadrilateral: ``"area"`` (its area centroid
-        rounded to 24 bits below its shortest side, step ``insert_in_quadrilateral``; see
-        :mod:`geomexact.mesh2d.refinement.centroids`), ``"area-exact"`` (the exact area centroid,
-        step
-        ``insert_centroid``: coordinate sizes grow geometrically, for small runs only) or
-        ``"vertices"`` (the mean of its four vertices, exact, step
-        ``insert_vertex_centroid``).
+        (Default ``"area"``, or the preset's.)  The point inserted into a terminal
+        quadrilateral: ``"area"`` (its area centroid rounded to 24 bits below its shortest
+        side, step ``insert_in_quadrilateral``; see
+        :mod:`geomexact.mesh2d.refinement.centroids`), ``"area-exact"`` (the exact area
+        centroid, step ``insert_centroid``: coordinate sizes grow geometrically, for small
+        runs only), ``"vertices"`` (the mean of its four vertices, exact, step
+        ``insert_vertex_centroid``) or ``"midpoint"`` (no centroid: the terminal edge is
+        bisected, Mellado's ``centroid=false`` variant; with ``method="quasi"`` it is
+        Lepp-bisection with quasi-Delaunay flips).
     constraint_midpoints:
-        Centroid and quasi methods: when a terminal triangle's second-longest edge is a
-        constraint edge, insert that edge's midpoint instead of the centroid (Rivara &
-        Rodríguez's rule for convergence near constraints).  ``False`` always inserts the
-        centroid into an unconstrained terminal pair (as QLepp2D does).
+        The older name of ``second_longest_rule``: True is ``"bisect-second"`` (when a
+        terminal triangle's second-longest edge is a constraint edge, insert that edge's
+        midpoint instead of the centroid: Rivara & Rodríguez's rule for convergence near
+        constraints), False ``"centroid"`` (always the centroid, as QLepp2D does).
     max_steps:
         Stop before the step that would exceed it, with status ``"step-limit"`` (a run may
         stop inside a legalization: the mesh is valid but need not be Delaunay).  Required
         with a minimum-angle criterion for Lepp-bisection and for ``delaunay=False``, which
-        cannot meet it in general.
+        cannot meet it in general.  ``"auto"`` (the default) is the budget
+        :func:`~geomexact.mesh2d.refinement.budget.default_budget` derived from the input
+        and the criterion; a run it stops has status ``"budget"``.  ``None`` runs without
+        any limit.
     on_step:
         Called with a :class:`Progress` after every step.
     engine:
@@ -240,6 +260,20 @@ def refine(
         is not built or does not implement this run), ``"python"`` (the batch engine) or
         ``"reference"`` (the ops on a transient; slower).  All record the same trace.
         ``"fast"`` and ``"transient"`` are old names of ``"auto"`` and ``"reference"``.
+    preset:
+        ``"pineda"`` or ``"mellado"``: the rules of that paper's program
+        (:mod:`geomexact.mesh2d.refinement.presets`, ``specs/refine.md``), each of which
+        the options below (and ``centroid``) override one by one.  None: geomexact's rules.
+    order:
+        ``"worst-first"`` (default: a priority queue, worst key first) or ``"passes"``
+        (the bad triangles in passes, each pass in vertex-id order, until none is left).
+    second_longest_rule:
+        What a terminal pair whose triangle has a constraint second-longest edge gets:
+        ``"bisect-second"`` (default: that edge's midpoint), ``"centroid"`` (ignored: the
+        centroid) or ``"bisect-longest"`` (the midpoint of the terminal edge).
+    factor_stop:
+        ``"action"`` (default: an average-area factor is checked after every action) or
+        ``"target"`` (after each refined target).
 
     Raises :class:`~geomexact.errors.PreconditionError` for an unknown method, centroid or
     engine, engine ``"compiled"`` where the kernel cannot run, a negative ``max_steps``,
@@ -255,16 +289,17 @@ def refine(
     area = as_region(region)
     if method not in METHODS:
         raise PreconditionError("refine", f"unknown method {method!r}; choose from {METHODS}")
-    if centroid not in CENTROIDS:
-        raise PreconditionError(
-            "refine", f"unknown centroid {centroid!r}; choose from {CENTROIDS}"
-        )
+    chosen = rules(preset, centroid=centroid, order=order,
+                   second_longest_rule=second_longest_rule, factor_stop=factor_stop,
+                   constraint_midpoints=constraint_midpoints)
+    centroid = chosen.centroid
+    constraint_midpoints = chosen.second_longest_rule == "bisect-second"
     name = engine_named("refine", engine)
-    if max_steps is not None and (
+    if max_steps is not None and max_steps != "auto" and (
         isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 0
     ):
         raise PreconditionError("refine", f"max_steps must be an integer >= 0, not {max_steps!r}")
-    if rule.angle_threshold is not None and max_steps is None:
+    if rule.angle_threshold is not None and (max_steps is None or max_steps == "auto"):
         if method == "bisection":
             raise PreconditionError(
                 "refine",
@@ -280,6 +315,8 @@ def refine(
                 "only split angles), so a minimum-angle criterion may never be met; pass "
                 "delaunay=True to allow flips, or give a step limit max_steps=N",
             )
+    budget = default_budget(mesh, rule) if max_steps == "auto" else None
+    limit = budget if max_steps == "auto" else max_steps
     began = time.perf_counter()
     options: dict[str, Any] = {
         "criterion": rule,
@@ -289,6 +326,9 @@ def refine(
         "centroid": centroid,
         "constraint_midpoints": constraint_midpoints,
         "on_step": on_step,
+        "order": chosen.order,
+        "second_longest_rule": chosen.second_longest_rule,
+        "factor_stop": chosen.factor_stop,
     }
     if name == "compiled":
         reason = unsupported(mesh, **options)
@@ -299,8 +339,9 @@ def refine(
             )
     with collector_paused():  # a large run makes millions of small tuples
         compiled = (
-            run_compiled(mesh, max_steps, **options) if name in ("auto", "compiled") else None
+            run_compiled(mesh, limit, **options) if name in ("auto", "compiled") else None
         )
+        status: Status
         if compiled is not None:
             status, result, steps, digests = (
                 compiled.status, compiled.mesh, compiled.steps, compiled.digests
@@ -312,18 +353,20 @@ def refine(
         else:
             run: Refinement
             if name == "reference":
-                run = ReferenceRefinement(mesh, max_steps, **options)
+                run = ReferenceRefinement(mesh, limit, **options)
             else:
-                run = BatchRefinement(mesh, max_steps, **options)
+                run = BatchRefinement(mesh, limit, **options)
             run.start_queue(sorted(mesh.iter_triangles()))
             status = run.run()
             result, steps, digests = run.finish(mesh)
             left, reasons = run.left_triangles(), run.left_reasons()
             targets, searches, hops = run.targets, run.searches, run.hops
             del run  # its work tables go now, before the collector would scan them
+    if budget is not None and status == "step-limit":
+        status = "budget"
     from geomexact._version import __version__
 
-    parameters = {
+    parameters: dict[str, Any] = {
         "algorithm": "lepp",
         "method": method,
         "delaunay": delaunay,
@@ -331,8 +374,14 @@ def refine(
         "constraint_midpoints": constraint_midpoints,
         "criterion": rule.parameters(),
         "region": area.parameters(),
-        "max_steps": max_steps,
+        "max_steps": None if max_steps == "auto" else max_steps,
     }
+    if status == "budget":  # a run the budget did not stop never depended on it
+        parameters["step_budget"] = budget
+    if preset is not None:
+        parameters["preset"] = preset
+    parameters.update({name: value for name, value in chosen.changed().items()
+                       if name != "centroid"})
     trace = Trace(mesh.digest, steps, digests, parameters, __version__)
     ops = Counter(step.op for step in steps)
     stats = RefineStats(
@@ -348,7 +397,7 @@ def refine(
         left=left,
         seconds=time.perf_counter() - began,
         left_reasons=reasons,
-        waiting=_waiting(result, rule, area, left) if status == "step-limit" else (),
+        waiting=_waiting(result, rule, area, left) if status != "complete" else (),
     )
     return Result(mesh, result, trace, stats)
 

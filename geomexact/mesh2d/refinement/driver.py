@@ -21,7 +21,7 @@ from geomexact.mesh2d.snapshot import Attributes, Edge, Mesh2, Triangle
 from geomexact.trace.step import Step
 
 Method: TypeAlias = Literal["bisection", "centroid", "quasi"]
-Status: TypeAlias = Literal["complete", "step-limit"]
+Status: TypeAlias = Literal["complete", "step-limit", "budget"]
 LeftReason: TypeAlias = Literal["sharp-corner", "protected-tip"]
 """Why a bad triangle was left (``specs/refine.md``, small input angles): ``"sharp-corner"``
 — its angle below the threshold lies in an input angle below it, which no triangulation
@@ -81,6 +81,9 @@ class Refinement:
         centroid: str,
         constraint_midpoints: bool,
         on_step: Callable[[Progress], None] | None,
+        order: str = "worst-first",
+        second_longest_rule: str | None = None,
+        factor_stop: str = "action",
     ) -> None:
         self.start = start
         self.tip_limits: dict[int, Rational | None] = {}
@@ -92,6 +95,12 @@ class Refinement:
         self.delaunay = delaunay
         self.centroid_kind = centroid
         self.constraint_midpoints = constraint_midpoints
+        self.second_longest_rule = second_longest_rule or (
+            "bisect-second" if constraint_midpoints else "centroid"
+        )
+        self.passes = order == "passes"
+        self.pass_number = -1  # the pass of the current target ("passes" order)
+        self.stop_per_action = factor_stop == "action"
         self.legalize_insertions = delaunay and method != "quasi"
         self.on_step = on_step
         self.threshold = criterion.angle_threshold
@@ -151,6 +160,8 @@ class Refinement:
         if self.threshold is not None and self.unimprovable(a, b, c):
             self.left[(a, b, c)] = "sharp-corner"
             return
+        if self.passes:
+            key = self.pass_number + 1
         self.queue.push(key, (a, b, c))
 
     def rating(self, a: int, b: int, c: int) -> Any | None:
@@ -237,7 +248,7 @@ class Refinement:
                 self.consider(a, b, c)
         self.created.clear()
         self.removed.clear()
-        if self.target_area2 is not None and self.mean_reached():
+        if self.stop_per_action and self.target_area2 is not None and self.mean_reached():
             raise CriterionMet
 
     # -- Lepp ---------------------------------------------------------------------------
@@ -338,13 +349,19 @@ class Refinement:
         of a constraint second-longest edge (of the first triangle, then the second), else
         the quadrilateral's centroid.  False (and no step) when that midpoint would split
         a protected edge."""
-        if self.constraint_midpoints:
+        rule = self.second_longest_rule
+        if rule != "centroid":
             for p, q in (self.second_edge(u, v, w), self.second_edge(v, u, x)):
                 if self.constraint(p, q):
-                    if self.protected(p, q):
+                    if rule == "bisect-longest":
+                        p, q = u, v  # Mellado: the midpoint of the longest edge instead
+                    elif self.protected(p, q):
                         return False
                     self.insert_midpoint(p, q)
                     return True
+        if self.centroid_kind == "midpoint":  # Mellado's centroid=false: bisect e
+            self.insert_midpoint(u, v)
+            return True
         vertex = self.centroid(u, v)
         if self.legalize_insertions:
             self.legalize(vertex)
@@ -372,8 +389,11 @@ class Refinement:
         try:
             if self.target_area2 is not None and self.mean_reached():
                 return "complete"
+            queue = self.queue
             while True:
-                target = self.queue.pop()
+                if self.passes and queue.keys:
+                    self.pass_number = queue.keys[0][1]
+                target = queue.pop()
                 if target is None:
                     break
                 a, b, c = target
@@ -387,6 +407,10 @@ class Refinement:
                     self.drain()
                     if get((a, b)) != c:
                         break
+                if not self.stop_per_action and self.target_area2 is not None and (
+                    self.mean_reached()
+                ):
+                    raise CriterionMet
         except StepLimit:
             return "step-limit"
         except CriterionMet:

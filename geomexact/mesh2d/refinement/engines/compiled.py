@@ -85,6 +85,12 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
     if unknown:
         return f"it implements no option {', '.join(map(repr, unknown))}"
     criterion = options["criterion"]
+    if options.get("order", "worst-first") != "worst-first":
+        return "it runs the worst-first order only, not passes"
+    if options.get("second_longest_rule") == "bisect-longest":
+        return "it runs no second-longest rule 'bisect-longest'"
+    if options.get("factor_stop", "action") != "action":
+        return "it checks an average-area factor after every action only"
     if not (
         options["method"] == "bisection"
         or (options["method"] in ("centroid", "quasi") and options["centroid"] == "area")

@@ -1,0 +1,74 @@
+"""The default step budget of a refinement: every run ends, or says why not.
+
+``refine(..., max_steps="auto")`` (the default) stops a run after :func:`default_budget`
+steps with status ``"budget"`` instead of letting it grow without bound.  The budget is a
+generous multiple of what the input and the criterion let us estimate
+(``specs/refine.md``, "The default budget"):
+
+    budget = 100 × (T + E) + 10,000 steps
+
+where T is the input's triangle count and E the criterion's estimate of the triangles it
+needs:
+
+* ``MaxArea(A)``: ⌈2·|Ω| / A⌉, with |Ω| the mesh's area;
+* ``MaxEdgeLength(L)``: ⌈4·|Ω| / L²⌉;
+* ``AverageAreaFactor(f)``: ⌈T / f⌉;
+* ``MinAngle`` and callables: 0 (the size is set by the input's features, which T counts).
+
+The terminating runs measured for the termination suite (``tests/mesh2d/refinement/
+test_refine_termination.py``) use under a tenth of it.
+
+>>> from geomexact.mesh2d.transient import mesh_from_triangles
+>>> from geomexact.mesh2d.refinement.criteria import MaxArea, MinAngle
+>>> square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
+>>> default_budget(square, MinAngle(30))
+10200
+>>> default_budget(square, MaxArea("1/100"))
+30200
+"""
+
+from __future__ import annotations
+
+from geomexact.kernel.numbers import Rational, mpq
+from geomexact.mesh2d.refinement.criteria import (
+    AverageAreaFactor,
+    Criterion,
+    MaxArea,
+    MaxEdgeLength,
+    doubled_area,
+)
+from geomexact.mesh2d.snapshot import Mesh2
+
+__all__ = ["BUDGET_BASE", "BUDGET_FACTOR", "default_budget", "estimated_triangles"]
+
+BUDGET_FACTOR = 100
+"""Steps allowed per triangle of the input and of the criterion's estimate."""
+
+BUDGET_BASE = 10_000
+"""Steps allowed to every run on top of the per-triangle allowance."""
+
+
+def _ceiling(value: Rational) -> int:
+    return int(-((-value.numerator) // value.denominator))
+
+
+def estimated_triangles(mesh: Mesh2, criterion: Criterion) -> int:
+    """The criterion's rough estimate E of the triangles a refinement of ``mesh`` needs
+    (module docstring); 0 when the criterion gives no size."""
+    if isinstance(criterion, AverageAreaFactor):
+        return _ceiling(mpq(mesh.triangle_count) / criterion.factor)
+    if not isinstance(criterion, (MaxArea, MaxEdgeLength)):
+        return 0
+    area2 = mpq(0)
+    for a, b, c in mesh.iter_triangles():
+        area2 += doubled_area(mesh.point(a), mesh.point(b), mesh.point(c))
+    if isinstance(criterion, MaxArea):
+        return _ceiling(area2 / criterion.area)  # 2·|Ω| / A
+    return _ceiling(2 * area2 / (criterion.length * criterion.length))  # 4·|Ω| / L²
+
+
+def default_budget(mesh: Mesh2, criterion: Criterion) -> int:
+    """``100 × (T + E) + 10,000``: the steps a run may take unless ``max_steps`` says
+    otherwise.  O(T) exact additions (for an area or length criterion)."""
+    return BUDGET_FACTOR * (mesh.triangle_count + estimated_triangles(mesh, criterion)) \
+        + BUDGET_BASE
