@@ -55,6 +55,8 @@ _ANGLE_SLACK = 1e-9
 """Relative distance from the extreme float angle within which a corner is recomputed with
 :mod:`math` (numpy's ``arctan2`` may differ from the C library's by a few units in the
 last place)."""
+_BLOCK = 1 << 16
+"""Triangles per block in the area and angle passes (bounded temporaries)."""
 _MAX_PACKED = 1 << 31
 """Vertex ids below this pack two to an int64 key."""
 
@@ -101,11 +103,17 @@ class MeshArrays:
             twice += p.x * q.y - q.x * p.y
         return twice / 2
 
-    def area_extremes(self) -> tuple[Rational, Rational] | None:
-        """The exact smallest and largest signed triangle area (None without triangles)."""
-        if not len(self.triangles):
-            return None
-        a, b, c = self.triangles[:, 0], self.triangles[:, 1], self.triangles[:, 2]
+    def _blocks(self) -> list[slice]:
+        """The triangles in blocks of :data:`_BLOCK` (bounded temporaries)."""
+        count = len(self.triangles)
+        return [slice(at, min(at + _BLOCK, count)) for at in range(0, count, _BLOCK)]
+
+    def _area_intervals(self, block: slice) -> tuple[FloatArray, FloatArray, BoolArray]:
+        """For the triangles of ``block``: intervals [low, high] (floats, possibly
+        infinite or NaN: then unsure) holding twice their exact signed areas, and whether
+        their vertices are exact doubles."""
+        rows = self.triangles[block]
+        a, b, c = rows[:, 0], rows[:, 1], rows[:, 2]
         fx, fy = self.fx, self.fy
         with np.errstate(over="ignore", invalid="ignore"):
             ux = fx[b] - fx[a]
@@ -123,22 +131,42 @@ class MeshArrays:
             # |coordinate|, each arm is within 4um of its exact value and at most 2m long
             size = np.maximum.reduce([np.abs(fx[a]), np.abs(fy[a]), np.abs(fx[b]),
                                       np.abs(fy[b]), np.abs(fx[c]), np.abs(fy[c])])
-            loose = size * size * (128 * _U) + _TINY
+            loose = size * size * (128 * _U) + size * 2.0**-1000 + _TINY
             bound = np.where(exact, bound, loose)
-            low = twice - bound
-            high = twice + bound
-            unsure = ~(np.isfinite(low) & np.isfinite(high))
-        finite_high = high[~unsure]
-        finite_low = low[~unsure]
-        smallest_candidates = unsure.copy()
-        largest_candidates = unsure.copy()
-        if len(finite_high):
-            smallest_candidates |= low <= finite_high.min()
-            largest_candidates |= high >= finite_low.max()
-        chosen = np.flatnonzero(smallest_candidates | largest_candidates)
-        values, which = self._exact_twice_areas(chosen, exact[chosen])
-        smallest = min(values[i] for i in np.unique(which[smallest_candidates[chosen]]).tolist())
-        largest = max(values[i] for i in np.unique(which[largest_candidates[chosen]]).tolist())
+            return twice - bound, twice + bound, exact
+
+    def area_extremes(self) -> tuple[Rational, Rational] | None:
+        """The exact smallest and largest signed triangle area (None without triangles):
+        float intervals first (block by block), then exact areas for the triangles whose
+        interval reaches the smallest upper or the largest lower end."""
+        if not len(self.triangles):
+            return None
+        least_high, most_low = math.inf, -math.inf
+        for block in self._blocks():
+            low, high, _ = self._area_intervals(block)
+            sure = np.isfinite(low) & np.isfinite(high)
+            if sure.any():
+                least_high = min(least_high, float(high[sure].min()))
+                most_low = max(most_low, float(low[sure].max()))
+        smallest: Rational | None = None
+        largest: Rational | None = None
+        for block in self._blocks():
+            low, high, exact = self._area_intervals(block)
+            with np.errstate(invalid="ignore"):
+                unsure = ~(np.isfinite(low) & np.isfinite(high))
+                small = unsure | (low <= least_high)
+                large = unsure | (high >= most_low)
+            chosen = np.flatnonzero(small | large)
+            if not len(chosen):
+                continue
+            values, which = self._exact_twice_areas(chosen + block.start, exact[chosen])
+            for i in np.unique(which[small[chosen]]).tolist():
+                if smallest is None or values[i] < smallest:
+                    smallest = values[i]
+            for i in np.unique(which[large[chosen]]).tolist():
+                if largest is None or values[i] > largest:
+                    largest = values[i]
+        assert smallest is not None and largest is not None
         return smallest / 2, largest / 2
 
     def _exact_twice_areas(self, chosen: IntArray, exact: BoolArray
@@ -164,21 +192,19 @@ class MeshArrays:
         return values, which
 
     # -- angles -------------------------------------------------------------------------
-    def angle_extremes(self) -> tuple[float, float] | None:
-        """The smallest and largest triangle angle in degrees, the same doubles as the
-        minimum and maximum of :func:`~geomexact.mesh2d.measures.triangle_angles_degrees`
-        over the triangles (None without triangles).
+    def _corner_intervals(self, block: slice) -> tuple[FloatArray, FloatArray, FloatArray,
+                                                        FloatArray, BoolArray]:
+        """For the corners of the triangles of ``block`` (at the first, second, third
+        vertex, concatenated): |cross| and dot of the arms in doubles, and an interval
+        [low, high] holding the angle :func:`~geomexact.mesh2d.measures.
+        triangle_angles_degrees` gives (infinite or NaN: unsure); ``usable`` where that
+        function's arms are these doubles (exact-double vertices, arms of ordinary size),
+        so that ``degrees(atan2(cross, dot))`` with :mod:`math` is its value.
 
-        Every corner's angle is first computed in numpy from the differences of the
-        doubles.  Where the vertices are exact doubles (and the arms of ordinary size)
-        those are the arms ``triangle_angles_degrees`` uses, so only numpy's ``arctan2``
-        may differ (by a few units in the last place); elsewhere each arm is within
-        ``4u(m + |arm|)`` of its exact value (m: the largest coordinate), and so is the
-        arm that function uses, which bounds the angle's error.  The corners that can hold
-        the extremes are then recomputed as that function does."""
-        if not len(self.triangles):
-            return None
-        tri = self.triangles
+        Elsewhere each arm is within ``4u(m + |arm|)`` of its exact value (m: the largest
+        coordinate), and so is the arm that function rounds, which bounds the angle's
+        error (generously)."""
+        tri = self.triangles[block]
         fx, fy = self.fx, self.fy
         exact = self.exact[tri[:, 0]] & self.exact[tri[:, 1]] & self.exact[tri[:, 2]]
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -200,34 +226,51 @@ class MeshArrays:
                     shortest = np.minimum(shortest, length)
                 crosses.append(np.abs(ux * vy - uy * vx))
                 dots.append(ux * vx + uy * vy)
-                # radians: each arm's direction moves by at most about its relative error
-                # (inf-norm lengths: a factor 2), for both the doubles here and the arms
-                # triangle_angles_degrees rounds; generous factor, and 0 length -> inf
+                # radians: each arm's direction moves by about its relative error at most
+                # (inf-norm lengths: a factor 2), for the doubles here and for the arms
+                # triangle_angles_degrees rounds; a generous factor; 0 length -> inf
                 relative = 64 * _U * (size / shortest + 1)
                 ordinary = (shortest >= 2.0**-450) & (size <= 2.0**450)
                 errors.append(np.where(ordinary, np.degrees(relative), np.inf))
             cross = np.concatenate(crosses)
             dot = np.concatenate(dots)
             angle = np.degrees(np.arctan2(cross, dot))
-            error = np.concatenate(errors)
             usable = np.concatenate([exact, exact, exact])
-            error = np.where(usable, angle * _ANGLE_SLACK + 1e-300, error)
-            low_end = angle - error
-            high_end = angle + error
-            error_free = np.isfinite(low_end) & np.isfinite(high_end)
-            near = ~error_free
-            if error_free.any():
-                near |= low_end <= high_end[error_free].min()
-                near |= high_end >= low_end[error_free].max()
+            error = np.where(usable, angle * _ANGLE_SLACK + 1e-300, np.concatenate(errors))
+            return cross, dot, angle - error, angle + error, usable
+
+    def angle_extremes(self) -> tuple[float, float] | None:
+        """The smallest and largest triangle angle in degrees, the same doubles as the
+        minimum and maximum of :func:`~geomexact.mesh2d.measures.triangle_angles_degrees`
+        over the triangles (None without triangles): float intervals first (block by
+        block, :meth:`_corner_intervals`), then the corners whose interval reaches the
+        smallest upper or the largest lower end computed as that function does."""
+        if not len(self.triangles):
+            return None
+        least_high, most_low = math.inf, -math.inf
+        for block in self._blocks():
+            _, _, low, high, _ = self._corner_intervals(block)
+            sure = np.isfinite(low) & np.isfinite(high)
+            if sure.any():
+                least_high = min(least_high, float(high[sure].min()))
+                most_low = max(most_low, float(low[sure].max()))
         values: list[float] = []
-        chosen = near & usable
-        if chosen.any():
-            pairs, _ = _distinct_rows(np.stack([cross[chosen], dot[chosen]], axis=1) + 0.0)
-            values += [math.degrees(math.atan2(y, x)) for y, x in pairs.tolist()]
-        others = np.flatnonzero((near & ~usable).reshape(3, -1).any(axis=0))
         points = self.points
-        for a, b, c in tri[others].tolist():
-            values.extend(triangle_angles_degrees(points[a], points[b], points[c]))
+        for block in self._blocks():
+            cross, dot, low, high, usable = self._corner_intervals(block)
+            with np.errstate(invalid="ignore"):
+                near = (~(np.isfinite(low) & np.isfinite(high)) | (low <= least_high)
+                        | (high >= most_low))
+            chosen = near & usable
+            if chosen.any():
+                pairs, _ = _distinct_rows(np.stack([cross[chosen], dot[chosen]], axis=1)
+                                          + 0.0)
+                values += [math.degrees(math.atan2(y, x)) for y, x in pairs.tolist()]
+            others = np.flatnonzero((near & ~usable).reshape(3, -1).any(axis=0))
+            for a, b, c in self.triangles[block][others].tolist():
+                values.extend(triangle_angles_degrees(points[a], points[b], points[c]))
+            if len(values) > 2:
+                values = [min(values), max(values)]
         return min(values), max(values)
 
     # -- Delaunay -----------------------------------------------------------------------

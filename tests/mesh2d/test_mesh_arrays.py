@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 from geomexact.io import read
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import point2
+from geomexact.mesh2d import mesh_arrays as mesh_arrays_module
 from geomexact.mesh2d import validation
 from geomexact.mesh2d.delaunay.triangulation import (
     make_delaunay,
@@ -93,6 +94,17 @@ def test_superior_and_its_refinements() -> None:
 def test_a_uniform_refinement_of_the_square() -> None:
     square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
     same_answers(refine(square, criteria.MaxArea(mpq(1, 500)), method="bisection").mesh)
+
+
+def test_small_blocks_give_the_same_answers(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Areas and angles are computed block by block: blocks of 5 triangles (the extremes
+    spread over many blocks) give the same answers."""
+    monkeypatch.setattr(mesh_arrays_module, "_BLOCK", 5)
+    square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
+    same_answers(refine(square, criteria.MaxArea(mpq(1, 300)), method="bisection").mesh)
+    pslg = read(SUPERIOR)
+    assert isinstance(pslg, PSLG)
+    same_answers(triangulate(pslg).mesh)
 
 
 def test_a_non_delaunay_mesh_and_regions() -> None:
