@@ -702,7 +702,7 @@ def build_mesh(
             "edge of the mesh (validate reports them)"
         )
     unused = len(points) - len(used)
-    if unused and oriented:
+    if unused and table.triangles:
         notes.append(
             f"{unused} of {counted(len(points), 'vertex', 'vertices')} "
             f"{'is' if unused == 1 else 'are'} in no triangle"

@@ -53,11 +53,12 @@ def test_shared_data_reads_as_line_by_line(shared_data: Path, name: str) -> None
 @given(mesh=st.one_of(grid_meshes(), grid_meshes(dyadic=True)),
        style=st.sampled_from(NUMBER_STYLES))
 def test_random_meshes_read_as_line_by_line(
-    tmp_path: Path, mesh: Mesh2, style: NumberStyle
+    tmp_path_factory: pytest.TempPathFactory, mesh: Mesh2, style: NumberStyle
 ) -> None:
+    directory = tmp_path_factory.mktemp("mesh")  # no .poly left by an earlier example
     for name in ("m.ele", "m.off"):
-        io.write(tmp_path / name, mesh, numbers=style, overwrite=True)
-        _same_reading(tmp_path / name)
+        io.write(directory / name, mesh, numbers=style)
+        _same_reading(directory / name)
 
 
 rationals = st.fractions(min_value=-10, max_value=10, max_denominator=12)
@@ -72,16 +73,16 @@ rationals = st.fractions(min_value=-10, max_value=10, max_denominator=12)
     style=st.sampled_from(NUMBER_STYLES),
 )
 def test_tetgen_meshes_read_as_line_by_line(
-    tmp_path: Path,
+    tmp_path_factory: pytest.TempPathFactory,
     pattern: int,
     low: tuple[Fraction, Fraction, Fraction],
     size: tuple[Fraction, Fraction, Fraction],
     style: NumberStyle,
 ) -> None:
     box = Box(low, tuple(lo + s for lo, s in zip(low, size, strict=True)))
-    io.write(tmp_path / "m.ele", partition_cuboid(pattern, box).mesh, numbers=style,
-             overwrite=True)
-    _same_reading(tmp_path / "m.ele")
+    path = tmp_path_factory.mktemp("tetgen") / "m.ele"
+    io.write(path, partition_cuboid(pattern, box).mesh, numbers=style)
+    _same_reading(path)
 
 
 _SQUARE_NODE = "4 2 1 1\n1 0 0 0.5 1\n2 1 0 -.5 0\n3 1 1 +3 2\n4 0 1 1e-400 0\n"
@@ -93,7 +94,7 @@ VARIANTS = {
                    "m.ele": "2 3\n0 0 2 1\n1 0 3 2\n"}, "m.ele"),
     "comments and blank lines": ({"m.node": "# x\n4 2 0 0\n\n0 0 0 # a\n1 1 0\n2 1 1\n3 0 1\n",
                                   "m.ele": "2 3 0\n0 0 1 2\n\n1 0 2 3\n",
-                                  "m.neigh": "2 3\n0 -1 -1 1\n1 -1 0 -1\n"}, "m.ele"),
+                                  "m.neigh": "2 3\n0 -1 1 -1 # ok\n1 -1 -1 0\n"}, "m.ele"),
     "CRLF": ({"m.off": "OFF\r\n4 2 0\r\n0 0 0\r\n1 0 0\r\n1 1 0\r\n0 1 0\r\n3 0 1 2\r\n"
                        "3 0 2 3\r\n"}, "m.off"),
     "counts beside the keyword, 17 digits": (
@@ -114,7 +115,7 @@ def test_variants_read_as_line_by_line(tmp_path: Path, case: str) -> None:
 def test_a_wrong_neigh_is_reported_as_before(tmp_path: Path) -> None:
     write(tmp_path, "m.node", "4 2 0 0\n0 0 0\n1 1 0\n2 1 1\n3 0 1\n")
     write(tmp_path, "m.ele", "2 3 0\n0 0 1 2\n1 0 2 3\n")
-    write(tmp_path, "m.neigh", "2 3\n0 -1 -1 1\n1 -1 -1 -1\n")
+    write(tmp_path, "m.neigh", "2 3\n0 -1 1 -1\n1 -1 -1 -1\n")
     with pytest.raises(io.FormatError) as caught:
         io.read(tmp_path / "m.ele")
     assert caught.value.line == 3
