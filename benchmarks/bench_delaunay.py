@@ -19,6 +19,9 @@ Workloads (fixed seed, so runs are comparable):
   polygon are carved away with the exterior) and a square hole with its seed: segment
   recovery, the Lawson pass and carving all run (in the compiled kernel when built).
   Triangle runs ``pQ`` on the same input.
+* ``cdt-smooth-N``: the same with a smooth polygon (radius 0.4 + 0.05 sin 5θ plus noise
+  below 0.002): its segments are mostly Delaunay edges already, so the time goes to the
+  point triangulation, the Lawson pass, carving and the trace rather than to recovery.
 
 Competitors, in the same run, on the same points:
 
@@ -109,14 +112,18 @@ def pslg_loops(pslg: PSLG) -> list[list[int]]:
     return loops
 
 
-def star_pslg(count: int, free: int, seed: int = 5) -> PSLG:
-    """The ``cdt-N`` workload: a star-shaped polygon of ``count`` vertices (random radii),
-    ``free`` random points of the unit square and a square hole with its seed."""
+def star_pslg(count: int, free: int, seed: int = 5, *, smooth: bool = False) -> PSLG:
+    """The ``cdt-N`` workload: a star-shaped polygon of ``count`` vertices (random radii,
+    or with ``smooth`` a wavy curve), ``free`` random points of the unit square and a
+    square hole with its seed."""
     rng = random.Random(seed)
     angles = sorted(rng.random() * 2 * math.pi for _ in range(count))
     doubles = []
     for angle in angles:
-        radius = 0.3 + 0.15 * rng.random()
+        if smooth:
+            radius = 0.4 + 0.05 * math.sin(5 * angle) + 0.002 * rng.random()
+        else:
+            radius = 0.3 + 0.15 * rng.random()
         doubles.append((0.5 + radius * math.cos(angle), 0.5 + radius * math.sin(angle)))
     doubles += [(rng.random(), rng.random()) for _ in range(free)]
     segments = [(i, (i + 1) % count, 1) for i in range(count)]
@@ -241,9 +248,10 @@ def bench_superior(repeat: int, sect_repeat: int) -> dict[str, Any]:
     return row
 
 
-def bench_cdt(count: int, repeat: int) -> dict[str, Any]:
-    pslg = star_pslg(count, count)
-    row: dict[str, Any] = {"workload": f"cdt-{count}", "n": len(pslg.vertices),
+def bench_cdt(count: int, repeat: int, smooth: bool = False) -> dict[str, Any]:
+    pslg = star_pslg(count, count, smooth=smooth)
+    name = f"cdt-smooth-{count}" if smooth else f"cdt-{count}"
+    row: dict[str, Any] = {"workload": name, "n": len(pslg.vertices),
                            "segments": len(pslg.segments)}
     ours_time, run = best_of(repeat, lambda: triangulate(pslg))
     ours = index_triangles(run.mesh.triangles())
@@ -311,6 +319,7 @@ def main(argv: list[str] | None = None) -> int:
         rows.append(bench_superior(options.repeat, options.sect_repeat))
     if options.cdt_segments:
         rows.append(bench_cdt(options.cdt_segments, options.repeat))
+        rows.append(bench_cdt(options.cdt_segments, options.repeat, smooth=True))
     for row in rows:
         if "triangle" in row:
             row["geomexact_over_triangle"] = row["geomexact"] / row["triangle"]
@@ -339,7 +348,7 @@ def main(argv: list[str] | None = None) -> int:
 
     print(f"geomexact {__version__}, Python {platform.python_version()}, best of "
           f"{options.repeat} (sect: {options.sect_repeat}); timing noise on this VM ~+-20%")
-    header = (f"{'workload':<15}{'triangles':>10}{'geomexact s':>13}{'Triangle s':>12}"
+    header = (f"{'workload':<18}{'triangles':>10}{'geomexact s':>13}{'Triangle s':>12}"
               f"{'sect s':>11}{'ours/Tri':>10}{'sect/ours':>11}  same result")
     print(header)
     print("-" * len(header))
@@ -347,7 +356,7 @@ def main(argv: list[str] | None = None) -> int:
         same = [name for name in ("triangle", "sect") if row.get(f"same_as_{name}")]
         differs = [name for name in ("triangle", "sect") if row.get(f"same_as_{name}") is False]
         note = ", ".join([*(f"= {n}" for n in same), *(f"DIFFERS from {n}" for n in differs)])
-        print(f"{row['workload']:<15}{row['triangles']:>10}{seconds(row['geomexact']):>13}"
+        print(f"{row['workload']:<18}{row['triangles']:>10}{seconds(row['geomexact']):>13}"
               f"{seconds(row.get('triangle')):>12}{seconds(row.get('sect')):>11}"
               f"{ratio(row.get('geomexact_over_triangle')):>10}"
               f"{ratio(row.get('sect_over_geomexact')):>11}  {note}")

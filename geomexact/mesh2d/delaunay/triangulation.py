@@ -440,11 +440,11 @@ def triangulate_points(
     name = _delaunay_engine(engine)
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
-    plan = _plan_points(pslg, merge_duplicates, seed)
-    start, (a, b, c) = plan.start, plan.first
     from geomexact._version import __version__
 
-    with collector_paused():
+    with collector_paused():  # the plan too: its maps are tens of thousands of objects
+        plan = _plan_points(pslg, merge_duplicates, seed)
+        start, (a, b, c) = plan.start, plan.first
         compiled = (
             run_compiled(vertices, start, (a, b, c), plan.rest)
             if name in ("auto", "compiled") else None
@@ -704,12 +704,13 @@ def _constrained_in_kernel(pslg: PSLG, keep_convex_hull: bool, split_segments: b
     raises what it raises)."""
     if not compiled_delaunay.AVAILABLE:
         return None
-    plan = _plan_points(pslg, merge_duplicates, seed)
-    remap = dict(plan.duplicates)
-    segments = [(remap.get(u, u), remap.get(v, v), marker) for u, v, marker in pslg.segments]
     from geomexact._version import __version__
 
-    with collector_paused():
+    with collector_paused():  # the plan too: its maps are tens of thousands of objects
+        plan = _plan_points(pslg, merge_duplicates, seed)
+        remap = dict(plan.duplicates)
+        segments = [(remap.get(u, u), remap.get(v, v), marker)
+                    for u, v, marker in pslg.segments]
         run = compiled_delaunay.run_compiled_constrained(
             pslg.vertices, plan.start, plan.first, plan.rest, segments,
             split_segments=split_segments,
