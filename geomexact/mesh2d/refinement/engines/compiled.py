@@ -54,8 +54,11 @@ AVAILABLE: bool = _lepp_kernel is not None
 """True when the extension is built and importable."""
 
 OPTIONS = frozenset({"criterion", "region", "method", "delaunay", "centroid",
-                     "constraint_midpoints", "on_step"})
-"""The options of ``refine()`` the kernel implements; any other option makes it decline."""
+                     "constraint_midpoints", "on_step", "order", "second_longest_rule",
+                     "factor_stop"})
+"""The options of ``refine()`` the kernel knows (``order``, ``second_longest_rule`` and
+``factor_stop`` only at the values checked in :func:`unsupported`); any other option makes
+it decline."""
 
 
 @attrs.frozen(slots=True)
