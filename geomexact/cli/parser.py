@@ -61,11 +61,14 @@ class _Parser(argparse.ArgumentParser):
 
 KERNEL_RUNS: tuple[tuple[str, str], ...] = (
     ("lepp", "refine --method bisection, centroid or quasi (centroid and quasi with "
-             "--centroid area), to --max-area, --factor or --max-edge (not --min-angle), in "
-             "any region, with or without --no-delaunay and --plain-centroids, on meshes "
-             "without triangle attributes; any other run uses the Python engine"),
+             "--centroid area), to --max-area, --factor, --max-edge or --min-angle, in "
+             "any region, with or without --no-delaunay and --plain-centroids, in the "
+             "worst-first order, on meshes without triangle attributes; and replay of the "
+             "traces it records; any other run uses the Python engine"),
     ("delaunay", "the Delaunay triangulation of the points in triangulate (and in refine of "
-                 "a PSLG); segments, holes and regions are then inserted in Python"),
+                 "a PSLG), then its segments (recovered by flips), the Lawson pass and the "
+                 "carving of the exterior and holes; crossing segments to split and region "
+                 "seeds run in Python"),
     ("cuboid", "the census (census --engine auto or compiled) of boxes whose doubled corners "
                "are integers up to 2^20; other boxes, and the cuboid command, run the exact "
                "reference"),

@@ -75,7 +75,7 @@ def session(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Any]
 
 def _run_blocks(results: dict[str, Any]) -> Iterator[dict[str, Any]]:
     for language, body in blocks():
-        if language == "off":
+        if language == "text":  # the OFF file (Pygments has no OFF lexer)
             Path("square.off").write_text(body, encoding="utf-8")
         elif language == "console":
             for line, expected in commands(body):
@@ -100,7 +100,7 @@ def _run_blocks(results: dict[str, Any]) -> Iterator[dict[str, Any]]:
 
 def test_the_page_has_every_kind_of_block() -> None:
     kinds = Counter(language for language, _ in blocks())
-    assert kinds == {"off": 1, "console": 5, "python": 1, "pycon": 1}
+    assert kinds == {"text": 1, "console": 5, "python": 1, "pycon": 1}
 
 
 def test_every_command_prints_what_the_page_shows(session: dict[str, Any]) -> None:
