@@ -39,8 +39,11 @@ from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.snapshot import Attributes, Mesh2
 
 IntArray = npt.NDArray[np.int64]
+Doubles = tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]
+"""The doubles ``fx``, ``fy`` of a file's points, computed once per file."""
 
 __all__ = [
+    "Doubles",
     "NotPlain",
     "PlainLines",
     "bulk_mesh2",
@@ -267,11 +270,14 @@ def number_column(
     return [pair[0] for pair in pairs], [pair[1] for pair in pairs]
 
 
-def orientation_signs(points: Sequence[Point2], triangles: IntArray) -> IntArray:
+def orientation_signs(
+    points: Sequence[Point2], triangles: IntArray, doubles: Doubles | None = None
+) -> IntArray:
     """The exact ``orient2d`` sign (1, -1 or 0) of each row (a, b, c) of ``triangles``:
     the certified numpy filter (:func:`~geomexact.kernel.array_filters.orient2d_signs`),
-    the exact predicate for the rows it leaves undecided."""
-    fx, fy = point_doubles(points)
+    the exact predicate for the rows it leaves undecided.  ``doubles``: the points'
+    :func:`~geomexact.kernel.array_filters.point_doubles`, when the caller has them."""
+    fx, fy = doubles if doubles is not None else point_doubles(points)
     signs = orient2d_signs(fx, fy, triangles[:, 0], triangles[:, 1], triangles[:, 2])
     for row in np.flatnonzero(signs == 0).tolist():
         a, b, c = triangles[row].tolist()
@@ -341,7 +347,9 @@ def bulk_mesh2(
     )
 
 
-def oriented_rows(points: Sequence[Point2], rows: IntArray) -> tuple[IntArray, int] | None:
+def oriented_rows(
+    points: Sequence[Point2], rows: IntArray, doubles: Doubles | None = None
+) -> tuple[IntArray, int] | None:
     """``rows`` (0-based triangles, indices in range) made counter-clockwise, with the
     number reversed (0, or all of them when all are clockwise); None when a triangle
     repeats a vertex or is degenerate, or the orientations are mixed (the line reader
@@ -349,7 +357,7 @@ def oriented_rows(points: Sequence[Point2], rows: IntArray) -> tuple[IntArray, i
     a, b, c = rows[:, 0], rows[:, 1], rows[:, 2]
     if bool(np.any((a == b) | (a == c) | (b == c))):
         return None
-    signs = orientation_signs(points, rows)
+    signs = orientation_signs(points, rows, doubles)
     if bool(np.all(signs == 1)):
         return rows, 0
     if bool(np.all(signs == -1)):

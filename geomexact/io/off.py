@@ -17,6 +17,7 @@ import numpy as np
 
 from geomexact.errors import FormatError, RationalParseError, UnsupportedValueError
 from geomexact.io.bulk import (
+    Doubles,
     IntArray,
     NotPlain,
     PlainLines,
@@ -55,6 +56,7 @@ from geomexact.io.registry import (
     token_lines,
     write_files,
 )
+from geomexact.kernel.array_filters import point_doubles
 from geomexact.kernel.numbers import ZERO, Rational, parse_rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
@@ -387,6 +389,7 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
     face_lines: list[int | None] = []
     reversed_count = 0
     cache: dict[str, tuple[Rational, float]] = {}
+    doubles: Doubles | None = None
     try:
         with PlainLines(path) as lines:
             tokens, _ = lines.next_line()
@@ -414,7 +417,9 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
                 if (not bool(np.all(rows[:, 0] == 3)) or int(corners.min()) < 0
                         or int(corners.max()) >= vertex_count):
                     return None
-                oriented = oriented_rows(points, corners)
+                if doubles is None:
+                    doubles = point_doubles(points)
+                oriented = oriented_rows(points, corners, doubles)
                 if oriented is None or (parts and bool(oriented[1]) != bool(reversed_count)):
                     return None  # degenerate, or mixed orientations
                 reversed_count += oriented[1]

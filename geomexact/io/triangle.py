@@ -24,6 +24,7 @@ import numpy as np
 
 from geomexact.errors import FormatError, UnsupportedValueError
 from geomexact.io.bulk import (
+    Doubles,
     IntArray,
     NotPlain,
     PlainLines,
@@ -68,6 +69,7 @@ from geomexact.io.registry import (
     with_extension,
     write_files,
 )
+from geomexact.kernel.array_filters import point_doubles
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.pslg import PSLG, RegionSeed
@@ -664,6 +666,7 @@ def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
     parts: list[IntArray] = []
     triangle_lines: list[int | None] = []
     reversed_count = 0
+    doubles: Doubles | None = None
     try:
         with PlainLines(path) as lines:
             tokens, _ = lines.next_line()
@@ -688,7 +691,9 @@ def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
                     or int(corners.min()) < 0 or int(corners.max()) >= len(nodes.points)
                 ):
                     return None
-                oriented = oriented_rows(nodes.points, corners)
+                if doubles is None:
+                    doubles = point_doubles(nodes.points)
+                oriented = oriented_rows(nodes.points, corners, doubles)
                 if oriented is None or (parts and bool(oriented[1]) != bool(reversed_count)):
                     return None  # degenerate, or mixed orientations
                 reversed_count += oriented[1]
