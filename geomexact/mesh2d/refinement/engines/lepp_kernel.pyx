@@ -1215,6 +1215,20 @@ cdef class Kernel:
         self._record(1, u, v)
         return 0
 
+    cdef int64_t _join_in_quadrilateral(self, int64_t u, int64_t v, int64_t w, int64_t x,
+                                        int64_t n, object point) except -2:
+        """(u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n) for the new
+        vertex n at ``point``, recorded as ``insert_in_quadrilateral``; returns n."""
+        self._remove_edge(u, v, w, x)
+        self._triangle(u, x, n)
+        self._triangle(x, v, n)
+        self._triangle(v, w, n)
+        self._triangle(w, u, n)
+        self.triangles += 2
+        self.inserted.append((point[0], point[1]))
+        self._record(2, u, v, len(self.inserted) - 1)
+        return n
+
     cdef int64_t _centroid(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
         """``BatchRefinement.centroid`` with ``centroid="area"`` on the interior edge
         (u, v) with apexes w, x: the new vertex, or -1 at the step limit (no change)."""
@@ -1232,16 +1246,7 @@ cdef class Kernel:
             points = self.points
             point = self.centroid(points[u], points[v], points[w], points[x])
             n = self._add_point(point)
-        # (u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n)
-        self._remove_edge(u, v, w, x)
-        self._triangle(u, x, n)
-        self._triangle(x, v, n)
-        self._triangle(v, w, n)
-        self._triangle(w, u, n)
-        self.triangles += 2
-        self.inserted.append((point[0], point[1]))
-        self._record(2, u, v, len(self.inserted) - 1)
-        return n
+        return self._join_in_quadrilateral(u, v, w, x, n, point)
 
     cdef int _remove_edge(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
         """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
@@ -1576,15 +1581,7 @@ cdef class Kernel:
         if (self._orient(u, x, n) != 1 or self._orient(x, v, n) != 1
                 or self._orient(v, w, n) != 1 or self._orient(w, u, n) != 1):
             return -1  # the caller stops here: the added vertex is never used
-        self._remove_edge(u, v, w, x)
-        self._triangle(u, x, n)
-        self._triangle(x, v, n)
-        self._triangle(v, w, n)
-        self._triangle(w, u, n)
-        self.triangles += 2
-        self.inserted.append((point[0], point[1]))
-        self._record(2, u, v, len(self.inserted) - 1)
-        return n
+        return self._join_in_quadrilateral(u, v, w, x, n, point)
 
     def replay(self, list steps, list digests, Py_ssize_t count):
         """Apply the first ``count`` of ``steps`` (``bisect``, ``flip`` and
