@@ -52,6 +52,7 @@ __all__ = [
     "number_column",
     "numbered",
     "orientation_signs",
+    "row_chunks",
     "rows_text",
     "triangle_array",
 ]
@@ -63,9 +64,13 @@ __all__ = [
 def triangle_array(mesh: Mesh2) -> IntArray:
     """The triangles of ``mesh``, canonical and sorted (``mesh.triangles()``), as a
     (T x 3) int64 array: one pass over the half-edge table, sorted by numpy (twice as
-    fast as sorting the tuples)."""
-    flat = array("q", itertools.chain.from_iterable(mesh.iter_triangles()))
-    rows = np.frombuffer(flat, dtype=np.int64).reshape(-1, 3)
+    fast as sorting the tuples; from a kernel's arrays when the tables are not built)."""
+    source = mesh.source
+    if source is not None:
+        rows = source.triangle_rows()
+    else:
+        flat = array("q", itertools.chain.from_iterable(mesh.iter_triangles()))
+        rows = np.frombuffer(flat, dtype=np.int64).reshape(-1, 3)
     return rows[np.lexsort(rows.T[::-1])]
 
 
@@ -94,6 +99,21 @@ def rows_text(template: str, count: int, values: Sequence[Any]) -> str:
     """``count`` rows of ``template`` (one row, ending in a newline) filled from the flat
     ``values``, by one ``%`` formatting: each row is what ``template % row`` gives."""
     return (template * count) % tuple(values)
+
+
+def row_chunks(template: str, rows: IntArray, *, numbered: bool = False,
+               size: int = 1 << 16) -> Iterator[str]:
+    """The text of the (R x k) integer ``rows``, each by ``template`` (one row, ending in
+    a newline), preceded by its index (0, 1, …) when ``numbered``: what
+    :func:`rows_text` gives, in chunks of ``size`` rows, so that a large table is never
+    held as Python ints or text whole."""
+    for begin in range(0, len(rows), size):
+        block = rows[begin : begin + size]
+        if numbered:
+            block = np.column_stack(
+                (np.arange(begin, begin + len(block), dtype=np.int64), block)
+            )
+        yield (template * len(block)) % tuple(block.ravel().tolist())
 
 
 def numbered(flat: list[Any], width: int) -> list[Any]:

@@ -24,6 +24,7 @@ from geomexact.io.bulk import (
     integer_column,
     number_column,
     oriented_rows,
+    row_chunks,
     rows_text,
     triangle_array,
     triangle_tuples,
@@ -494,6 +495,7 @@ def write_off(
     """A Mesh2 (triangles in canonical order) or a PolygonMesh as an OFF file, z = 0; a
     mesh's markers, attributes and segments are dropped (and reported)."""
     number = NumberText(numbers)
+    text: str | Iterator[str]
     if isinstance(value, Mesh2):
         text = _mesh_off_text(value, number)
     elif isinstance(value, PolygonMesh):
@@ -515,17 +517,15 @@ def write_off(
     )
 
 
-def _mesh_off_text(mesh: Mesh2, number: NumberText) -> str:
-    """The OFF text of a mesh: vertices in id order, triangles canonical and sorted, in
-    bulk (:mod:`geomexact.io.bulk`)."""
+def _mesh_off_text(mesh: Mesh2, number: NumberText) -> Iterator[str]:
+    """The OFF text of a mesh in chunks: vertices in id order, triangles canonical and
+    sorted, in bulk (:mod:`geomexact.io.bulk`)."""
     count = mesh.vertex_count
-    vertices = mesh.vertices
     coordinates = number.texts(
-        coordinate for index in range(count) for coordinate in vertices[index][:2]
+        coordinate for point in mesh.point_list() for coordinate in point[:2]
     )
     triangles = triangle_array(mesh)
-    return (
-        f"OFF\n{count} {len(triangles)} 0\n"
-        + rows_text("%s %s 0\n", count, coordinates)
-        + rows_text("3 %d %d %d\n", len(triangles), triangles.ravel().tolist())
-    )
+    yield (f"OFF\n{count} {len(triangles)} 0\n"
+           + rows_text("%s %s 0\n", count, coordinates))
+    del coordinates
+    yield from row_chunks("3 %d %d %d\n", triangles)

@@ -32,7 +32,7 @@ import gmpy2
 import numpy as np
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
-from geomexact.io.files import read_lines, write_text_atomic
+from geomexact.io.files import read_lines, write_chunks_atomic, write_text_atomic
 from geomexact.kernel.numbers import (
     ZERO,
     Rational,
@@ -933,22 +933,27 @@ def dropped_parts(value: Value, holds: Collection[str]) -> tuple[str, ...]:
 
 
 def write_files(
-    files: Sequence[tuple[Path, str]],
+    files: Sequence[tuple[Path, str | Iterable[str]]],
     *,
     overwrite: bool,
     numbers: NumberText | None = None,
     dropped: tuple[str, ...] = (),
 ) -> WriteReport:
-    """Write each (path, text) atomically; when not ``overwrite``, refuse (OverwriteError)
-    before writing anything if any target exists.  The report counts what ``numbers``
-    rounded and lists what was ``dropped``."""
+    """Write each (path, text) atomically, the text whole or in chunks written as they
+    come; when not ``overwrite``, refuse (OverwriteError) before writing anything if any
+    target exists.  The report counts what ``numbers`` rounded and lists what was
+    ``dropped``."""
     if not overwrite:
         for path, _ in files:
             if path.exists():
                 raise OverwriteError(str(path))
     written: list[Path] = []
     for path, text in files:
-        write_text_atomic(path, text, overwrite=overwrite)
+        if isinstance(text, str):
+            write_text_atomic(path, text, overwrite=overwrite)
+        else:
+            write_chunks_atomic(path, (chunk.encode("utf-8") for chunk in text),
+                                overwrite=overwrite)
         written.append(path)
     return WriteReport(
         tuple(written), numbers.rounded if numbers is not None else 0, dropped

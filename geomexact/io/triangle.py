@@ -16,7 +16,7 @@ numbered consecutively from there.  Boundary markers and attributes are kept.
 from __future__ import annotations
 
 import itertools
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import attrs
@@ -31,8 +31,8 @@ from geomexact.io.bulk import (
     integer_column,
     neighbour_array,
     number_column,
-    numbered,
     oriented_rows,
+    row_chunks,
     rows_text,
     triangle_array,
     triangle_tuples,
@@ -907,16 +907,18 @@ def write_triangle(
     mesh = value
     stem = _mesh_stem(path)
     number = NumberText(numbers)
-    vertices, vertex_markers = mesh.vertices, mesh.vertex_markers
-    points = [vertices[index] for index in range(mesh.vertex_count)]
+    vertex_markers = mesh.vertex_markers
+    points = mesh.point_list()
     markers = [vertex_markers.get(index, 0) for index in range(mesh.vertex_count)]
     vertex_attributes = [mesh.vertex_attributes.get(index) for index in range(len(points))]
     node_text = _node_text(points, markers, vertex_attributes, number)
     triangles = triangle_array(mesh)
-    flat = triangles.ravel().tolist()
     total = len(triangles)
-    ele = f"{total} 3 0\n" + rows_text("%s %s %s %s\n", total, numbered(flat, 3))
+    ele: str | Iterator[str] = itertools.chain(
+        [f"{total} 3 0\n"], row_chunks("%s %s %s %s\n", triangles, numbered=True)
+    )
     if len(mesh.triangle_attributes):
+        flat = triangles.ravel().tolist()
         keys = list(zip(flat[0::3], flat[1::3], flat[2::3], strict=True))
         count, rows = uniform_attributes(
             [mesh.triangle_attributes.get(triangle) for triangle in keys], "triangle"
@@ -926,10 +928,11 @@ def write_triangle(
             lines.append(" ".join([str(index), str(a), str(b), str(c),
                                    *map(number, rows[index])]))
         ele = "\n".join(lines) + "\n"
-    neigh = f"{total} 3\n" + rows_text(
-        "%s %s %s %s\n", total, numbered(neighbour_array(triangles).ravel().tolist(), 3)
+    neigh = itertools.chain(
+        [f"{total} 3\n"],
+        row_chunks("%s %s %s %s\n", neighbour_array(triangles), numbered=True),
     )
-    files = [
+    files: list[tuple[Path, str | Iterator[str]]] = [
         (with_extension(stem, NODE), node_text),
         (with_extension(stem, ELE), ele),
         (with_extension(stem, NEIGH), neigh),

@@ -393,27 +393,32 @@ def _twice_area_of_arms(row: list[float]) -> Rational:
 def mesh_arrays(mesh: Mesh2) -> MeshArrays | None:
     """The arrays of ``mesh``, or None when its tables are inconsistent (the scalar
     definitions then apply).  O(n log n) in numpy, O(n) in Python (reading the tables)."""
-    vertices, halfedges = mesh.vertices, mesh.halfedges
-    n = len(vertices)
+    source = mesh.source
+    n = mesh.vertex_count
     if n >= _MAX_PACKED:
         return None
     try:
-        points = [vertices[i] for i in range(n)]
+        points = mesh.point_list()
     except KeyError:
         return None
     fx = np.fromiter(map(operator.itemgetter(2), points), dtype=np.float64, count=n)
     fy = np.fromiter(map(operator.itemgetter(3), points), dtype=np.float64, count=n)
     exact = np.fromiter((p[0] == p[2] and p[1] == p[3] for p in points), dtype=np.bool_,
                         count=n)
-    count = len(halfedges)
-    try:  # ids are int32 (vertex ids below 2^31 here); a wrong id does not fit or is caught
-        keys = np.fromiter(itertools.chain.from_iterable(halfedges.keys()), dtype=np.int32,
-                           count=2 * count)
-        hw = np.fromiter(halfedges.values(), dtype=np.int32, count=count)
-    except (OverflowError, TypeError):
-        return None
-    hu, hv = keys[0::2].copy(), keys[1::2].copy()
-    del keys
+    if source is not None:
+        count = len(source.halfedges)
+        hu, hv, hw = (column.astype(np.int32) for column in source.halfedges.T)
+    else:
+        halfedges = mesh.halfedges
+        count = len(halfedges)
+        try:  # ids are int32 (vertex ids below 2^31 here); a wrong id does not fit
+            keys = np.fromiter(itertools.chain.from_iterable(halfedges.keys()),
+                               dtype=np.int32, count=2 * count)
+            hw = np.fromiter(halfedges.values(), dtype=np.int32, count=count)
+        except (OverflowError, TypeError):
+            return None
+        hu, hv = keys[0::2].copy(), keys[1::2].copy()
+        del keys
     if count and (min(int(hu.min()), int(hv.min()), int(hw.min())) < 0
                   or max(int(hu.max()), int(hv.max()), int(hw.max())) >= n):
         return None

@@ -12,10 +12,12 @@ Model, digest and invariants: ``specs/snapshot.md``.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from typing import TYPE_CHECKING, TypeAlias
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 import attrs
 import immutables
+import numpy as np
+import numpy.typing as npt
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
@@ -46,6 +48,70 @@ def undirected(u: int, v: int) -> Edge:
     return (u, v) if u < v else (v, u)
 
 
+IdArray: TypeAlias = npt.NDArray[np.int64]
+
+
+@attrs.frozen(slots=True, eq=False)
+class TableSource:
+    """The content of a snapshot's vertex, half-edge and outgoing tables as arrays, as a
+    compiled kernel leaves them: a :class:`Mesh2` given one builds its persistent tables
+    from it on first use.
+
+    - ``points``: the :class:`Point2` of each vertex id 0..n-1;
+    - ``halfedges``: (H x 3) int64 rows (u, v, w), one per half-edge, in any order;
+    - ``hints``: (n,) int64, the ``outgoing`` hint of each vertex, -1 for none;
+    - ``base``: a snapshot whose tables the built ones are derived from (sharing their
+      structure), or None.
+    """
+
+    points: Sequence[Point2]
+    halfedges: IdArray
+    hints: IdArray
+    base: Mesh2 | None = None
+
+    def triangle_rows(self) -> IdArray:
+        """The (T x 3) canonical triangles (u, v, w with u smallest), in row order."""
+        rows = self.halfedges
+        first = (rows[:, 0] < rows[:, 1]) & (rows[:, 0] < rows[:, 2])
+        return rows[first]
+
+    def tables(self) -> tuple[immutables.Map[int, Point2], immutables.Map[Edge, int],
+                              immutables.Map[int, int]]:
+        """(vertices, halfedges, outgoing) as persistent maps."""
+        count = len(self.points)
+        # one int object per vertex id, shared by every key and value naming it (a
+        # million-triangle mesh names ~10^7 ids: 28 bytes each would be ~300 MB)
+        ids = list(range(count))
+        name = ids.__getitem__
+        u, v, w = (list(map(name, column)) for column in self.halfedges.T.tolist())
+        keys = list(zip(u, v, strict=True))
+        base = self.base
+        if base is None:
+            vertices = immutables.Map(zip(ids, self.points, strict=True))
+            halfedges = immutables.Map(zip(keys, w, strict=True))
+        else:
+            vertex_table = base.vertices.mutate()
+            for vertex in range(len(base.vertices), count):
+                vertex_table[ids[vertex]] = self.points[vertex]
+            vertices = vertex_table.finish()
+            old = base.halfedges
+            new = dict(zip(keys, w, strict=True))
+            table = old.mutate()
+            for key in old:
+                if key not in new:
+                    del table[key]
+            get = old.get
+            for key, apex in new.items():
+                if get(key) != apex:
+                    table[key] = apex
+            halfedges = table.finish()
+        hints = self.hints.tolist()
+        outgoing = immutables.Map(
+            (ids[vertex], ids[hint]) for vertex, hint in enumerate(hints) if hint >= 0
+        )
+        return vertices, halfedges, outgoing
+
+
 @attrs.frozen(slots=True, eq=False)
 class Mesh2:
     """An immutable 2D triangle mesh with exact rational vertices.
@@ -65,20 +131,73 @@ class Mesh2:
     Equality (``==``) compares content: vertices, triangles, segments, markers, attributes.
     """
 
-    vertices: immutables.Map[int, Point2]
-    halfedges: immutables.Map[Edge, int]
-    outgoing: immutables.Map[int, int]
+    # the three large tables are built on first use when the snapshot was given a
+    # ``source`` (a kernel's arrays) instead: a command that only summarizes and writes
+    # the result never pays for them
+    _vertices: immutables.Map[int, Point2] | None
+    _halfedges: immutables.Map[Edge, int] | None
+    _outgoing: immutables.Map[int, int] | None
     segments: immutables.Map[Edge, int]
     vertex_markers: immutables.Map[int, int]
     vertex_attributes: immutables.Map[int, Attributes]
     triangle_attributes: immutables.Map[Triangle, Attributes]
     triangle_count: int
     digest: int
+    _source: TableSource | None = attrs.field(default=None, kw_only=True, repr=False)
+    """The arrays the tables are built from when they are None (:class:`TableSource`)."""
+    _derived: dict[str, Any] = attrs.field(init=False, factory=dict, repr=False)
+    """Read-only arrays derived from the content, kept once computed: never content,
+    never copied by ``attrs.evolve``."""
+
+    # -- tables -------------------------------------------------------------------------
+    @property
+    def vertices(self) -> immutables.Map[int, Point2]:
+        """id -> :class:`Point2`."""
+        table = self._vertices
+        if table is None:
+            table = self._built()[0]
+        return table
+
+    @property
+    def halfedges(self) -> immutables.Map[Edge, int]:
+        """``(u, v)`` -> apex w of the counter-clockwise triangle (u, v, w)."""
+        table = self._halfedges
+        if table is None:
+            table = self._built()[1]
+        return table
+
+    @property
+    def outgoing(self) -> immutables.Map[int, int]:
+        """vertex -> some w such that (vertex, w) is a half-edge."""
+        table = self._outgoing
+        if table is None:
+            table = self._built()[2]
+        return table
+
+    @property
+    def source(self) -> TableSource | None:
+        """The arrays this snapshot's tables come from, while they are not built yet
+        (None once built, or when it was built from tables)."""
+        return self._source if self._halfedges is None else None
+
+    def _built(self) -> tuple[immutables.Map[int, Point2], immutables.Map[Edge, int],
+                              immutables.Map[int, int]]:
+        """Build the tables from the source (once) and keep them."""
+        source = self._source
+        assert source is not None, "a snapshot without tables has a source"
+        vertices, halfedges, outgoing = source.tables()
+        object.__setattr__(self, "_vertices", vertices)
+        object.__setattr__(self, "_outgoing", outgoing)
+        object.__setattr__(self, "_halfedges", halfedges)
+        return vertices, halfedges, outgoing
 
     # -- size ---------------------------------------------------------------------------
     @property
     def vertex_count(self) -> int:
         """Number of vertices (ids are 0..vertex_count-1)."""
+        table = self._vertices
+        if table is None and self._source is not None:
+            return len(self._source.points)
         return len(self.vertices)
 
     @property
@@ -108,6 +227,14 @@ class Mesh2:
         """The exact point of ``vertex`` (``KeyError`` if there is none)."""
         return self.vertices[vertex]
 
+    def point_list(self) -> list[Point2]:
+        """The points of vertices 0..n-1, in id order (``KeyError`` when a table has a
+        gap)."""
+        if self._vertices is None and self._source is not None:
+            return list(self._source.points)
+        vertices = self.vertices
+        return [vertices[index] for index in range(len(vertices))]
+
     def apex(self, u: int, v: int) -> int | None:
         """The third vertex of the triangle left of the directed edge (u, v), or None."""
         return self.halfedges.get((u, v))
@@ -119,6 +246,10 @@ class Mesh2:
 
     def iter_triangles(self) -> Iterator[Triangle]:
         """Triangles in canonical form, in table order (not sorted; see :meth:`triangles`)."""
+        source = self.source
+        if source is not None:
+            yield from map(tuple, source.triangle_rows().tolist())  # type: ignore[misc]
+            return
         for key, c in self.halfedges.items():
             a, b = key
             if a < b and a < c:

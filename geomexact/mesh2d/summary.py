@@ -41,7 +41,7 @@ def mesh_summary(mesh: Mesh2, *, check_delaunay: bool = True) -> dict[str, Any]:
     return {
         "vertices": mesh.vertex_count,
         "triangles": count,
-        "edges": (len(mesh.halfedges) + boundary) // 2,
+        "edges": (len(arrays.hu) + boundary) // 2,
         "boundary_edges": boundary,
         "constrained_edges": len(mesh.segments),
         **angle_and_area_report((None, None) if angles is None else angles, smallest,

@@ -43,6 +43,7 @@ import struct
 
 import gmpy2
 import immutables
+import numpy as np
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel import comparisons as _comparisons
@@ -54,7 +55,7 @@ from geomexact.mesh2d.refinement.criteria import smallest_angle_cos2 as _smalles
 from geomexact.mesh2d.refinement.driver import Refinement as _Refinement
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d.refinement.queue import rank as _rank
-from geomexact.mesh2d.snapshot import MAX_VERTICES, Mesh2
+from geomexact.mesh2d.snapshot import MAX_VERTICES, Mesh2, TableSource
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, point2
 from geomexact.trace.step import Step
@@ -1129,10 +1130,11 @@ cdef class Kernel:
 
     cdef object _step(self, Record *record):
         """The Step of a record."""
+        u, v = record.u, record.v
         if record.op == 2:
             x, y = self.inserted[record.extra]
-            return Step("insert_in_quadrilateral", (record.u, record.v, x, y))
-        return Step("flip" if record.op else "bisect", (record.u, record.v))
+            return Step("insert_in_quadrilateral", (u, v, x, y))
+        return Step("flip" if record.op else "bisect", (u, v))
 
     cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
         cdef Record *record
@@ -1473,48 +1475,46 @@ cdef class Kernel:
         return "complete"
 
     def finish(self, start):
-        """(mesh, steps, digests) as ``BatchRefinement.finish``."""
-        cdef Py_ssize_t i
+        """(mesh, steps, digests) as ``BatchRefinement.finish``.  The mesh's persistent
+        tables are built from the kernel's arrays on first use (``TableSource``, sharing
+        ``start``'s structure)."""
+        cdef Py_ssize_t i, row = 0
         cdef uint64_t slot, edge
-        cdef int64_t u, v, n0 = self.n0
-        cdef Record *record
-        vertices = start.vertices.mutate()
-        points = self.points
-        for i in range(n0, self.nv):
-            vertices[i] = points[i]
-        halfedges = start.halfedges.mutate()
-        old = start.halfedges
-        for key, w in old.items():
-            if gx_map_get(&self.apex, gx_edge(key[0], key[1]), -1) != w:
-                if gx_map_get(&self.apex, gx_edge(key[0], key[1]), -1) < 0:
-                    del halfedges[key]
+        cdef int64_t[:, ::1] rows
+        cdef int64_t[::1] hint_view
+        halfedges = np.empty((self.apex.count, 3), dtype=np.int64)
+        rows = halfedges
         for slot in range(self.apex.mask + 1):
             edge = self.apex.keys[slot]
             if edge == GX_EMPTY:
                 continue
-            u = <int64_t>(edge >> 32)
-            v = <int64_t>(edge & 0xFFFFFFFF)
-            key = (u, v)
-            if u < n0 and v < n0 and old.get(key) == self.apex.values[slot]:
-                continue
-            halfedges[key] = self.apex.values[slot]
-        markers = start.vertex_markers.mutate()
-        for vertex, marker in self.new_markers.items():
-            markers[vertex] = marker
-        outgoing = immutables.Map([
-            (i, self.vs[i].hint) for i in range(self.nv) if self.vs[i].hint >= 0
-        ])
-        digest = _from_u128(self.digest)
+            rows[row, 0] = <int64_t>(edge >> 32)
+            rows[row, 1] = <int64_t>(edge & 0xFFFFFFFF)
+            rows[row, 2] = self.apex.values[slot]
+            row += 1
+        hints = np.empty(self.nv, dtype=np.int64)
+        hint_view = hints
+        for i in range(self.nv):
+            hint_view[i] = self.vs[i].hint
+        markers = start.vertex_markers
+        if self.new_markers:
+            table = markers.mutate()
+            for vertex, marker in self.new_markers.items():
+                table[vertex] = marker
+            markers = table.finish()
+        halfedges.setflags(write=False)
+        hints.setflags(write=False)
         mesh = Mesh2(
-            vertices=vertices.finish(),
-            halfedges=halfedges.finish(),
-            outgoing=outgoing,
+            vertices=None,
+            halfedges=None,
+            outgoing=None,
             segments=immutables.Map(self.segments),
-            vertex_markers=markers.finish(),
+            vertex_markers=markers,
             vertex_attributes=start.vertex_attributes,
             triangle_attributes=start.triangle_attributes,
             triangle_count=self.triangles,
-            digest=digest,
+            digest=_from_u128(self.digest),
+            source=TableSource(self.points, halfedges, hints, start),
         )
         steps = self.step_objects
         if steps is None:
