@@ -26,6 +26,8 @@ from __future__ import annotations
 import argparse
 import contextlib
 import doctest
+import functools
+import importlib.util
 import io
 import json
 import os
@@ -38,9 +40,9 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers.paths import SHARED_DATA
 
 from geomexact.cli import main
-from helpers.paths import SHARED_DATA
 
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
@@ -307,10 +309,16 @@ def test_papers(folder: Path) -> None:
 
 
 def test_cli(folder: Path) -> None:
-    """The cuboid run and its replays, and the info example (on ../shared/data)."""
+    """The error line of a bad file, the cuboid run and its replays, and the info example
+    (on ../shared/data)."""
     consoles = [block for block in blocks("cli.md") if block.language == "console"]
-    assert len(consoles) == 2
-    replay, info = sorted(consoles, key=lambda block: "shared/data" in block.body)
+    assert len(consoles) == 3
+    (error,) = [block for block in consoles if "bad.off" in block.body]
+    (info,) = [block for block in consoles if "shared/data" in block.body]
+    (replay,) = [block for block in consoles if "cuboid" in block.body]
+    (folder / "bad.off").write_text("OFF\n3 1 0\n0 0 0\n1 0 0\none 1 0\n3 0 1 2\n")
+    (result,) = run_console(error, {"geomexact info bad.off": 2})
+    assert result.out == ""
     runs = run_console(replay)
     assert len(runs) == 3
     for suffix in ("node", "ele"):
@@ -332,10 +340,15 @@ def test_cli_version() -> None:
 # --- synopses and inline commands ---------------------------------------------------------
 
 
+@functools.cache
 def parsers() -> dict[tuple[str, ...], argparse.ArgumentParser]:
-    from test_docs_site import docs_module
-
-    return dict(docs_module("cli_reference").commands())
+    """Every command's parser by its words (``docs/cli_reference.py``, as the site)."""
+    spec = importlib.util.spec_from_file_location("docs_cli_reference_examples",
+                                                  DOCS / "cli_reference.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return dict(module.commands())
 
 
 def command_of(words: list[str],
