@@ -405,14 +405,24 @@ def point_rules() -> dict[str, Callable[..., Any]]:
                            pu, pv, pw, px)
         return point
 
+    def larger_triangle_centroid(pu: Any, pv: Any, pw: Any, px: Any) -> Any:
+        first = abs((pv.x - pu.x) * (pw.y - pu.y) - (pv.y - pu.y) * (pw.x - pu.x))
+        second = abs((pu.x - pv.x) * (px.y - pv.y) - (pu.y - pv.y) * (px.x - pv.x))
+        if second > first:
+            exact = point2((pu.x + pv.x + px.x) / 3, (pu.y + pv.y + px.y) / 3)
+            return rounded(exact, pu, pv, pw, px)
+        return triangle_centroid(pu, pv, pw, px)
+
     from geomexact.kernel.numbers import mpq
 
     return {
         "area centroid (default)": area,
         "circumcenter of the last terminal triangle": circumcenter,
         "centroid of the last terminal triangle": triangle_centroid,
+        "centroid of the larger terminal triangle": larger_triangle_centroid,
         "half-way from e's midpoint to the area centroid": toward_midpoint(mpq(1, 2)),
         "area centroid pushed 1.5x away from e's midpoint": toward_midpoint(mpq(3, 2)),
+        "area centroid pushed 2x away from e's midpoint": toward_midpoint(mpq(2)),
     }
 
 
