@@ -72,6 +72,11 @@ BENCHMARKS: tuple[Benchmark, ...] = (
               peers=("gmsh", "tetgen")),
     Benchmark("pictures3d", "bench_pictures3d.py", "Pictures of a tetrahedral mesh",
               ("--cubes", "8", "8", "8"), ()),
+    Benchmark("commands", "bench_commands.py",
+              "Whole commands against Triangle end to end (start, read, mesh, write)",
+              ("--only", "import", "help", "info", "refine-1e-5", "--repeat", "1"), (),
+              peers=("triangle",)),
+    Benchmark("io", "bench_io.py", "Reading and writing mesh files", ("--repeat", "1"), ()),
 )
 """Every benchmark, in the order of the page."""
 

@@ -185,7 +185,11 @@ class Mesh2:
         """Build the tables from the source (once) and keep them."""
         source = self._source
         assert source is not None, "a snapshot without tables has a source"
-        vertices, halfedges, outgoing = source.tables()
+        built = source.tables()
+        # a table given beside the source (``attrs.evolve``) is kept
+        vertices = built[0] if self._vertices is None else self._vertices
+        halfedges = built[1] if self._halfedges is None else self._halfedges
+        outgoing = built[2] if self._outgoing is None else self._outgoing
         object.__setattr__(self, "_vertices", vertices)
         object.__setattr__(self, "_outgoing", outgoing)
         object.__setattr__(self, "_halfedges", halfedges)

@@ -21,7 +21,7 @@ import attrs
 
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.engine_names import compiled_kernel
-from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.snapshot import Mesh2, TableSource
 from geomexact.trace.step import Step
 
 __all__ = ["AVAILABLE", "CompiledConstrained", "CompiledConstruction", "run_compiled",
@@ -64,13 +64,14 @@ def run_compiled(
         builder.run(first[0], first[1], first[2], rest)
     except OverflowError:
         return None
-    halfedges, outgoing, triangle_count, digest = builder.finish()
+    halfedges, hints, triangle_count, digest = builder.finish()
     mesh = attrs.evolve(
         start,
-        halfedges=halfedges,
-        outgoing=outgoing,
+        halfedges=None,
+        outgoing=None,
         triangle_count=triangle_count,
         digest=digest,
+        source=TableSource(points, halfedges, hints, start),
     )
     return CompiledConstruction(mesh, builder.steps(), builder.digests())
 
@@ -127,13 +128,14 @@ def run_compiled_constrained(
                 ignored.append(index)
     except OverflowError:
         return None
-    halfedges, outgoing, segment_map, triangle_count, digest = builder.finish_constrained()
+    halfedges, hints, segment_map, triangle_count, digest = builder.finish_constrained()
     mesh = attrs.evolve(
         start,
-        halfedges=halfedges,
-        outgoing=outgoing,
+        halfedges=None,
+        outgoing=None,
         segments=segment_map,
         triangle_count=triangle_count,
         digest=digest,
+        source=TableSource(points, halfedges, hints, start),
     )
     return CompiledConstrained(mesh, builder.steps(), builder.digests(), tuple(ignored))

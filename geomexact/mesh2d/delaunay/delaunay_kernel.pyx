@@ -56,6 +56,7 @@ cdef extern from "Python.h":
     void PyObject_GC_UnTrack(void *op)
 
 import immutables
+import numpy as np
 
 from geomexact.kernel import digest as _digest
 from geomexact.trace.step import Step
@@ -989,16 +990,23 @@ cdef class Builder:
         return removed
 
     def finish_constrained(self):
-        """(halfedges, outgoing, segments, triangle count, digest) as ``Transient2.seal``
-        makes them after the constrained phase: a broken hint (its half-edge removed) is
-        repaired to the smallest neighbour, or dropped for an isolated vertex."""
-        cdef Py_ssize_t i, slots = self.apex.mask + 1
+        """(halfedges, hints, segments, triangle count, digest) as ``Transient2.seal``
+        makes them after the constrained phase: the half-edges as a (H x 3) int64 array of
+        rows (u, v, apex), the outgoing hint of each vertex as an int64 array (-1 for
+        none), the segments as an ``immutables.Map``.  A broken hint (its half-edge
+        removed) is repaired to the smallest neighbour, or dropped for an isolated
+        vertex."""
+        cdef Py_ssize_t i, row = 0, slots = self.apex.mask + 1
         cdef uint64_t key
         cdef int64_t u, w
         cdef bint broken = False
+        cdef int64_t[:, ::1] rows
+        cdef int64_t[::1] hint_view
         cdef int8_t *repair = <int8_t *>malloc(max(1, self.nv) * sizeof(int8_t))
         if repair == NULL:
             raise MemoryError
+        halfedges = np.empty((self.apex.count, 3), dtype=np.int64)
+        rows = halfedges
         try:
             for i in range(self.nv):
                 repair[i] = 0
@@ -1006,25 +1014,24 @@ cdef class Builder:
                     repair[i] = 1
                     self.hints[i] = -1
                     broken = True
-            # the persistent map filled by a mutation: no intermediate dict
-            halfedges = immutables.Map().mutate()
             for i in range(slots):
                 key = self.apex.keys[i]
                 if key == GX_EMPTY:
                     continue
                 u = <int64_t>(key >> 32)
                 w = <int64_t>(key & 0xFFFFFFFF)
-                edge = (u, w)
-                PyObject_GC_UnTrack(<void *>edge)
-                halfedges[edge] = self.apex.values[i] & APEX_MASK
+                rows[row, 0] = u
+                rows[row, 1] = w
+                rows[row, 2] = self.apex.values[i] & APEX_MASK
+                row += 1
                 if broken and repair[u] and (self.hints[u] < 0 or w < self.hints[u]):
                     self.hints[u] = w
-            outgoing = {}
-            for i in range(self.nv):
-                if self.hints[i] >= 0:
-                    outgoing[i] = self.hints[i]
         finally:
             free(repair)
+        hints = np.empty(self.nv, dtype=np.int64)
+        hint_view = hints
+        for i in range(self.nv):
+            hint_view[i] = self.hints[i]
         segments = {}
         slots = <Py_ssize_t>(self.segments.mask + 1)
         for i in range(slots):
@@ -1033,8 +1040,10 @@ cdef class Builder:
                 continue
             edge = (<int64_t>(key >> 32), <int64_t>(key & 0xFFFFFFFF))
             segments[edge] = self.segments.values[i]
-        return (halfedges.finish(), immutables.Map(outgoing),
-                immutables.Map(segments), len(halfedges) // 3, _from_u128(self.digest))
+        halfedges.setflags(write=False)
+        hints.setflags(write=False)
+        return (halfedges, hints, immutables.Map(segments), row // 3,
+                _from_u128(self.digest))
 
     def run(self, int64_t a, int64_t b, int64_t c, rest):
         """``make_triangle(a, b, c)``, then ``insert`` each vertex of ``rest`` in order."""
@@ -1052,24 +1061,26 @@ cdef class Builder:
                 PyErr_CheckSignals()  # Ctrl-C stops a long run (C loops never check it)
 
     def finish(self):
-        """(halfedges, outgoing, triangle count, digest) of the result, as
-        ``BatchDelaunay.seal`` makes them: the half-edge map, the outgoing hints (the
-        last inserted live half-edge out of each vertex) as ``immutables.Map``s."""
-        cdef Py_ssize_t i, slots = self.apex.mask + 1
+        """(halfedges, hints, triangle count, digest) of the result, as
+        ``BatchDelaunay.seal`` makes them: the half-edges as a (H x 3) int64 array of rows
+        (u, v, apex), the outgoing hint of each vertex (the last inserted live half-edge
+        out of it; -1 for none) as an int64 array."""
+        cdef Py_ssize_t i, row = 0, slots = self.apex.mask + 1
         cdef uint64_t key
         cdef int64_t u, value, seq
+        cdef int64_t[:, ::1] rows
+        cdef int64_t[::1] hint_view
         cdef int64_t *best = <int64_t *>malloc(max(1, self.nv) * sizeof(int64_t))
-        cdef int64_t *hint = <int64_t *>malloc(max(1, self.nv) * sizeof(int64_t))
-        if not best or not hint:
-            free(best)
-            free(hint)
+        if not best:
             raise MemoryError
+        halfedges = np.empty((self.apex.count, 3), dtype=np.int64)
+        rows = halfedges
+        hints = np.empty(self.nv, dtype=np.int64)
+        hint_view = hints
         try:
             for i in range(self.nv):
                 best[i] = -1
-                hint[i] = -1
-            # the persistent map filled by a mutation: no intermediate dict
-            halfedges = immutables.Map().mutate()
+                hint_view[i] = -1
             for i in range(slots):
                 key = self.apex.keys[i]
                 if key == GX_EMPTY:
@@ -1077,24 +1088,18 @@ cdef class Builder:
                 u = <int64_t>(key >> 32)
                 value = self.apex.values[i]
                 seq = value >> 32
-                edge = (u, <int64_t>(key & 0xFFFFFFFF))
-                # a tuple of ints is in no cycle: untracked now rather than by the first
-                # collection after the run (CPython's own lazy untracking of tuples)
-                PyObject_GC_UnTrack(<void *>edge)
-                halfedges[edge] = value & APEX_MASK
+                rows[row, 0] = u
+                rows[row, 1] = <int64_t>(key & 0xFFFFFFFF)
+                rows[row, 2] = value & APEX_MASK
+                row += 1
                 if seq > best[u]:
                     best[u] = seq
-                    hint[u] = <int64_t>(key & 0xFFFFFFFF)
-            outgoing = {}
-            for i in range(self.nv):
-                if hint[i] >= 0:
-                    outgoing[i] = hint[i]
+                    hint_view[u] = <int64_t>(key & 0xFFFFFFFF)
         finally:
             free(best)
-            free(hint)
-        count = len(halfedges) // 3
-        return (halfedges.finish(), immutables.Map(outgoing), count,
-                _from_u128(self.digest))
+        halfedges.setflags(write=False)
+        hints.setflags(write=False)
+        return halfedges, hints, row // 3, _from_u128(self.digest)
 
     def steps(self):
         """The recorded steps, as ``Step`` objects."""

@@ -284,7 +284,10 @@ cdef class Kernel:
         if (not self.vs or not self.heap or not self.records or not self.created
                 or not self.pending.items):
             raise MemoryError
-        if gx_map_alloc(&self.apex, 64) < 0 or gx_map_alloc(&self.segs, 64) < 0:
+        slots = 64
+        while slots < 4 * len(start.halfedges):  # the start's half-edges, then room to grow
+            slots *= 2
+        if gx_map_alloc(&self.apex, slots) < 0 or gx_map_alloc(&self.segs, 64) < 0:
             raise MemoryError
         # the grid: 2**-F with every input coordinate (hence every midpoint) below 2**60
         bound = 0
@@ -431,17 +434,19 @@ cdef class Kernel:
         grid, -1 when not known (then its coordinates are tested)."""
         cdef int64_t n = self.nv
         cdef Vertex *vertex
+        # a Point2 is a tuple: indexed as one (its class's item lookup is slower)
+        cdef tuple fields = <tuple>point
         if n >= MAX_VERTICES:
             raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
         if n == self.cap_v:
             grow_array(<void **>&self.vs, &self.cap_v, sizeof(Vertex))
         self.points.append(point)
         vertex = &self.vs[n]
-        vertex.at.fx = point[2]
-        vertex.at.fy = point[3]
+        vertex.at.fx = fields[2]
+        vertex.at.fy = fields[3]
         if grid < 0:
-            vertex.at.grid = self._on_grid(point[0], &vertex.at.gx) and self._on_grid(
-                point[1], &vertex.at.gy)
+            vertex.at.grid = self._on_grid(fields[0], &vertex.at.gx) and self._on_grid(
+                fields[1], &vertex.at.gy)
         else:
             vertex.at.grid = grid
             if grid:
@@ -454,7 +459,7 @@ cdef class Kernel:
         vertex.hint = -1
         vertex.inside = -1
         self.nv = n + 1
-        self.digest += _to_u128(_vertex_hash(n, point[0], point[1]))
+        self.digest += _to_u128(_vertex_hash(n, fields[0], fields[1]))
         return n
 
     cdef bint _grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
@@ -1227,7 +1232,7 @@ cdef class Kernel:
         self._triangle(v, w, n)
         self._triangle(w, u, n)
         self.triangles += 2
-        self.inserted.append((point[0], point[1]))
+        self.inserted.append((<tuple>point)[:2])
         self._record(2, u, v, len(self.inserted) - 1)
         return n
 
@@ -1242,7 +1247,10 @@ cdef class Kernel:
                                     or self._float_centroid(u, v, w, x, at)):
             qx = mpq(at[0], self.unit)
             qy = mpq(at[1], self.unit)
-            point = tuple.__new__(Point2, (qx, qy, float(qx), float(qy)))
+            # the nearest doubles of at / 2**F: one rounding (int64 to double), then an
+            # exact scaling (|at| / 2**F is far from the subnormals)
+            point = tuple.__new__(Point2, (qx, qy, ldexp(<double>at[0], -self.F),
+                                           ldexp(<double>at[1], -self.F)))
             n = self._add_point(point, 1, at[0], at[1])
         else:
             points = self.points
