@@ -129,6 +129,9 @@ class Construction:
     ignored_seeds: tuple[tuple[str, int], ...] = ()
 
 
+_COORDINATES = operator.itemgetter(0, 1)
+
+
 def vertices_mesh(pslg: PSLG) -> Mesh2:
     """The mesh of the PSLG's vertices (ids = PSLG ids, markers and attributes kept), with
     no triangles and no segments: the start of every triangulation trace."""
@@ -136,17 +139,16 @@ def vertices_mesh(pslg: PSLG) -> Mesh2:
     if len(pslg.vertices) > MAX_VERTICES:
         raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
     empty = empty_mesh()
-    vertex_hash, attribute_hash = _digest.vertex_hash, _digest.attribute_hash
-    total = empty.digest
+    attribute_hash = _digest.attribute_hash
+    total = empty.digest + sum(map(_digest.vertex_hash, itertools.count(),
+                                   map(_COORDINATES, pslg.vertices)))
     markers: dict[int, int] = {}
     attributes: dict[int, tuple[Rational, ...]] = {}
-    for index, point in enumerate(pslg.vertices):
-        total += vertex_hash(index, point[:2])
-        marker = pslg.marker(index)
+    for index, marker in enumerate(pslg.vertex_markers):
         if marker:
             markers[index] = marker
             total += attribute_hash("vm", (index,), (marker,))
-        values = pslg.vertex_attributes[index] if pslg.vertex_attributes else ()
+    for index, values in enumerate(pslg.vertex_attributes):
         if values:
             attributes[index] = tuple(values)
             total += attribute_hash("va", (index,), values)
