@@ -35,6 +35,9 @@ def out_of_memory_message(memory_limit: int | None) -> str:
             "(ask for less work, or start the server with a larger --memory-limit-mb)")
 
 
+_NULL_WITHOUT_EXCEPTION = "returned NULL without setting an exception"
+
+
 def limit_memory(memory_limit: int) -> None:
     """Cap this process's address space at ``memory_limit`` bytes (``RLIMIT_AS``; never
     above the hard limit); an allocation beyond it fails (``MemoryError``)."""
@@ -58,6 +61,15 @@ def _child(connection: multiprocessing.connection.Connection, job: Callable[...,
     except MemoryError:
         connection.send(("failed", HTTPStatus.INSUFFICIENT_STORAGE,
                          out_of_memory_message(memory_limit)))
+    except SystemError as error:
+        if memory_limit is not None and _NULL_WITHOUT_EXCEPTION in str(error):
+            # under the cap, a C extension (GMP's allocator in gmpy2, for one) can fail
+            # an allocation without raising MemoryError: it is the cap all the same
+            connection.send(("failed", HTTPStatus.INSUFFICIENT_STORAGE,
+                             out_of_memory_message(memory_limit)))
+        else:
+            connection.send(("failed", HTTPStatus.INTERNAL_SERVER_ERROR,
+                             f"internal error: SystemError: {error}"))
     except BaseException as error:  # report, never hang the parent
         detail = "".join(traceback.format_exception_only(type(error), error)).strip()
         connection.send(("failed", HTTPStatus.INTERNAL_SERVER_ERROR, f"internal error: {detail}"))

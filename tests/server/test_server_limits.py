@@ -93,6 +93,21 @@ def test_memory_cap_in_the_job_process() -> None:
                                  memory_limit=512 * 1024 * 1024)) > 1 << 20
 
 
+def test_a_failed_allocation_that_raised_nothing_is_the_memory_cap_too() -> None:
+    """Under the cap, a C extension that fails an allocation without raising MemoryError
+    (CPython then raises SystemError "... returned NULL without setting an exception")
+    gets the out-of-memory page; without a cap it is an internal error."""
+    pytest.importorskip("resource")
+    raising = ("(_ for _ in ()).throw(SystemError("
+               "'<f> returned NULL without setting an exception'))",)
+    with pytest.raises(serve.JobFailed) as caught:
+        serve.run_bounded(eval, raising, 30, memory_limit=512 * 1024 * 1024)
+    assert caught.value.status == 507 and "at most 512 MB" in caught.value.message
+    with pytest.raises(serve.JobFailed) as caught:
+        serve.run_bounded(eval, raising, 30)
+    assert caught.value.status == 500 and "SystemError" in caught.value.message
+
+
 def test_serve_cli_limits_are_the_servers(tmp_path: Path) -> None:
     """The CLI's defaults for the new limits agree with ServeOptions', and reach it."""
     from geomexact.cli.parser import build_parser
