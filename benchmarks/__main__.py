@@ -268,7 +268,9 @@ def generic_tables(data: Any) -> list[str]:
         return ["```text", json.dumps(data, indent=1)[:4000], "```"]
     for key, value in data.items():
         if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
-            rows = [{k: v for k, v in row.items() if k not in LONG_KEYS} for row in value]
+            # a nested object becomes dotted columns ("geomexact.cpu", "peer.peak_bytes")
+            rows = [{k: v for k, v in flatten(row) if k.split(".")[0] not in LONG_KEYS}
+                    for row in value]
             lines += [f"**{key}**", "", *table(rows), ""]
         else:
             scalars += list(flatten(value, key))
