@@ -12,7 +12,7 @@ Model, digest and invariants: ``specs/snapshot.md``.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from typing import TYPE_CHECKING, Any, TypeAlias
+from typing import TYPE_CHECKING, TypeAlias
 
 import attrs
 import immutables
@@ -145,9 +145,6 @@ class Mesh2:
     digest: int
     _source: TableSource | None = attrs.field(default=None, kw_only=True, repr=False)
     """The arrays the tables are built from when they are None (:class:`TableSource`)."""
-    _derived: dict[str, Any] = attrs.field(init=False, factory=dict, repr=False)
-    """Read-only arrays derived from the content, kept once computed: never content,
-    never copied by ``attrs.evolve``."""
 
     # -- tables -------------------------------------------------------------------------
     @property

@@ -30,10 +30,8 @@ import functools
 import importlib.util
 import io
 import json
-import os
 import re
 import shlex
-from collections.abc import Iterator
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -205,7 +203,7 @@ def run_doctest(block: Block, page: str, globs: dict[str, Any]) -> int:
 
 
 @pytest.fixture()
-def folder(tmp_path: Path) -> Iterator[Path]:
+def folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     """An empty folder, made current, holding ``superior.poly`` (and the same at
     ``geomexact/data/superior.poly``, the path in a checkout)."""
     superior = resources.files("geomexact") / "data" / "superior.poly"
@@ -213,12 +211,8 @@ def folder(tmp_path: Path) -> Iterator[Path]:
     (tmp_path / "superior.poly").write_bytes(data)
     (tmp_path / "geomexact" / "data").mkdir(parents=True)
     (tmp_path / "geomexact" / "data" / "superior.poly").write_bytes(data)
-    before = Path.cwd()
-    os.chdir(tmp_path)
-    try:
-        yield tmp_path
-    finally:
-        os.chdir(before)
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
 
 
 def run_page(page: str, skip: tuple[str, ...] = (),

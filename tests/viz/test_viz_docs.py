@@ -3,10 +3,8 @@ non-empty, with its documented size (800 × 600), and every page they name is wr
 
 from __future__ import annotations
 
-import os
 import re
 import shlex
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -24,13 +22,9 @@ def blocks() -> list[tuple[str, str]]:
 
 
 @pytest.fixture()
-def inside(tmp_path: Path) -> Iterator[Path]:
-    before = Path.cwd()
-    os.chdir(tmp_path)
-    try:
-        yield tmp_path
-    finally:
-        os.chdir(before)
+def inside(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
 
 
 def test_docs_have_picture_examples() -> None:
