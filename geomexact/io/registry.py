@@ -840,6 +840,8 @@ class NumberText:
         else:
             text = dyadic_decimal(value, plain_within=_ZEROS_WORTH_AN_EXPONENT)
             if text is None:
+                text = short_decimal_text(value)
+            if text is None:
                 text = exact_decimal_text(value)
             if text is not None:
                 return text, False
@@ -852,6 +854,26 @@ class NumberText:
 def mpz_text(value: Any) -> str:
     """Decimal digits of an integer of any size (gmpy2 has no int-to-str digit limit)."""
     return str(gmpy2.mpz(value).digits(10))
+
+
+def short_decimal_text(value: Rational) -> str | None:
+    """:func:`exact_decimal_text` of a non-integer ``value`` of magnitude 0.1 to 10^15
+    that is exactly the shortest text of its nearest double (a decimal read from a file:
+    ``0.8444218515250481``), found without factoring its denominator; else None.  In that
+    range the plain form is the shorter one and a shortest double text has no trailing
+    zero, so this is the text :func:`exact_decimal_text` gives."""
+    if value.denominator == 1:
+        return None
+    try:
+        double = to_float(value)
+    except OverflowError:
+        return None
+    if not 0.1 <= abs(double) < 1e15:
+        return None
+    text = repr(double)
+    if "e" in text or gmpy2.mpq(text) != value:
+        return None
+    return text
 
 
 def exact_decimal_text(value: Rational) -> str | None:

@@ -15,7 +15,12 @@ from hypothesis import strategies as st
 
 from geomexact import Mesh2, io, mpq, point2
 from geomexact.errors import FormatError
-from geomexact.io.registry import NumberText, exact_decimal_text, nearest_double_text
+from geomexact.io.registry import (
+    NumberText,
+    exact_decimal_text,
+    nearest_double_text,
+    short_decimal_text,
+)
 from geomexact.kernel.numbers import Rational, parse_rational
 from geomexact.mesh2d.pslg import PSLG
 
@@ -210,3 +215,22 @@ def test_decimal_module_agrees_on_a_long_expansion() -> None:
     with localcontext() as context:
         context.prec = 200
         assert Decimal(text) == Decimal(123456789) / Decimal(2**70)
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.floats(min_value=-1e16, max_value=1e16, allow_nan=False, allow_infinity=False)
+       | st.decimals(min_value=-10**6, max_value=10**6, places=9, allow_nan=False,
+                     allow_infinity=False).map(float),
+       st.integers(min_value=0, max_value=3))
+def test_the_short_decimal_path_gives_the_exact_decimal_text(double: float, offset: int) -> None:
+    """A value that is the shortest text of its double is written as that text without
+    factoring its denominator, and that text is exact_decimal_text's; a value just off
+    it (offset) falls through to the exact path."""
+    value = mpq(repr(double)) + mpq(offset, 10**30)
+    fast = short_decimal_text(value)
+    if fast is not None:
+        assert fast == exact_decimal_text(value)
+    if offset:
+        assert fast is None
+    elif value.denominator != 1 and 0.1 <= abs(double) < 1e15:
+        assert fast == repr(double)
