@@ -17,13 +17,16 @@ Rows:
   Peak memory is each child's maximum resident set size.
 * ``import``: ``python -c "import geomexact"``; ``help``: ``geomexact --help``;
   ``info``: ``geomexact info square.off`` (start-up of a command on a tiny file).
+* ``triangulate-1e4``: ``geomexact triangulate points.node -o points.off --json`` on 10^4
+  seeded random points of the unit square (decimal coordinates, written back exactly).
 
 Each measurement is a fresh child process, the best of ``--repeat`` runs
 (``--repeat-large`` for 1e-6); wall time and CPU time (user + system, from the child's own
 ``wait4`` resource usage) are both reported, because this machine is shared and wall times
 are noisy: ratios are taken on CPU time.
 
-Targets (issue 15): the refine command at 1e-5 and 1e-6 within 3x the peer end to end,
+Targets (issue 15): the triangulate command on 10^4 points in at most 0.6 s; the refine
+command at 1e-5 and 1e-6 within 3x the peer end to end,
 peak memory at 1e-6 at most 1 GB; ``import geomexact`` at most 0.15 s.
 """
 
@@ -33,6 +36,7 @@ import argparse
 import json
 import os
 import platform
+import random
 import subprocess
 import sys
 import tempfile
@@ -122,6 +126,31 @@ def refine_row(name: str, area: str, work: Path, repeat: int) -> dict[str, Any]:
     }
 
 
+TRIANGULATE_TARGET_SECONDS = 0.6
+TRIANGULATE_POINTS = 10_000
+
+
+def points_node(path: Path, count: int) -> None:
+    """``count`` seeded random points of the unit square as a Triangle ``.node`` file
+    (each coordinate the shortest text of a random double)."""
+    generator = random.Random(15)
+    rows = [f"{count} 2 0 0"]
+    rows += [f"{index} {generator.random()!r} {generator.random()!r}"
+             for index in range(count)]
+    path.write_text("\n".join(rows) + "\n")
+
+
+def triangulate_row(name: str, work: Path, repeat: int) -> dict[str, Any]:
+    """``geomexact triangulate points.node -o out.off --json``: a fresh process from start
+    to exit (target: at most 0.6 s wall for 10^4 points)."""
+    points_node(work / "points.node", TRIANGULATE_POINTS)
+    ours = best([sys.executable, "-m", "geomexact", "triangulate", "points.node", "-o",
+                 "points.off", "--json", "--force"], work, repeat)
+    report = json.loads(ours.pop("stdout"))
+    return {"row": name, "geomexact": ours, "algorithm_seconds": report["seconds"],
+            "triangles": report["triangles"], "target": TRIANGULATE_TARGET_SECONDS}
+
+
 def start_row(name: str, argv: list[str], work: Path, repeat: int) -> dict[str, Any]:
     measured = best([sys.executable, *argv], work, repeat)
     measured.pop("stdout")
@@ -139,12 +168,14 @@ def compile_bytecode() -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--only", nargs="*", default=None,
-                        choices=("refine-1e-5", "refine-1e-6", "import", "help", "info"))
+                        choices=("refine-1e-5", "refine-1e-6", "import", "help", "info",
+                                 "triangulate-1e4"))
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--repeat-large", type=int, default=1)
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
-    chosen = args.only or ["import", "help", "info", "refine-1e-5", "refine-1e-6"]
+    chosen = args.only or ["import", "help", "info", "triangulate-1e4", "refine-1e-5",
+                           "refine-1e-6"]
     compile_bytecode()
     rows = []
     with tempfile.TemporaryDirectory() as directory:
@@ -157,6 +188,8 @@ def main() -> None:
             elif name == "help":
                 row = start_row(name, ["-m", "geomexact", "--help"], work,
                                 max(args.repeat, 5))
+            elif name == "triangulate-1e4":
+                row = triangulate_row(name, work, max(args.repeat, 3))
             elif name == "info":
                 row = start_row(name, ["-m", "geomexact", "info", "square.off"], work,
                                 max(args.repeat, 5))
@@ -179,7 +212,7 @@ def show(row: dict[str, Any]) -> None:
     mb = ours["peak_bytes"] / 1024**2
     if "peer" not in row:
         target = f"  (target <= {row['target']} s)" if "target" in row else ""
-        print(f"{row['row']:<12} wall {ours['wall']:.3f} s  cpu {ours['cpu']:.3f} s  "
+        print(f"{row['row']:<15} wall {ours['wall']:.3f} s  cpu {ours['cpu']:.3f} s  "
               f"peak {mb:.0f} MB{target}", flush=True)
         return
     peer = row["peer"]
