@@ -58,9 +58,25 @@ cdef inline gx_u128 _to_u128(object value) except *:
     return gx_u128_make(<uint64_t>(value >> 64), <uint64_t>(value & 0xFFFFFFFFFFFFFFFF))
 
 
+from cpython.object cimport PyObject_GenericSetAttr
+
 cdef extern from "Python.h":
     object _PyLong_FromByteArray(const unsigned char *bytes, size_t n, int little_endian,
                                  int is_signed)
+    void PyObject_GC_UnTrack(void *op)
+
+
+cdef inline object make_step(object step_class, str op, tuple args):
+    """``Step(op, args)`` without the attrs ``__init__`` (``args`` is a tuple already),
+    its slots set as attrs' frozen ``__init__`` sets them.  Neither the step nor its
+    arguments (a str, ints, rationals) can be in a cycle: the cyclic collector need not
+    scan a run's hundreds of thousands of them."""
+    step = step_class.__new__(step_class)
+    PyObject_GenericSetAttr(step, "op", op)
+    PyObject_GenericSetAttr(step, "args", args)
+    PyObject_GC_UnTrack(<void *>args)
+    PyObject_GC_UnTrack(<void *>step)
+    return step
 
 
 cdef inline object _from_u128(gx_u128 value):

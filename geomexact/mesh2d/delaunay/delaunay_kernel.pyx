@@ -50,10 +50,6 @@ from libc.stdlib cimport malloc, free, qsort
 from cpython.exc cimport PyErr_CheckSignals
 from libc.string cimport memmove, memset
 from libc.math cimport frexp, ldexp, fabs, floor, isfinite
-from cpython.object cimport PyObject_GenericSetAttr
-
-cdef extern from "Python.h":
-    void PyObject_GC_UnTrack(void *op)
 
 import immutables
 import numpy as np
@@ -62,6 +58,7 @@ from geomexact.kernel import digest as _digest
 from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
+    make_step,
     GridPoint,
     Pair,
     PairStack,
@@ -1107,9 +1104,6 @@ cdef class Builder:
         cdef Record *record
         cdef object op, args
         names = _OP_NAMES
-        new = Step.__new__
-        op_name = "op"
-        args_name = "args"
         result = []
         for i in range(self.nrec):
             record = &self.records[i]
@@ -1124,16 +1118,7 @@ cdef class Builder:
                 args = (record.a, record.b, record.c, record.d)
             else:
                 args = (record.a, record.b, record.c)
-            # Step(op, args) without the attrs __init__ (args is a tuple already): the
-            # slots set as attrs' own frozen __init__ sets them
-            step = new(Step)
-            PyObject_GenericSetAttr(step, op_name, op)
-            PyObject_GenericSetAttr(step, args_name, args)
-            # a step (a str and a tuple of ints, frozen) is in no cycle: no need for the
-            # cyclic collector to scan the run's hundreds of thousands of them
-            PyObject_GC_UnTrack(<void *>args)
-            PyObject_GC_UnTrack(<void *>step)
-            result.append(step)
+            result.append(make_step(Step, op, args))
         return result
 
     def digests(self):

@@ -61,6 +61,7 @@ from geomexact.kernel.points import Point2, point2
 from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
+    make_step,
     GridPoint,
     filtered_orient,
     Pair,
@@ -271,8 +272,9 @@ cdef class Kernel:
         ``Refinement``."""
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
+        cdef int64_t[:, ::1] triangles
         cdef int64_t g
-        self.points = [start.vertices[i] for i in range(count)]
+        self.points = start.point_list()
         self.n0 = self.nv = count
         self.cap_v = max(16, 2 * count)
         self.vs = <Vertex *>malloc(self.cap_v * sizeof(Vertex))
@@ -369,13 +371,13 @@ cdef class Kernel:
         self.target_grid = 0.0
         self.pysum = mpq(0)
         self.target2 = self.target_scaled = None
-        triangles = sorted(start.iter_triangles())
+        triangles = self._start_triangles()
         if average:
             # Refinement.start_queue: the region's initial doubled area and count
             self.max_area = True
             self.area_limit = -(<gx_i128>1 << 126)  # every grid triangle is bad
-            for a, b, c in triangles:
-                self._account(a, b, c, 1)
+            for i in range(triangles.shape[0]):
+                self._account(triangles[i, 0], triangles[i, 1], triangles[i, 2], 1)
             total = _from_i128(self.gsum) / self.scale + self.pysum
             target = criterion.target_mean_area(total / 2, self.count)
             self.target2 = 2 * target
@@ -387,8 +389,32 @@ cdef class Kernel:
             # the filter needs a normal, moderate double (relative error below 2**-50)
             self.filtered = 2.0 ** -500 < self.target_grid < 2.0 ** 500
             self.tracking = True
-        for a, b, c in triangles:
-            self._consider(a, b, c)
+        for i in range(triangles.shape[0]):
+            self._consider(triangles[i, 0], triangles[i, 1], triangles[i, 2])
+
+    cdef int64_t[:, ::1] _start_triangles(self):
+        """``sorted(start.iter_triangles())`` read off the kernel's half-edge table: a
+        (T x 3) int64 array of canonical triangles (the smallest id first), sorted."""
+        cdef uint64_t slot, edge
+        cdef int64_t u, v, w
+        cdef Py_ssize_t row = 0
+        cdef int64_t[:, ::1] view
+        rows = np.empty((self.apex.count, 3), dtype=np.int64)
+        view = rows
+        for slot in range(self.apex.mask + 1):
+            edge = self.apex.keys[slot]
+            if edge == GX_EMPTY:
+                continue
+            u = <int64_t>(edge >> 32)
+            v = <int64_t>(edge & 0xFFFFFFFF)
+            w = self.apex.values[slot]
+            if u < v and u < w:
+                view[row, 0] = u
+                view[row, 1] = v
+                view[row, 2] = w
+                row += 1
+        rows = rows[:row]
+        return np.ascontiguousarray(rows[np.lexsort(rows.T[::-1])])
 
     # -- vertices -----------------------------------------------------------------------
     cdef bint _on_grid(self, value, int64_t *out) except -1:
@@ -1138,8 +1164,8 @@ cdef class Kernel:
         u, v = record.u, record.v
         if record.op == 2:
             x, y = self.inserted[record.extra]
-            return Step("insert_in_quadrilateral", (u, v, x, y))
-        return Step("flip" if record.op else "bisect", (u, v))
+            return make_step(Step, "insert_in_quadrilateral", (u, v, x, y))
+        return make_step(Step, "flip" if record.op else "bisect", (u, v))
 
     cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
         cdef Record *record
