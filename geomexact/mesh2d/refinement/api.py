@@ -45,6 +45,7 @@ identical traces (``tests/engines/test_engine_equivalence.py``):
 
 from __future__ import annotations
 
+import operator
 import time
 from collections import Counter
 from collections.abc import Callable
@@ -189,6 +190,9 @@ class Result:
     def status(self) -> Status:
         """``"complete"``, ``"step-limit"`` or ``"budget"``."""
         return self.stats.status
+
+
+_OP = operator.attrgetter("op")
 
 
 def refine(
@@ -383,7 +387,7 @@ def refine(
     parameters.update({name: value for name, value in chosen.changed().items()
                        if name != "centroid"})
     trace = Trace(mesh.digest, steps, digests, parameters, __version__)
-    ops = Counter(step.op for step in steps)
+    ops = Counter(map(_OP, steps))
     stats = RefineStats(
         status=status,
         steps=len(steps),
