@@ -395,8 +395,14 @@ cdef class Kernel:
     cdef int64_t[:, ::1] _start_triangles(self):
         """``sorted(start.iter_triangles())`` read off the kernel's half-edge table: a
         (T x 3) int64 array of canonical triangles (the smallest id first), sorted."""
+        rows = self._halfedge_rows()
+        rows = rows[(rows[:, 0] < rows[:, 1]) & (rows[:, 0] < rows[:, 2])]
+        return np.ascontiguousarray(rows[np.lexsort(rows.T[::-1])])
+
+    cdef object _halfedge_rows(self):
+        """The half-edge table as a (H x 3) int64 array of rows (u, v, apex), in slot
+        order."""
         cdef uint64_t slot, edge
-        cdef int64_t u, v, w
         cdef Py_ssize_t row = 0
         cdef int64_t[:, ::1] view
         rows = np.empty((self.apex.count, 3), dtype=np.int64)
@@ -405,16 +411,11 @@ cdef class Kernel:
             edge = self.apex.keys[slot]
             if edge == GX_EMPTY:
                 continue
-            u = <int64_t>(edge >> 32)
-            v = <int64_t>(edge & 0xFFFFFFFF)
-            w = self.apex.values[slot]
-            if u < v and u < w:
-                view[row, 0] = u
-                view[row, 1] = v
-                view[row, 2] = w
-                row += 1
-        rows = rows[:row]
-        return np.ascontiguousarray(rows[np.lexsort(rows.T[::-1])])
+            view[row, 0] = <int64_t>(edge >> 32)
+            view[row, 1] = <int64_t>(edge & 0xFFFFFFFF)
+            view[row, 2] = self.apex.values[slot]
+            row += 1
+        return rows
 
     # -- vertices -----------------------------------------------------------------------
     cdef bint _on_grid(self, value, int64_t *out) except -1:
@@ -1512,20 +1513,9 @@ cdef class Kernel:
         """(mesh, steps, digests) as ``BatchRefinement.finish``.  The mesh's persistent
         tables are built from the kernel's arrays on first use (``TableSource``, sharing
         ``start``'s structure)."""
-        cdef Py_ssize_t i, row = 0
-        cdef uint64_t slot, edge
-        cdef int64_t[:, ::1] rows
+        cdef Py_ssize_t i
         cdef int64_t[::1] hint_view
-        halfedges = np.empty((self.apex.count, 3), dtype=np.int64)
-        rows = halfedges
-        for slot in range(self.apex.mask + 1):
-            edge = self.apex.keys[slot]
-            if edge == GX_EMPTY:
-                continue
-            rows[row, 0] = <int64_t>(edge >> 32)
-            rows[row, 1] = <int64_t>(edge & 0xFFFFFFFF)
-            rows[row, 2] = self.apex.values[slot]
-            row += 1
+        halfedges = self._halfedge_rows()
         hints = np.empty(self.nv, dtype=np.int64)
         hint_view = hints
         for i in range(self.nv):
