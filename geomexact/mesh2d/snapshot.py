@@ -190,6 +190,7 @@ class Mesh2:
         object.__setattr__(self, "_vertices", vertices)
         object.__setattr__(self, "_outgoing", outgoing)
         object.__setattr__(self, "_halfedges", halfedges)
+        object.__setattr__(self, "_source", None)  # the arrays are not kept beside them
         return vertices, halfedges, outgoing
 
     # -- size ---------------------------------------------------------------------------
