@@ -270,6 +270,8 @@ def test_go_to_step_jumps_and_reports_bad_entries(watch: Watch, pages: dict[str,
     watch.page.evaluate("() => geomexactViewer.renderNow()")
     by_slider = canvas_signature(watch)
     watch.page.click("#first")
+    # The page draws on the next animation frame: draw now, or the signature races it.
+    watch.page.evaluate("() => geomexactViewer.renderNow()")
     at_start = canvas_signature(watch)
     watch.page.fill("#step-go", "1500")
     watch.page.press("#step-go", "Enter")
@@ -316,6 +318,7 @@ def test_op_filter_steps_only_between_steps_of_that_op(watch: Watch, pages: dict
     assert options[1:] == [f"{op} ({n:,})" for op, n in sorted(counts.items())]
     watch.page.click("#first")
     watch.page.select_option("#op-filter", "flip")
+    watch.page.evaluate("() => geomexactViewer.renderNow()")
     before = canvas_signature(watch)
     for expected in flips[:6]:
         watch.page.click("#next")
