@@ -54,6 +54,14 @@ GX_UNUSED static int gx_map_alloc(gx_map *m, uint64_t slots) {
 GX_UNUSED static void gx_map_free(gx_map *m) {
     free(m->keys); free(m->values); m->keys = NULL; m->values = NULL;
 }
+/* a copy of ``from`` in ``to`` (a map not yet allocated); -1 when out of memory */
+GX_UNUSED static int gx_map_copy(gx_map *to, const gx_map *from) {
+    if (gx_map_alloc(to, from->mask + 1) < 0) return -1;
+    memcpy(to->keys, from->keys, (from->mask + 1) * sizeof(uint64_t));
+    memcpy(to->values, from->values, (from->mask + 1) * sizeof(int64_t));
+    to->count = from->count;
+    return 0;
+}
 static inline uint64_t gx_map_slot(const gx_map *m, uint64_t key) {
     uint64_t i = gx_mix(key) & m->mask;
     while (m->keys[i] != GX_EMPTY && m->keys[i] != key) i = (i + 1) & m->mask;
@@ -229,6 +237,116 @@ GX_UNUSED static void gx_set_constants(gx_u128 m0, gx_u128 m1, gx_u128 m2, gx_u1
     gx_incircle_c = incircle_c; gx_incircle_k = incircle_k;
     gx_lengths_c = lengths_c; gx_lengths_k = lengths_k;
     gx_dot_c = dot_c; gx_dot_k = dot_k;
+}
+
+/* ---- the vertex hash of geomexact.kernel.digest.vertex_hash for a point on the dyadic
+   grid: BLAKE2b-128 (RFC 7693) with personalisation "vertex" of the id (u64, little
+   endian) then each coordinate g / 2^F in gmpy2's to_binary encoding of an mpq: 0x03, a
+   sign byte (0 zero, 1 positive, 2 negative), then for a non-zero value the numerator's
+   byte length (u32, little endian), the numerator's and the denominator's magnitudes in
+   their fewest little-endian bytes.  The message (at most 8 + 2 × 22 bytes) is one
+   block. ---- */
+static const uint64_t gx_blake2b_iv[8] = {
+    0x6a09e667f3bcc908ULL, 0xbb67ae8584caa73bULL, 0x3c6ef372fe94f82bULL,
+    0xa54ff53a5f1d36f1ULL, 0x510e527fade682d1ULL, 0x9b05688c2b3e6c1fULL,
+    0x1f83d9abfb41bd6bULL, 0x5be0cd19137e2179ULL};
+static const uint8_t gx_blake2b_sigma[12][16] = {
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15},
+    {14, 10, 4, 8, 9, 15, 13, 6, 1, 12, 0, 2, 11, 7, 5, 3},
+    {11, 8, 12, 0, 5, 2, 15, 13, 10, 14, 3, 6, 7, 1, 9, 4},
+    {7, 9, 3, 1, 13, 12, 11, 14, 2, 6, 5, 10, 4, 0, 15, 8},
+    {9, 0, 5, 7, 2, 4, 10, 15, 14, 1, 11, 12, 6, 8, 3, 13},
+    {2, 12, 6, 10, 0, 11, 8, 3, 4, 13, 7, 5, 15, 14, 1, 9},
+    {12, 5, 1, 15, 14, 13, 4, 10, 0, 7, 6, 3, 9, 2, 8, 11},
+    {13, 11, 7, 14, 12, 1, 3, 9, 5, 0, 15, 4, 8, 6, 2, 10},
+    {6, 15, 14, 9, 11, 3, 0, 8, 12, 2, 13, 7, 1, 4, 10, 5},
+    {10, 2, 8, 4, 7, 6, 1, 5, 15, 11, 9, 14, 3, 12, 13, 0},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15},
+    {14, 10, 4, 8, 9, 15, 13, 6, 1, 12, 0, 2, 11, 7, 5, 3}};
+static inline uint64_t gx_rotr64(uint64_t x, int n) { return (x >> n) | (x << (64 - n)); }
+#define GX_B2B_G(a, b, c, d, x, y) do { \
+    v[a] = v[a] + v[b] + (x); v[d] = gx_rotr64(v[d] ^ v[a], 32); \
+    v[c] = v[c] + v[d];       v[b] = gx_rotr64(v[b] ^ v[c], 24); \
+    v[a] = v[a] + v[b] + (y); v[d] = gx_rotr64(v[d] ^ v[a], 16); \
+    v[c] = v[c] + v[d];       v[b] = gx_rotr64(v[b] ^ v[c], 63); } while (0)
+
+/* BLAKE2b-128, personalisation "vertex", of len <= 128 bytes: the digest read as a
+   little-endian 128-bit integer */
+static inline gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) {
+    uint64_t h[8], v[16], m[16];
+    uint8_t block[128];
+    int i, r;
+    const uint8_t *s;
+    for (i = 0; i < 8; i++) h[i] = gx_blake2b_iv[i];
+    h[0] ^= 0x01010000ULL | 16;                    /* depth 1, fanout 1, no key, 16 bytes */
+    h[6] ^= 0x0000786574726576ULL;                 /* personal = "vertex" */
+    memset(block, 0, sizeof block);
+    memcpy(block, message, len);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    memcpy(m, block, sizeof m);
+#else
+    for (i = 0; i < 16; i++) {
+        uint64_t w = 0;
+        int k;
+        for (k = 7; k >= 0; k--) w = (w << 8) | block[8 * i + k];
+        m[i] = w;
+    }
+#endif
+    for (i = 0; i < 8; i++) { v[i] = h[i]; v[i + 8] = gx_blake2b_iv[i]; }
+    v[12] ^= (uint64_t)len;  /* the byte counter; its high word stays 0 */
+    v[14] = ~v[14];          /* the last block */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 12
+#endif
+    for (r = 0; r < 12; r++) {
+        s = gx_blake2b_sigma[r];
+        GX_B2B_G(0, 4, 8, 12, m[s[0]], m[s[1]]);
+        GX_B2B_G(1, 5, 9, 13, m[s[2]], m[s[3]]);
+        GX_B2B_G(2, 6, 10, 14, m[s[4]], m[s[5]]);
+        GX_B2B_G(3, 7, 11, 15, m[s[6]], m[s[7]]);
+        GX_B2B_G(0, 5, 10, 15, m[s[8]], m[s[9]]);
+        GX_B2B_G(1, 6, 11, 12, m[s[10]], m[s[11]]);
+        GX_B2B_G(2, 7, 8, 13, m[s[12]], m[s[13]]);
+        GX_B2B_G(3, 4, 9, 14, m[s[14]], m[s[15]]);
+    }
+    h[0] ^= v[0] ^ v[8];
+    h[1] ^= v[1] ^ v[9];
+    return ((gx_u128)h[1] << 64) | h[0];
+}
+#undef GX_B2B_G
+
+/* the fewest little-endian bytes of x > 0 written at out; their count */
+static inline unsigned gx_le_bytes(uint64_t x, uint8_t *out) {
+    unsigned n = 0;
+    while (x) { out[n++] = (uint8_t)x; x >>= 8; }
+    return n;
+}
+
+/* gmpy2.to_binary(mpq(g, 2**F)) written at out (at most 22 bytes); its length */
+static inline unsigned gx_grid_to_binary(int64_t g, int F, uint8_t *out) {
+    uint64_t magnitude, denominator;
+    unsigned n;
+    int t = 0;
+    out[0] = 0x03;
+    if (g == 0) { out[1] = 0; return 2; }
+    out[1] = g > 0 ? 1 : 2;
+    magnitude = g > 0 ? (uint64_t)g : (uint64_t)0 - (uint64_t)g;
+    while (t < F && !(magnitude & 1)) { magnitude >>= 1; t++; }
+    denominator = (uint64_t)1 << (F - t);
+    n = gx_le_bytes(magnitude, out + 6);
+    out[2] = (uint8_t)n; out[3] = out[4] = out[5] = 0;
+    return 6 + n + gx_le_bytes(denominator, out + 6 + n);
+}
+
+/* geomexact.kernel.digest.vertex_hash(vertex, (gx / 2**F, gy / 2**F)), 0 <= F <= 62 */
+GX_UNUSED static gx_u128 gx_grid_vertex_hash(int64_t vertex, int64_t gx, int64_t gy, int F) {
+    uint8_t message[64];
+    unsigned len = 8;
+    int k;
+    for (k = 0; k < 8; k++) message[k] = (uint8_t)((uint64_t)vertex >> (8 * k));
+    len += gx_grid_to_binary(gx, F, message + len);
+    len += gx_grid_to_binary(gy, F, message + len);
+    return gx_blake2b_vertex_message(message, len);
 }
 
 #endif /* GEOMEXACT_KERNEL_SUPPORT_H */

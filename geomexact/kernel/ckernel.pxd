@@ -23,6 +23,7 @@ cdef extern from "ckernel.h":
     uint64_t gx_edge(int64_t u, int64_t v) nogil
     int gx_map_alloc(gx_map *m, uint64_t slots)
     void gx_map_free(gx_map *m)
+    int gx_map_copy(gx_map *to, const gx_map *src)
     uint64_t gx_map_slot(const gx_map *m, uint64_t key) nogil
     int gx_map_grow(gx_map *m) nogil
     int64_t gx_map_get(const gx_map *m, uint64_t key, int64_t missing) nogil
@@ -32,6 +33,7 @@ cdef extern from "ckernel.h":
     uint64_t gx_u128_hi(gx_u128 x)
     uint64_t gx_u128_lo(gx_u128 x)
     gx_u128 gx_cell_hash(uint64_t ka, uint64_t kb, uint64_t kc) nogil
+    gx_u128 gx_grid_vertex_hash(int64_t vertex, int64_t gx, int64_t gy, int F) nogil
     int gx_grid_lengths(int64_t, int64_t, int64_t, int64_t,
                         int64_t, int64_t, int64_t, int64_t) nogil
     int gx_grid_orient(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil

@@ -191,6 +191,32 @@ def test_hashes_match_digest() -> None:
         assert lepp_kernel.vertex_hash(vertex, x, y) == digest.vertex_hash(vertex, (x, y))
 
 
+@settings(max_examples=300, deadline=None)
+@given(vertex=st.integers(0, 2**63 - 1), gx=st.integers(-2**63, 2**63 - 1),
+       gy=st.one_of(st.integers(-2**63, 2**63 - 1), st.sampled_from([0, 1, -1, 2**62])),
+       bits=st.integers(0, 62))
+def test_grid_vertex_hash_in_c_matches_digest(vertex: int, gx: int, gy: int,
+                                              bits: int) -> None:
+    """The C BLAKE2b of a grid point (gx / 2**F, gy / 2**F) is ``digest.vertex_hash``:
+    same encoding (reduced fraction, sign byte, byte lengths), same personalisation."""
+    from geomexact.kernel import digest
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
+
+    expected = digest.vertex_hash(vertex, (mpq(gx, 2**bits), mpq(gy, 2**bits)))
+    assert lepp_kernel.grid_vertex_hash(vertex, gx, gy, bits) == expected
+    # a power of two in the numerator cancels against the denominator
+    shifted = gx >> 1 << 1
+    assert lepp_kernel.grid_vertex_hash(vertex, shifted, gy, bits) == digest.vertex_hash(
+        vertex, (mpq(shifted, 2**bits), mpq(gy, 2**bits)))
+
+
+def test_grid_vertex_hash_refuses_an_exponent_off_its_range() -> None:
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
+
+    with pytest.raises(ValueError, match=r"outside 0\.\.62"):
+        lepp_kernel.grid_vertex_hash(0, 1, 1, 63)
+
+
 def test_exceptions_propagate() -> None:
     """An exception in a criterion or in on_step leaves the run (as in the Python engine)."""
     def boom(a: Point2, b: Point2, c: Point2) -> bool:

@@ -52,7 +52,8 @@ from geomexact.kernel.angles import compare_angle as _compare_angle
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
 from geomexact.mesh2d.refinement.criteria import smallest_angle_cos2 as _smallest_angle_cos2
-from geomexact.mesh2d.refinement.driver import Refinement as _Refinement
+from geomexact.mesh2d.refinement.driver import TIP_DEPTH
+from geomexact.mesh2d.refinement.driver import squared_length as _squared_length
 from geomexact.errors import PreconditionError
 from geomexact.mesh2d.refinement.queue import rank as _rank
 from geomexact.mesh2d.snapshot import MAX_VERTICES, Mesh2, TableSource
@@ -75,12 +76,14 @@ from geomexact.kernel.ckernel cimport (
     _to_i128,
     _to_u128,
     gx_cell_hash,
+    gx_grid_vertex_hash,
     gx_edge,
     gx_grid_area2,
     gx_grid_orient,
     gx_i128,
     gx_map,
     gx_map_alloc,
+    gx_map_copy,
     gx_map_del,
     gx_map_free,
     gx_map_get,
@@ -144,20 +147,6 @@ SHARP_CORNER = "sharp-corner"
 PROTECTED_TIP = "protected-tip"
 
 
-class _TipLimits:
-    """``Refinement.tip_limit`` reads ``start`` and ``tip_limits`` only: this holds them, so
-    the kernel takes the driver's own rule (once per input vertex)."""
-
-    __slots__ = ("start", "tip_limits")
-
-    def __init__(self, start):
-        self.start = start
-        self.tip_limits = {}
-
-    def limit(self, vertex):
-        return _Refinement.tip_limit(self, vertex)
-
-
 cdef inline bint _pair_less(int64_t a, int64_t b, int64_t c, int64_t d) nogil:
     """(min(a, b), max(a, b)) < (min(c, d), max(c, d))."""
     cdef int64_t p0 = a if a < b else b
@@ -188,6 +177,14 @@ cdef object _vertex_hash(int64_t vertex, x, y):
 def vertex_hash(int64_t vertex, x, y):
     """The kernel's vertex hash (for tests)."""
     return _vertex_hash(vertex, x, y)
+
+
+def grid_vertex_hash(int64_t vertex, int64_t gx, int64_t gy, int F):
+    """The kernel's vertex hash of the grid point (gx / 2**F, gy / 2**F), 0 <= F <= 62,
+    computed in C (for tests)."""
+    if not 0 <= F <= 62:
+        raise ValueError(f"F={F} is outside 0..62")
+    return _from_u128(gx_grid_vertex_hash(vertex, gx, gy, F))
 
 
 cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
@@ -222,6 +219,7 @@ cdef class Kernel:
     cdef int method
     cdef bint legalize, quasi_flips, constraint_midpoints, grid_centroids
     cdef object unit  # 2**F
+    cdef object inv_unit  # mpq(1, 2**F)
     cdef gx_i128 area_limit
     # AverageAreaFactor: the region's doubled area (grid part in grid units, the rest as
     # a rational), its triangle count, and the target mean doubled area
@@ -241,7 +239,9 @@ cdef class Kernel:
     cdef double cos2f
     cdef int cos_sign
     cdef dict left
-    cdef object tips
+    cdef object start_segments
+    cdef gx_map start_apex  # the start's half-edges (min angle: the tip limits read them)
+    cdef int64_t *start_hints
     cdef dict tip_grid
 
     def __dealloc__(self):
@@ -253,6 +253,8 @@ cdef class Kernel:
         free(self.pending.items)
         gx_map_free(&self.apex)
         gx_map_free(&self.segs)
+        gx_map_free(&self.start_apex)
+        free(self.start_hints)
 
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
                  on_step, progress, max_area_doubled, bint average=False,
@@ -299,6 +301,7 @@ cdef class Kernel:
         self.F = max(0, 60 - int(bound).bit_length())
         self.scale = mpq(2) ** (2 * self.F)
         self.unit = 2 ** int(self.F)
+        self.inv_unit = mpq(1, self.unit)
         outgoing = start.outgoing
         for i in range(count):
             point = self.points[i]
@@ -352,7 +355,15 @@ cdef class Kernel:
                 raise ValueError("a minimum angle is rated alone")
             self.cos2f = threshold.cos2_float
             self.cos_sign = threshold.cos_sign
-            self.tips = _TipLimits(start)
+            # Refinement.tip_limit reads the start mesh: its half-edges and outgoing hints
+            self.start_segments = start.segments
+            if gx_map_copy(&self.start_apex, &self.apex) < 0:
+                raise MemoryError
+            self.start_hints = <int64_t *>malloc(max(1, count) * sizeof(int64_t))
+            if not self.start_hints:
+                raise MemoryError
+            for i in range(count):
+                self.start_hints[i] = self.vs[i].hint
         self.on_step = on_step
         self.progress = progress
         self.step_objects = [] if on_step is not None else None
@@ -486,7 +497,10 @@ cdef class Kernel:
         vertex.hint = -1
         vertex.inside = -1
         self.nv = n + 1
-        self.digest += _to_u128(_vertex_hash(n, fields[0], fields[1]))
+        if vertex.at.grid:
+            self.digest += gx_grid_vertex_hash(n, vertex.at.gx, vertex.at.gy, self.F)
+        else:
+            self.digest += _to_u128(_vertex_hash(n, fields[0], fields[1]))
         return n
 
     cdef bint _grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
@@ -968,6 +982,60 @@ cdef class Kernel:
                 return True
         return False
 
+    cdef object _tip_limit(self, int64_t vertex):
+        """``Refinement.tip_limit`` of the input vertex ``vertex``: (2^-TIP_DEPTH × its
+        shortest constraint edge in the start mesh)², or None with fewer than two; its
+        star walked as ``snapshot.walk_star`` walks it, on the start's half-edges."""
+        cdef int64_t first, previous, w, x, hint = self.start_hints[vertex]
+        cdef gx_map *apex = &self.start_apex
+        cdef list ends = []
+        cdef Vertex *a
+        cdef Vertex *b
+        cdef gx_i128 dx, dy
+        if hint < 0:
+            return None
+        first = hint
+        while True:  # clockwise to the boundary, or all the way round
+            previous = gx_map_get(apex, gx_edge(first, vertex), -1)
+            if previous < 0:
+                break
+            if previous == hint:
+                first = hint
+                break
+            first = previous
+        w = first
+        x = -1
+        while True:
+            x = gx_map_get(apex, gx_edge(vertex, w), -1)
+            if x < 0:
+                break
+            ends.append(w)
+            w = x
+            if w == first:
+                break
+        if ends and x < 0:
+            ends.append(w)  # a boundary vertex: the last edge of the fan
+        lengths = []
+        a = &self.vs[vertex]
+        for w in ends:
+            # is_constraint_edge on the start: a boundary edge or a segment (the kernel
+            # runs no triangle attributes)
+            if (gx_map_get(apex, gx_edge(vertex, w), -1) >= 0
+                    and gx_map_get(apex, gx_edge(w, vertex), -1) >= 0
+                    and ((vertex, w) if vertex < w else (w, vertex))
+                    not in self.start_segments):
+                continue
+            b = &self.vs[w]
+            if a.at.grid and b.at.grid:
+                dx = <gx_i128>b.at.gx - a.at.gx
+                dy = <gx_i128>b.at.gy - a.at.gy
+                lengths.append(_from_i128(dx * dx + dy * dy) / self.scale)
+            else:
+                lengths.append(_squared_length(self.points[vertex], self.points[w]))
+        if len(lengths) < 2:
+            return None
+        return min(lengths) / 4**TIP_DEPTH
+
     cdef bint _under_tip(self, int64_t p, int64_t u, int64_t v) except -1:
         """True when p (an input vertex) has a tip limit and the edge {u, v} is shorter
         than it (``Refinement.protected``'s length test, exact)."""
@@ -978,7 +1046,7 @@ cdef class Kernel:
             return False  # only input vertices have tip limits
         entry = self.tip_grid.get(p)
         if entry is None:
-            limit = self.tips.limit(p)
+            limit = self._tip_limit(p)
             # the limit in grid units, rounded up: a grid length (an integer) is below the
             # limit exactly when it is below this
             bound = None if limit is None else min(-((-limit * self.scale) // 1), 1 << 124)
@@ -1272,8 +1340,9 @@ cdef class Kernel:
             return -1
         if self.grid_centroids and (self._grid_centroid(u, v, w, x, at)
                                     or self._float_centroid(u, v, w, x, at)):
-            qx = mpq(at[0], self.unit)
-            qy = mpq(at[1], self.unit)
+            # (an mpq times an int: faster in gmpy2 than mpq(numerator, denominator))
+            qx = self.inv_unit * at[0]
+            qy = self.inv_unit * at[1]
             # the nearest doubles of at / 2**F: one rounding (int64 to double), then an
             # exact scaling (|at| / 2**F is far from the subnormals)
             point = tuple.__new__(Point2, (qx, qy, ldexp(<double>at[0], -self.F),
