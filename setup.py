@@ -9,7 +9,8 @@
   can check them against the exact predicates (nothing in the package imports it).
 
 All include the shared C pieces ``geomexact/kernel/ckernel.h`` (declared in
-``geomexact/kernel/ckernel.pxd``).  All metadata lives in pyproject.toml.  The extensions
+``geomexact/kernel/ckernel.pxd``); the Lepp kernel also ``geomexact/kernel/grid_rational.h``
+(mpq objects built through gmpy2's C API, with gmpy2's headers when they are found).  All metadata lives in pyproject.toml.  The extensions
 are optional, each on its own: without Cython or a C compiler, or when a build fails, the
 package installs without it and the caller uses its pure-Python code
 (``geomexact.mesh2d.refinement.engines.compiled`` / ``geomexact.mesh2d.delaunay.compiled`` return None).
@@ -70,6 +71,21 @@ KERNELS = [
 ]
 
 
+def _gmpy2_headers() -> tuple[list[str], list[tuple[str, str]]]:
+    """The include directory and macros of ``geomexact/kernel/grid_rational.h`` when the
+    gmpy2 at build time ships its C headers (gmpy2.h, gmp.h, mpfr.h, mpc.h); none
+    otherwise (the kernels then build their grid rationals in Python)."""
+    try:
+        import gmpy2
+    except ImportError:
+        return [], []
+    folder = os.path.dirname(os.path.abspath(gmpy2.__file__))
+    if not all(os.path.exists(os.path.join(folder, name))
+               for name in ("gmpy2.h", "gmp.h", "mpfr.h", "mpc.h")):
+        return [], []
+    return [folder], [("GX_WITH_GMPY2", "1"), ("GX_GMPY2_VERSION", f'"{gmpy2.version()}"')]
+
+
 def _extensions() -> list[Extension]:
     if os.environ.get("GEOMEXACT_NO_EXTENSION"):
         return []
@@ -79,12 +95,15 @@ def _extensions() -> list[Extension]:
         _warn(ImportError("Cython is not installed"))
         return []
     built = []
+    gmpy2_folders, gmpy2_macros = _gmpy2_headers()
     for name, source in KERNELS:
         extension = Extension(
             name,
             [source],
-            include_dirs=["geomexact/kernel"],  # ckernel.h
-            depends=["geomexact/kernel/ckernel.h", "geomexact/kernel/ckernel.pxd"],
+            include_dirs=["geomexact/kernel", *gmpy2_folders],  # ckernel.h, grid_rational.h
+            define_macros=gmpy2_macros,
+            depends=["geomexact/kernel/ckernel.h", "geomexact/kernel/ckernel.pxd",
+                     "geomexact/kernel/grid_rational.h"],
             # the float filters' error bounds assume one rounding per operation: no FMA
             extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"],
         )

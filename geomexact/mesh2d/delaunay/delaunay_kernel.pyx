@@ -45,7 +45,7 @@ back to the exact Python predicate on the ``Point2`` objects.  The shared C piec
 ``geomexact/kernel/ckernel.h``.
 """
 
-from libc.stdint cimport int64_t, uint64_t, int8_t
+from libc.stdint cimport int64_t, uint64_t, int8_t, uint32_t
 from libc.stdlib cimport malloc, free, qsort
 from cpython.exc cimport PyErr_CheckSignals
 from libc.string cimport memmove, memset
@@ -540,7 +540,7 @@ cdef class Builder:
             seq = self.apex.values[i] >> 32
             if seq > best[u]:
                 best[u] = seq
-                self.hints[u] = <int64_t>(key & 0xFFFFFFFF)
+                self.hints[u] = <int64_t><uint32_t>key
         free(best)
         if gx_map_alloc(&self.segments, 64) < 0:
             raise MemoryError
@@ -775,7 +775,7 @@ cdef class Builder:
                 if key == GX_EMPTY:
                     continue
                 u = <int64_t>(key >> 32)
-                v = <int64_t>(key & 0xFFFFFFFF)
+                v = <int64_t><uint32_t>key
                 if u < v:
                     edges[n] = key
                     n += 1
@@ -786,7 +786,7 @@ cdef class Builder:
             self.pending.count = 0
             for i in range(n - 1, -1, -1):
                 push_pair(&self.pending, <int64_t>(edges[i] >> 32),
-                          <int64_t>(edges[i] & 0xFFFFFFFF))
+                          <int64_t><uint32_t>edges[i])
         finally:
             free(edges)
         while pop_pair(&self.pending, &u, &v):
@@ -813,7 +813,7 @@ cdef class Builder:
                     k -= 1
             for j in range(3, -1, -1):  # the smallest on top
                 push_pair(&self.pending, <int64_t>(four[j] >> 32),
-                          <int64_t>(four[j] & 0xFFFFFFFF))
+                          <int64_t><uint32_t>four[j])
             if not flips & 4095:
                 PyErr_CheckSignals()
         return flips
@@ -896,7 +896,7 @@ cdef class Builder:
                 if key == GX_EMPTY:
                     continue
                 u = <int64_t>(key >> 32)
-                v = <int64_t>(key & 0xFFFFFFFF)
+                v = <int64_t><uint32_t>key
                 if self._get(v, u) >= 0 or self._constrained(u, v):
                     continue
                 # one seed per triangle: a triangle may have several boundary edges
@@ -961,7 +961,7 @@ cdef class Builder:
             if key == GX_EMPTY:
                 continue
             a = <int64_t>(key >> 32)
-            b = <int64_t>(key & 0xFFFFFFFF)
+            b = <int64_t><uint32_t>key
             c = self.apex.values[i] & APEX_MASK
             if not (a < b and a < c):
                 continue
@@ -1016,7 +1016,7 @@ cdef class Builder:
                 if key == GX_EMPTY:
                     continue
                 u = <int64_t>(key >> 32)
-                w = <int64_t>(key & 0xFFFFFFFF)
+                w = <int64_t><uint32_t>key
                 rows[row, 0] = u
                 rows[row, 1] = w
                 rows[row, 2] = self.apex.values[i] & APEX_MASK
@@ -1035,7 +1035,7 @@ cdef class Builder:
             key = self.segments.keys[i]
             if key == GX_EMPTY:
                 continue
-            edge = (<int64_t>(key >> 32), <int64_t>(key & 0xFFFFFFFF))
+            edge = (<int64_t>(key >> 32), <int64_t><uint32_t>key)
             segments[edge] = self.segments.values[i]
         halfedges.setflags(write=False)
         hints.setflags(write=False)
@@ -1086,12 +1086,12 @@ cdef class Builder:
                 value = self.apex.values[i]
                 seq = value >> 32
                 rows[row, 0] = u
-                rows[row, 1] = <int64_t>(key & 0xFFFFFFFF)
+                rows[row, 1] = <int64_t><uint32_t>key
                 rows[row, 2] = value & APEX_MASK
                 row += 1
                 if seq > best[u]:
                     best[u] = seq
-                    hint_view[u] = <int64_t>(key & 0xFFFFFFFF)
+                    hint_view[u] = <int64_t><uint32_t>key
         finally:
             free(best)
         halfedges.setflags(write=False)

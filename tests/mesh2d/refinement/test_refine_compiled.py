@@ -217,6 +217,38 @@ def test_grid_vertex_hash_refuses_an_exponent_off_its_range() -> None:
         lepp_kernel.grid_vertex_hash(0, 1, 1, 63)
 
 
+@settings(max_examples=300, deadline=None)
+@given(g=st.one_of(st.integers(-2**63, 2**63 - 1), st.integers(-99, 99)),
+       shift=st.integers(0, 56), bits=st.integers(0, 62))
+def test_grid_rational_is_the_mpq(g: int, shift: int, bits: int) -> None:
+    """The kernel's mpq(g, 2**F), built in place through gmpy2's C API, is gmpy2's own:
+    reduced, same hash (its cache reset), same arithmetic, same pickle."""
+    import pickle
+
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
+
+    if -2**63 <= g << shift < 2**63:
+        g <<= shift
+    made, expected = lepp_kernel.grid_rational(g, bits), mpq(g, 2**bits)
+    assert type(made) is type(expected)
+    assert (made.numerator, made.denominator) == (expected.numerator, expected.denominator)
+    assert made == expected and hash(made) == hash(expected)
+    assert made + expected == 2 * expected and made * 3 == 3 * expected
+    assert pickle.loads(pickle.dumps(made)) == expected and str(made) == str(expected)
+
+
+def test_grid_rationals_are_built_in_c_when_the_headers_were_there() -> None:
+    """Built against gmpy2's headers and run with that gmpy2: the C path is taken."""
+    import gmpy2
+
+    from geomexact.mesh2d.refinement.engines import lepp_kernel
+
+    if lepp_kernel.GMPY2_BUILT_VERSION == gmpy2.version():
+        assert lepp_kernel.GRID_MPQ_IN_C
+    else:
+        assert not lepp_kernel.GRID_MPQ_IN_C
+
+
 def test_exceptions_propagate() -> None:
     """An exception in a criterion or in on_step leaves the run (as in the Python engine)."""
     def boom(a: Point2, b: Point2, c: Point2) -> bool:

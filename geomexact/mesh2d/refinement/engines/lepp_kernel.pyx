@@ -32,10 +32,11 @@ otherwise by the certified float filters of ``geomexact.kernel.predicates2d`` an
 Python predicate on the ``Point2`` objects.
 """
 
-from libc.stdint cimport int64_t, uint64_t, int8_t
+from libc.stdint cimport int64_t, uint64_t, int8_t, uint32_t
 from libc.stdlib cimport malloc, free
-from libc.math cimport fabs, floor, frexp, ldexp
+from libc.math cimport fabs, floor, frexp, isfinite, ldexp
 from cpython.exc cimport PyErr_CheckSignals
+from cpython.ref cimport PyObject, Py_DECREF
 
 import hashlib
 import math
@@ -100,6 +101,35 @@ from geomexact.kernel.ckernel cimport (
 # with their exact fallback) live in geomexact/kernel/ckernel.h and ckernel.pxd, shared with
 # geomexact/mesh2d/delaunay/delaunay_kernel.pyx
 _init_constants()
+
+cdef extern from "grid_rational.h":
+    int gx_gmpy2_import(const char *runtime_version)
+    const char *gx_gmpy2_built_version()
+    PyObject *gx_grid_mpq(int64_t g, int F)
+
+cdef bytes _GMPY2_VERSION = gmpy2.version().encode()
+GRID_MPQ_IN_C = bool(gx_gmpy2_import(_GMPY2_VERSION))
+"""True when grid coordinates become mpq objects in C (``grid_rational.h``)."""
+GMPY2_BUILT_VERSION = (<bytes>gx_gmpy2_built_version()).decode()
+"""The gmpy2 whose C headers the kernel was built with ("" when none were found)."""
+
+
+cdef inline object _grid_mpq(object inverse_unit, int64_t g, int F):
+    """mpq(g, 2**F), ``inverse_unit`` being mpq(1, 2**F)."""
+    cdef PyObject *raw = gx_grid_mpq(g, F)
+    if raw == NULL:
+        # (an mpq times an int: faster in gmpy2 than mpq(numerator, denominator))
+        return inverse_unit * g
+    result = <object>raw
+    Py_DECREF(result)  # <object> took a second reference
+    return result
+
+
+def grid_rational(int64_t g, int F):
+    """mpq(g, 2**F) as the kernel builds it, 0 <= F <= 62 (for tests)."""
+    if not 0 <= F <= 62:
+        raise ValueError(f"F={F} is outside 0..62")
+    return _grid_mpq(mpq(1, 2 ** int(F)), g, F)
 
 
 def cell_hash(int64_t a, int64_t b, int64_t c):
@@ -185,6 +215,33 @@ def grid_vertex_hash(int64_t vertex, int64_t gx, int64_t gy, int F):
     if not 0 <= F <= 62:
         raise ValueError(f"F={F} is outside 0..62")
     return _from_u128(gx_grid_vertex_hash(vertex, gx, gy, F))
+
+
+cdef object _coordinate_bound(list points):
+    """max(floor(|c|) + 1) over the coordinates c of the ``Point2``s ``points`` (0 when
+    there are none).  The nearest doubles pick the candidates: a coordinate whose double is below
+    (1 - 2**-50) times the largest one is below every coordinate whose double is that
+    largest, so only those near the top are read exactly (all of them when a double
+    overflowed)."""
+    cdef double top = 0.0, value
+    cdef tuple fields
+    for point in points:
+        fields = <tuple>point  # a Point2 is a tuple: indexed as one
+        value = fabs(<double>fields[2])
+        if value > top or not isfinite(value):
+            top = value
+        value = fabs(<double>fields[3])
+        if value > top or not isfinite(value):
+            top = value
+    cdef double threshold = top * (1.0 - 2.0 ** -50) if isfinite(top) else -1.0
+    bound = 0
+    for point in points:
+        fields = <tuple>point
+        for k in range(2):
+            if not fabs(<double>fields[2 + k]) >= threshold:
+                continue
+            bound = max(bound, int(abs(fields[k])) + 1)
+    return bound
 
 
 cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
@@ -294,10 +351,7 @@ cdef class Kernel:
         if gx_map_alloc(&self.apex, slots) < 0 or gx_map_alloc(&self.segs, 64) < 0:
             raise MemoryError
         # the grid: 2**-F with every input coordinate (hence every midpoint) below 2**60
-        bound = 0
-        for point in self.points:
-            for value in (point[0], point[1]):
-                bound = max(bound, int(abs(value)) + 1)
+        bound = _coordinate_bound(self.points)
         self.F = max(0, 60 - int(bound).bit_length())
         self.scale = mpq(2) ** (2 * self.F)
         self.unit = 2 ** int(self.F)
@@ -308,8 +362,8 @@ cdef class Kernel:
             vertex = &self.vs[i]
             vertex.at.fx = point[2]
             vertex.at.fy = point[3]
-            vertex.at.grid = self._on_grid(point[0], &vertex.at.gx) and self._on_grid(
-                point[1], &vertex.at.gy)
+            vertex.at.grid = self._on_grid(point[0], vertex.at.fx, &vertex.at.gx) and (
+                self._on_grid(point[1], vertex.at.fy, &vertex.at.gy))
             vertex.key = _digest.vertex_key(i)
             hint = outgoing.get(i)
             vertex.hint = -1 if hint is None else hint
@@ -423,14 +477,20 @@ cdef class Kernel:
             if edge == GX_EMPTY:
                 continue
             view[row, 0] = <int64_t>(edge >> 32)
-            view[row, 1] = <int64_t>(edge & 0xFFFFFFFF)
+            view[row, 1] = <int64_t><uint32_t>edge
             view[row, 2] = self.apex.values[slot]
             row += 1
         return rows
 
     # -- vertices -----------------------------------------------------------------------
-    cdef bint _on_grid(self, value, int64_t *out) except -1:
-        """True (and ``out`` set) when the rational ``value`` is k / 2**F, |k| <= 2**60."""
+    cdef bint _on_grid(self, value, double nearest, int64_t *out) except -1:
+        """True (and ``out`` set) when the rational ``value`` is k / 2**F, |k| <= 2**60.
+        ``nearest``: its nearest double.  A grid value has a nearest double that is a
+        multiple of 2**-F (it is the value itself below 2**(53 - F), else a multiple of
+        a coarser power of two), so a finite one that is not decides at once."""
+        cdef double scaled_nearest = ldexp(nearest, self.F)
+        if isfinite(scaled_nearest) and scaled_nearest != floor(scaled_nearest):
+            return False
         denominator = value.denominator
         if denominator & (denominator - 1):
             return False
@@ -483,8 +543,8 @@ cdef class Kernel:
         vertex.at.fx = fields[2]
         vertex.at.fy = fields[3]
         if grid < 0:
-            vertex.at.grid = self._on_grid(fields[0], &vertex.at.gx) and self._on_grid(
-                fields[1], &vertex.at.gy)
+            vertex.at.grid = self._on_grid(fields[0], vertex.at.fx, &vertex.at.gx) and (
+                self._on_grid(fields[1], vertex.at.fy, &vertex.at.gy))
         else:
             vertex.at.grid = grid
             if grid:
@@ -1340,9 +1400,8 @@ cdef class Kernel:
             return -1
         if self.grid_centroids and (self._grid_centroid(u, v, w, x, at)
                                     or self._float_centroid(u, v, w, x, at)):
-            # (an mpq times an int: faster in gmpy2 than mpq(numerator, denominator))
-            qx = self.inv_unit * at[0]
-            qy = self.inv_unit * at[1]
+            qx = _grid_mpq(self.inv_unit, at[0], self.F)
+            qy = _grid_mpq(self.inv_unit, at[1], self.F)
             # the nearest doubles of at / 2**F: one rounding (int64 to double), then an
             # exact scaling (|at| / 2**F is far from the subnormals)
             point = tuple.__new__(Point2, (qx, qy, ldexp(<double>at[0], -self.F),
