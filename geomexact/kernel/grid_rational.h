@@ -1,11 +1,12 @@
-/* mpq values of the dyadic grid, g / 2^F, built in place through gmpy2's C API (the
-   capsule gmpy2._C_API: no link against GMP).  A grid value's reduced numerator and
-   denominator each fit one 64-bit limb, so the new object's limbs are written directly,
-   already canonical; this skips parsing two Python ints and a gcd in mpq(g, 2**F).
+/* mpq values of the dyadic grid, g / 2^F, built in place: a new object from gmpy2's C
+   API (the capsule gmpy2._C_API) set by GMP's mpq_set_si to the reduced fraction
+   (g / 2^t) / 2^(F - t), both parts one 64-bit limb, already canonical.  This skips
+   parsing two Python ints and a gcd in mpq(g, 2**F).  mpq_set_si is looked up in the GMP
+   that gmpy2 itself loaded (dlsym through gmpy2's module), so nothing links against GMP.
 
    Built with GX_WITH_GMPY2 (setup.py, when gmpy2's headers are found) and used only when
-   the gmpy2 imported at run time is the version it was built against; otherwise
-   gx_grid_mpq returns NULL and the caller builds the mpq in Python. */
+   the gmpy2 imported at run time is the version it was built against and mpq_set_si is
+   found; otherwise gx_grid_mpq returns NULL and the caller builds the mpq in Python. */
 #ifndef GEOMEXACT_GRID_RATIONAL_H
 #define GEOMEXACT_GRID_RATIONAL_H
 
@@ -13,7 +14,10 @@
 #include <stdint.h>
 #include <string.h>
 #ifdef GX_WITH_GMPY2
+#include <dlfcn.h>
 #include "gmpy2.h"
+typedef void (*gx_mpq_set_si_function)(mpq_ptr, long, unsigned long);
+static gx_mpq_set_si_function gx_mpq_set_si = NULL;
 #endif
 
 static int gx_gmpy2_ready = 0;
@@ -29,10 +33,18 @@ static const char *gx_gmpy2_built_version(void) {
 
 /* 1 when the grid mpqs are built in C from now on, 0 when they are not (another gmpy2
    at run time, another limb size, no capsule); never raises */
-static int gx_gmpy2_import(const char *runtime_version) {
+static int gx_gmpy2_import(const char *runtime_version, const char *module_path) {
 #ifdef GX_WITH_GMPY2
-    if (strcmp(runtime_version, GX_GMPY2_VERSION) != 0 || sizeof(mp_limb_t) != 8)
+    void *module;
+    if (strcmp(runtime_version, GX_GMPY2_VERSION) != 0 || sizeof(mp_limb_t) != 8
+            || sizeof(long) != 8)
         return 0;
+    /* the loaded gmpy2 module, and through it the GMP it depends on (kept open: the
+       module stays loaded anyway) */
+    module = dlopen(module_path, RTLD_LAZY | RTLD_NOLOAD);
+    if (!module) return 0;
+    gx_mpq_set_si = (gx_mpq_set_si_function)dlsym(module, "__gmpq_set_si");
+    if (!gx_mpq_set_si) return 0;
     if (import_gmpy2() < 0) {
         PyErr_Clear();
         return 0;
@@ -41,6 +53,7 @@ static int gx_gmpy2_import(const char *runtime_version) {
     return 1;
 #else
     (void)runtime_version;
+    (void)module_path;
     return 0;
 #endif
 }
@@ -50,7 +63,6 @@ static int gx_gmpy2_import(const char *runtime_version) {
 static PyObject *gx_grid_mpq(int64_t g, int F) {
 #ifdef GX_WITH_GMPY2
     MPQ_Object *result;
-    mpz_ptr numerator, denominator;
     uint64_t magnitude;
     int t = 0;
     if (!gx_gmpy2_ready || F < 0 || F > 62) return NULL;
@@ -59,25 +71,14 @@ static PyObject *gx_grid_mpq(int64_t g, int F) {
         PyErr_Clear();
         return NULL;
     }
-    numerator = mpq_numref(result->q);
-    denominator = mpq_denref(result->q);
-    /* an initialised mpq has a limb for each part; not relying on it otherwise */
-    if (numerator->_mp_alloc < 1 || denominator->_mp_alloc < 1) {
-        Py_DECREF((PyObject *)result);
-        return NULL;
-    }
     if (g == 0) {
-        numerator->_mp_size = 0;
-        denominator->_mp_d[0] = 1;
-        denominator->_mp_size = 1;
+        gx_mpq_set_si(result->q, 0, 1);
         return (PyObject *)result;
     }
     magnitude = g > 0 ? (uint64_t)g : (uint64_t)0 - (uint64_t)g;
     while (t < F && !(magnitude & 1)) { magnitude >>= 1; t++; }
-    numerator->_mp_d[0] = (mp_limb_t)magnitude;
-    numerator->_mp_size = g > 0 ? 1 : -1;
-    denominator->_mp_d[0] = (mp_limb_t)((uint64_t)1 << (F - t));
-    denominator->_mp_size = 1;
+    /* g >> t is exact (2^t divides g) and fits a long, as g does */
+    gx_mpq_set_si(result->q, (long)(g >> t), (unsigned long)1 << (F - t));
     return (PyObject *)result;
 #else
     (void)g;

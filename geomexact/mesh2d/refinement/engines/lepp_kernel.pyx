@@ -40,6 +40,7 @@ from cpython.ref cimport PyObject, Py_DECREF
 
 import hashlib
 import math
+import os
 import struct
 
 import gmpy2
@@ -103,12 +104,15 @@ from geomexact.kernel.ckernel cimport (
 _init_constants()
 
 cdef extern from "grid_rational.h":
-    int gx_gmpy2_import(const char *runtime_version)
+    int gx_gmpy2_import(const char *runtime_version, const char *module_path)
     const char *gx_gmpy2_built_version()
     PyObject *gx_grid_mpq(int64_t g, int F)
 
 cdef bytes _GMPY2_VERSION = gmpy2.version().encode()
-GRID_MPQ_IN_C = bool(gx_gmpy2_import(_GMPY2_VERSION))
+# the compiled module: gmpy2.gmpy2 in a package, gmpy2 itself in a single-file install
+cdef bytes _GMPY2_MODULE = os.fsencode(
+    getattr(getattr(gmpy2, "gmpy2", gmpy2), "__file__", None) or "")
+GRID_MPQ_IN_C = bool(gx_gmpy2_import(_GMPY2_VERSION, _GMPY2_MODULE))
 """True when grid coordinates become mpq objects in C (``grid_rational.h``)."""
 GMPY2_BUILT_VERSION = (<bytes>gx_gmpy2_built_version()).decode()
 """The gmpy2 whose C headers the kernel was built with ("" when none were found)."""
