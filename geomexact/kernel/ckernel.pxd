@@ -60,22 +60,77 @@ cdef inline gx_u128 _to_u128(object value) except *:
     return gx_u128_make(<uint64_t>(value >> 64), <uint64_t>(value & 0xFFFFFFFFFFFFFFFF))
 
 
-from cpython.object cimport PyObject_GenericSetAttr
+from cpython.object cimport PyObject_GenericSetAttr, PyTypeObject
+from cpython.ref cimport PyObject, Py_INCREF, Py_DECREF
 
 cdef extern from "Python.h":
     object _PyLong_FromByteArray(const unsigned char *bytes, size_t n, int little_endian,
                                  int is_signed)
     void PyObject_GC_UnTrack(void *op)
+    ctypedef PyObject *(*_allocfunc)(PyTypeObject *, Py_ssize_t)
+    ctypedef struct _AllocatingType "PyTypeObject":
+        _allocfunc tp_alloc
+
+cdef extern from "structmember.h":
+    ctypedef struct _MemberDef "PyMemberDef":
+        int type
+        Py_ssize_t offset
+    ctypedef struct _MemberDescr "PyMemberDescrObject":
+        _MemberDef *d_member
+    int _T_OBJECT_EX "T_OBJECT_EX"
 
 
-cdef inline object make_step(object step_class, str op, tuple args):
-    """``Step(op, args)`` without the attrs ``__init__`` (``args`` is a tuple already),
-    its slots set as attrs' frozen ``__init__`` sets them.  Neither the step nor its
-    arguments (a str, ints, rationals) can be in a cycle: the cyclic collector need not
-    scan a run's hundreds of thousands of them."""
-    step = step_class.__new__(step_class)
-    PyObject_GenericSetAttr(step, "op", op)
-    PyObject_GenericSetAttr(step, "args", args)
+ctypedef struct StepLayout:
+    Py_ssize_t op_offset    # where the slots ``op`` and ``args`` of a Step live
+    Py_ssize_t args_offset
+    bint direct             # False: set them through the attribute protocol
+
+
+cdef inline StepLayout step_layout(object step_class):
+    """Where a ``Step`` keeps its two slots: plain object members of its class (an attrs
+    slotted class); ``direct`` False when they are not that (the slow, general path)."""
+    cdef StepLayout layout
+    layout.direct = False
+    layout.op_offset = layout.args_offset = 0
+    op = step_class.__dict__.get("op")
+    args = step_class.__dict__.get("args")
+    import types
+    if type(op) is not types.MemberDescriptorType or type(args) is not types.MemberDescriptorType:
+        return layout
+    if ((<_MemberDescr *><PyObject *>op).d_member.type != _T_OBJECT_EX
+            or (<_MemberDescr *><PyObject *>args).d_member.type != _T_OBJECT_EX):
+        return layout
+    layout.op_offset = (<_MemberDescr *><PyObject *>op).d_member.offset
+    layout.args_offset = (<_MemberDescr *><PyObject *>args).d_member.offset
+    layout.direct = True
+    return layout
+
+
+cdef inline object make_step(object step_class, StepLayout *layout, str op, tuple args):
+    """``Step(op, args)`` without the attrs ``__init__`` (``args`` is a tuple already):
+    allocated by its type and its two slots written in place (``layout``), as attrs'
+    frozen ``__init__`` sets them.  Neither the step nor its arguments (a str, ints,
+    rationals) can be in a cycle: the cyclic collector need not scan a run's hundreds of
+    thousands of them."""
+    cdef PyObject *raw
+    cdef PyObject **slot
+    if layout.direct:
+        raw = (<_AllocatingType *><PyObject *>step_class).tp_alloc(
+            <PyTypeObject *><PyObject *>step_class, 0)
+        if raw == NULL:
+            raise MemoryError
+        step = <object>raw
+        Py_DECREF(step)  # <object> took a second reference
+        Py_INCREF(op)
+        slot = <PyObject **>((<char *>raw) + layout.op_offset)
+        slot[0] = <PyObject *>op
+        Py_INCREF(args)
+        slot = <PyObject **>((<char *>raw) + layout.args_offset)
+        slot[0] = <PyObject *>args
+    else:
+        step = step_class.__new__(step_class)
+        PyObject_GenericSetAttr(step, "op", op)
+        PyObject_GenericSetAttr(step, "args", args)
     PyObject_GC_UnTrack(<void *>args)
     PyObject_GC_UnTrack(<void *>step)
     return step

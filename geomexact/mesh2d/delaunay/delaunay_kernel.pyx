@@ -58,7 +58,9 @@ from geomexact.kernel import digest as _digest
 from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
+    StepLayout,
     make_step,
+    step_layout,
     GridPoint,
     Pair,
     PairStack,
@@ -87,6 +89,8 @@ from geomexact.kernel.ckernel cimport (
 )
 
 _init_constants()
+
+cdef StepLayout _STEP_LAYOUT = step_layout(Step)
 
 
 cdef struct Vertex:
@@ -1118,7 +1122,7 @@ cdef class Builder:
                 args = (record.a, record.b, record.c, record.d)
             else:
                 args = (record.a, record.b, record.c)
-            result.append(make_step(Step, op, args))
+            result.append(make_step(Step, &_STEP_LAYOUT, op, args))
         return result
 
     def digests(self):

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from geomexact import Mesh2, mesh_from_triangles, mpq
 from geomexact.kernel.points import Point2, point2
-from geomexact.mesh2d.refinement.api import Progress
+from geomexact.mesh2d.refinement.api import Progress, refine
 from geomexact.mesh2d.refinement.criteria import (
     AverageAreaFactor,
     CallableCriterion,
@@ -263,3 +263,25 @@ def test_exceptions_propagate() -> None:
 
     with pytest.raises(RuntimeError, match="stop"):
         run_compiled(square(), None, **options(MaxArea("0.01"), on_step=stop))
+
+
+def test_kernel_steps_are_plain_steps_left_to_reference_counting() -> None:
+    """The kernels build their steps in place (``make_step``): each is a ``Step`` equal to
+    the one the attrs ``__init__`` makes, hashable, picklable, and, with its arguments,
+    untracked by the cyclic collector."""
+    import gc
+    import pickle
+
+    from geomexact.mesh2d.delaunay.triangulation import triangulate
+    from geomexact.trace.step import Step
+
+    result = refine(square(), MaxArea("0.01"), method="centroid")
+    built = triangulate([point2(*xy) for xy in [(0, 0), (3, 0), (3, 2), (0, 2), (1, 1),
+                                                (2, 1)]]).trace.steps
+    for step in (*result.trace.steps, *built):
+        assert type(step) is Step
+        again = Step(step.op, step.args)
+        assert step == again and hash(step) == hash(again) and repr(step) == repr(again)
+        assert pickle.loads(pickle.dumps(step)) == again
+        assert not gc.is_tracked(step) and not gc.is_tracked(step.args)
+    assert {step.op for step in result.trace.steps} >= {"insert_in_quadrilateral", "flip"}

@@ -64,7 +64,9 @@ from geomexact.kernel.points import Point2, point2
 from geomexact.trace.step import Step
 
 from geomexact.kernel.ckernel cimport (
+    StepLayout,
     make_step,
+    step_layout,
     GridPoint,
     filtered_orient,
     Pair,
@@ -102,6 +104,8 @@ from geomexact.kernel.ckernel cimport (
 # with their exact fallback) live in geomexact/kernel/ckernel.h and ckernel.pxd, shared with
 # geomexact/mesh2d/delaunay/delaunay_kernel.pyx
 _init_constants()
+
+cdef StepLayout _STEP_LAYOUT = step_layout(Step)
 
 cdef extern from "grid_rational.h":
     int gx_gmpy2_import(const char *runtime_version, const char *module_path)
@@ -164,7 +168,7 @@ cdef struct Record:
     int64_t u
     int64_t v
     gx_u128 digest
-    int64_t extra      # insert_in_quadrilateral: index of (x, y) in Kernel.inserted
+    int64_t extra      # insert_in_quadrilateral: the new vertex
     int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral
 
 cdef object GRID_LIMIT = 1 << 60
@@ -290,7 +294,7 @@ cdef class Kernel:
     cdef double target_grid
     cdef object pysum, target2, target_scaled
     cdef public int64_t targets, searches, hops
-    cdef list points, pykeys, step_objects, inserted
+    cdef list points, pykeys, step_objects
     cdef dict segments, new_markers
     cdef object rate, contains, on_step, progress, scale, centroid
     # a MinAngle criterion (rated in C): its AngleThreshold, cos2 as a double (maybe nan)
@@ -401,7 +405,6 @@ cdef class Kernel:
         self.centroid = centroid
         # rounded_area_centroid computed on grid quadrilaterals in integers
         self.grid_centroids = centroid is rounded_area_centroid
-        self.inserted = []
         self.contains = region.contains
         self.rate = criterion.rate
         self.min_angle = threshold is not None
@@ -1296,9 +1299,10 @@ cdef class Kernel:
         """The Step of a record."""
         u, v = record.u, record.v
         if record.op == 2:
-            x, y = self.inserted[record.extra]
-            return make_step(Step, "insert_in_quadrilateral", (u, v, x, y))
-        return make_step(Step, "flip" if record.op else "bisect", (u, v))
+            point = <tuple>self.points[record.extra]
+            x, y = point[0], point[1]
+            return make_step(Step, &_STEP_LAYOUT, "insert_in_quadrilateral", (u, v, x, y))
+        return make_step(Step, &_STEP_LAYOUT, "flip" if record.op else "bisect", (u, v))
 
     cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
         cdef Record *record
@@ -1382,17 +1386,16 @@ cdef class Kernel:
         return 0
 
     cdef int64_t _join_in_quadrilateral(self, int64_t u, int64_t v, int64_t w, int64_t x,
-                                        int64_t n, object point) except -2:
+                                        int64_t n) except -2:
         """(u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n) for the new
-        vertex n at ``point``, recorded as ``insert_in_quadrilateral``; returns n."""
+        vertex n, recorded as ``insert_in_quadrilateral``; returns n."""
         self._remove_edge(u, v, w, x)
         self._triangle(u, x, n)
         self._triangle(x, v, n)
         self._triangle(v, w, n)
         self._triangle(w, u, n)
         self.triangles += 2
-        self.inserted.append((<tuple>point)[:2])
-        self._record(2, u, v, len(self.inserted) - 1)
+        self._record(2, u, v, n)
         return n
 
     cdef int64_t _centroid(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
@@ -1415,7 +1418,7 @@ cdef class Kernel:
             points = self.points
             point = self.centroid(points[u], points[v], points[w], points[x])
             n = self._add_point(point)
-        return self._join_in_quadrilateral(u, v, w, x, n, point)
+        return self._join_in_quadrilateral(u, v, w, x, n)
 
     cdef int _remove_edge(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
         """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
@@ -1737,7 +1740,7 @@ cdef class Kernel:
         if (self._orient(u, x, n) != 1 or self._orient(x, v, n) != 1
                 or self._orient(v, w, n) != 1 or self._orient(w, u, n) != 1):
             return -1  # the caller stops here: the added vertex is never used
-        return self._join_in_quadrilateral(u, v, w, x, n, point)
+        return self._join_in_quadrilateral(u, v, w, x, n)
 
     def replay(self, list steps, list digests, Py_ssize_t count):
         """Apply the first ``count`` of ``steps`` (``bisect``, ``flip`` and
