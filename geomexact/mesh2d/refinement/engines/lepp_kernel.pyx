@@ -341,6 +341,7 @@ cdef class Kernel:
         cdef Vertex *vertex
         cdef int64_t[:, ::1] triangles
         cdef int64_t g
+        cdef tuple fields
         self.points = start.point_list()
         self.n0 = self.nv = count
         self.cap_v = max(16, 2 * count)
@@ -366,12 +367,12 @@ cdef class Kernel:
         self.inv_unit = mpq(1, self.unit)
         outgoing = start.outgoing
         for i in range(count):
-            point = self.points[i]
+            fields = <tuple>self.points[i]  # a Point2 is a tuple: indexed as one
             vertex = &self.vs[i]
-            vertex.at.fx = point[2]
-            vertex.at.fy = point[3]
-            vertex.at.grid = self._on_grid(point[0], vertex.at.fx, &vertex.at.gx) and (
-                self._on_grid(point[1], vertex.at.fy, &vertex.at.gy))
+            vertex.at.fx = fields[2]
+            vertex.at.fy = fields[3]
+            vertex.at.grid = self._on_grid(fields[0], vertex.at.fx, &vertex.at.gx) and (
+                self._on_grid(fields[1], vertex.at.fy, &vertex.at.gy))
             vertex.key = _digest.vertex_key(i)
             hint = outgoing.get(i)
             vertex.hint = -1 if hint is None else hint
@@ -516,8 +517,8 @@ cdef class Kernel:
         cdef Vertex *vv = &self.vs[v]
         cdef int64_t sx = 0, sy = 0
         cdef int grid = -1
-        pu = <tuple>self.points[u]
-        pv = <tuple>self.points[v]
+        cdef tuple pu = <tuple>self.points[u]
+        cdef tuple pv = <tuple>self.points[v]
         mx = (pu[0] + pv[0]) / 2
         my = (pu[1] + pv[1]) / 2
         try:
@@ -1128,8 +1129,9 @@ cdef class Kernel:
             dy = <gx_i128>vv.at.gy - vu.at.gy
             return _from_i128(dx * dx + dy * dy) < bound
         points = self.points
-        pu, pv = points[u], points[v]
-        ex, ey = pv[0] - pu[0], pv[1] - pu[1]
+        pu, pv = <tuple>points[u], <tuple>points[v]
+        ex = (<tuple>pv)[0] - (<tuple>pu)[0]
+        ey = (<tuple>pv)[1] - (<tuple>pu)[1]
         return ex * ex + ey * ey < limit
 
     cdef bint _protected(self, int64_t u, int64_t v) except -1:
@@ -1300,7 +1302,7 @@ cdef class Kernel:
         u, v = record.u, record.v
         if record.op == 2:
             point = <tuple>self.points[record.extra]
-            x, y = point[0], point[1]
+            x, y = (<tuple>point)[0], (<tuple>point)[1]
             return make_step(Step, &_STEP_LAYOUT, "insert_in_quadrilateral", (u, v, x, y))
         return make_step(Step, &_STEP_LAYOUT, "flip" if record.op else "bisect", (u, v))
 
