@@ -36,7 +36,7 @@ from geomexact.kernel.array_filters import orient2d_signs, point_doubles
 from geomexact.kernel.numbers import Rational, parse_rational
 from geomexact.kernel.points import Point2, nearest_double
 from geomexact.kernel.predicates2d import orient2d
-from geomexact.mesh2d.snapshot import Attributes, Mesh2
+from geomexact.mesh2d.snapshot import Attributes, Mesh2, TableSource
 
 IntArray = npt.NDArray[np.int64]
 Doubles = tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]
@@ -316,16 +316,19 @@ def bulk_mesh2(
     same tables and digest, made in bulk; None when two triangles lie on the same side of
     an edge (the transient's error, which the caller then reproduces with it)."""
     count = len(triangles)
-    flat = triangles.ravel()
-    u = flat.tolist()
-    v = triangles[:, [1, 2, 0]].ravel().tolist()
-    w = triangles[:, [2, 0, 1]].ravel().tolist()
-    halfedges: immutables.Map[tuple[int, int], int] = immutables.Map(
-        zip(zip(u, v, strict=True), w, strict=True)
-    )
-    if len(halfedges) != 3 * count:
+    flat = np.ascontiguousarray(triangles, dtype=np.int64).ravel()
+    # the half-edges (a, b, c), (b, c, a), (c, a, b) of each triangle, in order
+    rows = np.column_stack((flat, triangles[:, [1, 2, 0]].ravel(),
+                            triangles[:, [2, 0, 1]].ravel())).astype(np.int64)
+    edge_keys = (rows[:, 0].astype(np.uint64) << np.uint64(32)) | rows[:, 1].astype(np.uint64)
+    if len(np.unique(edge_keys)) != 3 * count:
         return None
-    outgoing = dict(zip(u, v, strict=True))  # the last edge out of each vertex wins
+    # the outgoing hint of each vertex: its last edge out, as a dict filled in order keeps
+    hints = np.full(len(points), -1, dtype=np.int64)
+    reversed_u = rows[::-1, 0]
+    vertices_seen, last = np.unique(reversed_u, return_index=True)
+    hints[vertices_seen] = rows[::-1, 1][last]
+    u = flat.tolist()
     vertex_hash, combine, attribute_hash = _digest.vertex_hash, _digest.combine, (
         _digest.attribute_hash)
     total = 0
@@ -354,10 +357,15 @@ def bulk_mesh2(
         x = (keys[a] * m0 + keys[b] * m1 + keys[c] * m2) & mask
         x ^= x >> 61
         total += (x * final) & mask
+    rows.setflags(write=False)
+    hints.setflags(write=False)
+    # the persistent tables are built on first use, from these arrays (a command that
+    # refines and writes the mesh never needs them)
     return Mesh2(
-        vertices=immutables.Map(zip(range(len(points)), points, strict=True)),
-        halfedges=halfedges,
-        outgoing=immutables.Map(outgoing),
+        vertices=None,
+        halfedges=None,
+        outgoing=None,
+        source=TableSource(list(points), rows, hints),
         segments=immutables.Map(),
         vertex_markers=immutables.Map(markers),
         vertex_attributes=immutables.Map(attributes),

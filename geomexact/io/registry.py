@@ -662,6 +662,9 @@ def build_mesh(
         if rows is None:
             rows = np.array(oriented, dtype=np.int64).reshape(-1, 3)
         built = bulk_mesh2(points, rows, vertex_markers, vertex_attributes)
+    if built is not None and not segments:
+        # nothing to add: the bulk mesh, its tables still arrays until something needs them
+        return _noted_unused(built, points, used, table, notes)
     if built is not None:
         transient = built.transient()
     else:  # triangle attributes, or an overlap to report: one triangle at a time
@@ -701,6 +704,12 @@ def build_mesh(
             f"{counted(not_edges, 'segment')} {'is' if not_edges == 1 else 'are'} not an "
             "edge of the mesh (validate reports them)"
         )
+    return _noted_unused(mesh, points, used, table, notes)
+
+
+def _noted_unused(mesh: Mesh2, points: Sequence[Point2], used: set[int], table: TriangleTable,
+                  notes: list[str]) -> Mesh2:
+    """``mesh``, with a note when some of the ``points`` are in no triangle."""
     unused = len(points) - len(used)
     if unused and table.triangles:
         notes.append(

@@ -257,15 +257,15 @@ def test_reading_100k_triangles_takes_seconds(tmp_path: Path) -> None:
     assert elapsed < 15, elapsed
 
 
-def test_reading_10k_triangles_is_quick(tmp_path: Path) -> None:
-    """A 10k-triangle mesh, written and read back with its .neigh, in well under 2 s."""
+def test_10k_triangles_round_trip(tmp_path: Path) -> None:
+    """A 10k-triangle mesh, written and read back with its .neigh, is the same mesh (its
+    speed is measured by benchmarks/bench_io.py, not here)."""
     path = _grid_files(tmp_path, 72)
-    start = time.perf_counter()
     mesh = io.read(path)
     io.write(tmp_path / "out.ele", mesh)
     again = io.read(tmp_path / "out.ele")
-    assert again == mesh
-    assert time.perf_counter() - start < 5
+    assert again == mesh and again.digest == mesh.digest
+    assert mesh.triangle_count == 2 * 71 * 71
 
 
 def test_byte_order_mark_and_crlf(tmp_path: Path) -> None:

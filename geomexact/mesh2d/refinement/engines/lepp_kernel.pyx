@@ -355,7 +355,7 @@ cdef class Kernel:
                 or not self.pending.items):
             raise MemoryError
         slots = 64
-        while slots < 4 * len(start.halfedges):  # the start's half-edges, then room to grow
+        while slots < 12 * start.triangle_count:  # the start's half-edges, then room to grow
             slots *= 2
         if gx_map_alloc(&self.apex, slots) < 0 or gx_map_alloc(&self.segs, 64) < 0:
             raise MemoryError
@@ -365,7 +365,9 @@ cdef class Kernel:
         self.scale = mpq(2) ** (2 * self.F)
         self.unit = 2 ** int(self.F)
         self.inv_unit = mpq(1, self.unit)
-        outgoing = start.outgoing
+        if count:
+            _digest.vertex_key(count - 1)  # the cached keys reach the last vertex
+        keys = _digest._VERTEX_KEYS
         for i in range(count):
             fields = <tuple>self.points[i]  # a Point2 is a tuple: indexed as one
             vertex = &self.vs[i]
@@ -373,13 +375,9 @@ cdef class Kernel:
             vertex.at.fy = fields[3]
             vertex.at.grid = self._on_grid(fields[0], vertex.at.fx, &vertex.at.gx) and (
                 self._on_grid(fields[1], vertex.at.fy, &vertex.at.gy))
-            vertex.key = _digest.vertex_key(i)
-            hint = outgoing.get(i)
-            vertex.hint = -1 if hint is None else hint
+            vertex.key = keys[i]
             vertex.inside = -1
-        for key, w in start.halfedges.items():
-            if gx_map_set(&self.apex, gx_edge(key[0], key[1]), w) < 0:
-                raise MemoryError
+        self._read_start_tables(start)
         self.triangles = start.triangle_count
         self.segments = dict(start.segments.items())
         for key in self.segments:
@@ -464,6 +462,33 @@ cdef class Kernel:
             self.tracking = True
         for i in range(triangles.shape[0]):
             self._consider(triangles[i, 0], triangles[i, 1], triangles[i, 2])
+
+    cdef int _read_start_tables(self, start) except -1:
+        """The start's half-edges into the C table and its outgoing hints into the
+        vertices: from its arrays while its tables are not built (a kernel's result, a
+        bulk-read file: building them here would cost more than the run), else from its
+        tables."""
+        cdef Py_ssize_t i
+        cdef const int64_t[:, ::1] rows
+        cdef const int64_t[::1] hints
+        source = start.source
+        if source is not None:
+            rows = np.ascontiguousarray(source.halfedges, dtype=np.int64)
+            hints = np.ascontiguousarray(source.hints, dtype=np.int64)
+            for i in range(self.nv):
+                self.vs[i].hint = hints[i]
+            for i in range(rows.shape[0]):
+                if gx_map_set(&self.apex, gx_edge(rows[i, 0], rows[i, 1]), rows[i, 2]) < 0:
+                    raise MemoryError
+            return 0
+        outgoing = start.outgoing
+        for i in range(self.nv):
+            hint = outgoing.get(i)
+            self.vs[i].hint = -1 if hint is None else hint
+        for key, w in start.halfedges.items():
+            if gx_map_set(&self.apex, gx_edge((<tuple>key)[0], (<tuple>key)[1]), w) < 0:
+                raise MemoryError
+        return 0
 
     cdef int64_t[:, ::1] _start_triangles(self):
         """``sorted(start.iter_triangles())`` read off the kernel's half-edge table: a
