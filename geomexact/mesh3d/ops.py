@@ -44,7 +44,7 @@ _CW = Orientation.CLOCKWISE
 
 
 class FaceKind(enum.Enum):
-    """Joe's configurations of an interior face abc between tetrahedra abcd and abce
+    """Joe's configurations of an interior face abc between tetrahedra abcd and acbe
     (``specs/flips3d.md``): T* are transformable, N* are not."""
 
     T23 = "T23"  # de crosses the interior of abc: 2 tetrahedra -> 3

@@ -1,7 +1,8 @@
 """Polylla: polygonal meshes from terminal-edge regions (exact).
 
-Salinas-Fernández, Hitschfeld, Ojeda, Hitschfeld-Kahler, *Generation of unstructured
-polygonal meshes with Polylla*, Engineering with Computers 38 (2022) 4287–4305.
+S. Salinas-Fernández, N. Hitschfeld-Kahler, A. Ortiz-Bernardin, H. Si, *POLYLLA:
+polygonal meshing algorithm based on terminal-edge regions*, Engineering with Computers 38
+(2022), doi:10.1007/s00366-022-01643-4.
 
 Given a triangulation, Polylla merges all triangles whose longest-edge propagation path
 (Lepp, :mod:`geomexact.mesh2d.longest_edge`) ends at the same terminal edge into one polygon:
