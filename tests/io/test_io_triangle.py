@@ -4,7 +4,6 @@ multi-file writing rules."""
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
@@ -14,6 +13,7 @@ from hypothesis import given
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, point2
 from geomexact.errors import FormatError, OverwriteError
 from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh2d.validation import validate
 
 SQUARE = mesh_from_triangles(
     [(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)], [(0, 1, 5), (1, 2, 6)]
@@ -247,14 +247,12 @@ def _grid_files(directory: Path, side: int) -> Path:
 
 
 @pytest.mark.slow
-def test_reading_100k_triangles_takes_seconds(tmp_path: Path) -> None:
-    """A 100k-triangle .node/.ele reads in a few seconds (generous bound for CI)."""
+def test_reading_100k_triangles(tmp_path: Path) -> None:
+    """A 100k-triangle .node/.ele reads whole (its speed: benchmarks/bench_io.py)."""
     path = _grid_files(tmp_path, 225)
-    start = time.perf_counter()
     mesh = io.read(path)
-    elapsed = time.perf_counter() - start
     assert isinstance(mesh, Mesh2) and mesh.triangle_count == 2 * 224 * 224
-    assert elapsed < 15, elapsed
+    assert validate(mesh) == []
 
 
 def test_10k_triangles_round_trip(tmp_path: Path) -> None:
