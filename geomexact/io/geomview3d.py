@@ -45,7 +45,7 @@ def _mesh3(value: Value, name: str) -> Mesh3:
 def _vertex_rows(mesh: Mesh3, number: NumberText) -> list[str]:
     return [
         f"{number(p.x)} {number(p.y)} {number(p.z)}"
-        for p in (mesh.vertices[index] for index in range(mesh.vertex_count))
+        for p in mesh.point_list()
     ]
 
 

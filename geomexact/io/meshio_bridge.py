@@ -283,8 +283,7 @@ def _doubles3(path: Path, mesh: Mesh3) -> tuple[list[tuple[float, float, float]]
     """The vertices of a :class:`Mesh3` as doubles and how many coordinates that rounds."""
     rows: list[tuple[float, float, float]] = []
     rounded = 0
-    for index in range(mesh.vertex_count):
-        point = mesh.vertices[index]
+    for index, point in enumerate(mesh.point_list()):
         try:
             x, y, z = to_float(point.x), to_float(point.y), to_float(point.z)
         except OverflowError:
@@ -306,8 +305,7 @@ def _doubles(path: Path, mesh: Mesh2) -> tuple[list[tuple[float, float, float]],
     FormatError naming the first vertex beyond the range of a double."""
     rows: list[tuple[float, float, float]] = []
     rounded = 0
-    for index in range(mesh.vertex_count):
-        point = mesh.vertices[index]
+    for index, point in enumerate(mesh.point_list()):
         try:
             x, y = to_float(point.x), to_float(point.y)
         except OverflowError:

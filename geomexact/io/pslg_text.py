@@ -327,8 +327,7 @@ def _mesh_records(mesh: Mesh2, number: Callable[[Rational], str], out: list[str]
         [mesh.vertex_attributes.get(index) for index in range(count)], "vertex"
     )
     show_markers = bool(mesh.vertex_markers) or vertex_count > 0
-    for index in range(count):
-        point = mesh.vertices[index]
+    for index, point in enumerate(mesh.point_list()):
         fields = ["v", number(point.x), number(point.y)]
         if show_markers:
             fields.append(str(mesh.vertex_markers.get(index, 0)))

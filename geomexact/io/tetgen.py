@@ -451,10 +451,10 @@ def tetgen_texts(mesh: Mesh3, number: NumberText) -> tuple[str, str, str]:
     itself writes (``specs/formats/tetgen.md``): 0-based; tetrahedra canonical, each
     positive in our orient3d (``det[b - a, c - a, d - a] > 0``); boundary faces inward
     (counter-clockwise seen from inside the mesh: each outward face reversed), marker 1."""
-    count = mesh.vertex_count
-    vertices = mesh.vertices
+    points = mesh.point_list()
+    count = len(points)
     coordinates = number.texts(
-        coordinate for index in range(count) for coordinate in vertices[index][:3]
+        coordinate for point in points for coordinate in point[:3]
     )
     node = f"{count} 3 0 0\n" + rows_text(
         "%s %s %s %s\n", count, numbered(coordinates, 3)

@@ -13,7 +13,7 @@ Model, digest and invariants: ``specs/mesh3d.md``.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from itertools import chain
 from typing import TYPE_CHECKING, Any, TypeAlias
 
@@ -80,6 +80,34 @@ def undirected(u: int, v: int) -> Edge:
 
 
 @attrs.frozen(slots=True, eq=False)
+class FaceSource:
+    """The content of a :class:`Mesh3`'s tables as arrays, as a bulk builder leaves them:
+    a snapshot given one builds its persistent tables from it on first use.
+
+    - ``points``: the :class:`Point3` of each vertex id 0..n-1;
+    - ``faces``: (F x 3) int64 canonical oriented faces, one per row;
+    - ``apexes``: (F,) int64, the apex of each face.
+
+    Each vertex's hint is the first face (in row order) that contains it.
+    """
+
+    points: Sequence[Point3]
+    faces: Any
+    apexes: Any
+
+    def tables(self) -> tuple[immutables.Map[int, Point3], immutables.Map[Face, int],
+                              immutables.Map[int, Face]]:
+        """(vertices, faces, hints) as persistent maps."""
+        face_list = list(map(tuple, self.faces.tolist()))
+        table: immutables.Map[Face, int] = immutables.Map(
+            zip(face_list, self.apexes.tolist(), strict=True))
+        used, first = np.unique(self.faces.ravel(), return_index=True)
+        hints: immutables.Map[int, Face] = immutables.Map(
+            zip(used.tolist(), (face_list[i] for i in (first // 3).tolist()), strict=True))
+        return immutables.Map(enumerate(self.points)), table, hints
+
+
+@attrs.frozen(slots=True, eq=False)
 class Mesh3:
     """An immutable tetrahedral mesh with exact rational vertices.
 
@@ -94,18 +122,64 @@ class Mesh3:
     the tetrahedra's cell hashes, as in 2D).
     """
 
-    vertices: immutables.Map[int, Point3]
-    faces: immutables.Map[Face, int]
-    hints: immutables.Map[int, Face]
+    # the three tables are built on first use when the snapshot was given a ``source`` (a
+    # bulk builder's arrays) instead: an octree run that only writes its mesh never pays
+    # for the million-entry face map
+    _vertices: immutables.Map[int, Point3] | None
+    _faces: immutables.Map[Face, int] | None
+    _hints: immutables.Map[int, Face] | None
     tetrahedron_count: int
     digest: int
     _derived: dict[str, Any] = attrs.field(factory=dict, eq=False, repr=False, kw_only=True)
     """Read-only arrays derived from the tables, kept once computed (or given by a bulk
     builder): never content, never compared."""
+    _source: FaceSource | None = attrs.field(default=None, kw_only=True, repr=False)
+    """The arrays the tables are built from while they are None (:class:`FaceSource`)."""
+
+    # -- tables -------------------------------------------------------------------------
+    @property
+    def vertices(self) -> immutables.Map[int, Point3]:
+        """id -> :class:`Point3`."""
+        table = self._vertices
+        return self._built()[0] if table is None else table
+
+    @property
+    def faces(self) -> immutables.Map[Face, int]:
+        """Canonical oriented face -> apex."""
+        table = self._faces
+        return self._built()[1] if table is None else table
+
+    @property
+    def hints(self) -> immutables.Map[int, Face]:
+        """Vertex -> a face key containing it."""
+        table = self._hints
+        return self._built()[2] if table is None else table
+
+    @property
+    def source(self) -> FaceSource | None:
+        """The arrays this snapshot's tables come from, while they are not built yet."""
+        return self._source if self._faces is None else None
+
+    def _built(self) -> tuple[immutables.Map[int, Point3], immutables.Map[Face, int],
+                              immutables.Map[int, Face]]:
+        """Build the tables from the source (once) and keep them."""
+        source = self._source
+        assert source is not None, "a snapshot without tables has a source"
+        built = source.tables()
+        vertices = built[0] if self._vertices is None else self._vertices
+        faces = built[1] if self._faces is None else self._faces
+        hints = built[2] if self._hints is None else self._hints
+        object.__setattr__(self, "_vertices", vertices)
+        object.__setattr__(self, "_hints", hints)
+        object.__setattr__(self, "_faces", faces)
+        object.__setattr__(self, "_source", None)  # the arrays are not kept beside them
+        return vertices, faces, hints
 
     # -- sizes and identity -------------------------------------------------------------
     @property
     def vertex_count(self) -> int:
+        if self._vertices is None and self._source is not None:
+            return len(self._source.points)
         return len(self.vertices)
 
     @property
@@ -121,6 +195,14 @@ class Mesh3:
     # -- queries ------------------------------------------------------------------------
     def point(self, vertex: int) -> Point3:
         return self.vertices[vertex]
+
+    def point_list(self) -> list[Point3]:
+        """The points of vertices 0..n-1, in id order (from the source's arrays while the
+        tables are not built)."""
+        if self._vertices is None and self._source is not None:
+            return list(self._source.points)
+        vertices = self.vertices
+        return [vertices[index] for index in range(len(vertices))]
 
     def apex(self, a: int, b: int, c: int) -> int | None:
         """The apex of the tetrahedron on the positive side of the oriented face abc."""
@@ -162,6 +244,10 @@ class Mesh3:
         cached = self._derived.get("faces")
         if cached is not None:
             return cached  # type: ignore[no-any-return]
+        source = self.source
+        if source is not None:
+            self._derived["faces"] = (source.faces, source.apexes)
+            return source.faces, source.apexes
         count = len(self.faces)
         faces = np.fromiter(chain.from_iterable(self.faces.keys()), dtype=np.int64,
                             count=3 * count).reshape(-1, 3)

@@ -20,6 +20,7 @@ from geomexact.kernel.predicates3d import orient3d
 from geomexact.mesh3d.snapshot import (
     MAX_VERTICES,
     Face,
+    FaceSource,
     Mesh3,
     Tetrahedron,
     canonical_face,
@@ -305,16 +306,11 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
     faces = _rotate_to_smallest(np.concatenate(
         [np.stack(f, axis=1) for f in ((a, b, c), (a, c, d), (a, d, b), (b, d, c))]))
     apexes = np.concatenate((d, b, c, a))
-    face_list = list(map(tuple, faces.tolist()))
-    table = dict(zip(face_list, apexes.tolist(), strict=True))
-    if len(table) != len(face_list):
-        raise PreconditionError("mesh3_from_positive_arrays",
-                                "two tetrahedra are on the same side of a face")
-    # each vertex's hint: the first face (in table order) that contains it
-    vertices_of_faces = faces.ravel()
-    used, first = np.unique(vertices_of_faces, return_index=True)
-    hints = dict(zip(used.tolist(), (face_list[i] for i in (first // 3).tolist()),
-                     strict=True))
+    if len(faces) > 1:
+        ordered = faces[np.lexsort(faces.T[::-1])]
+        if bool(np.any((ordered[1:] == ordered[:-1]).all(axis=1))):
+            raise PreconditionError("mesh3_from_positive_arrays",
+                                    "two tetrahedra are on the same side of a face")
     total = 0
     for vertex, point in enumerate(points):
         total = _digest.combine(total, _digest.vertex_hash(vertex, point[:3]))
@@ -323,13 +319,15 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
     canonical = canonical[np.lexsort(canonical.T[::-1])]
     for derived in (faces, apexes, canonical):
         derived.setflags(write=False)
+    # the persistent tables are built from these arrays on first use (FaceSource)
     return Mesh3(
-        vertices=immutables.Map(enumerate(points)),
-        faces=immutables.Map(table),
-        hints=immutables.Map(hints),
+        vertices=None,
+        faces=None,
+        hints=None,
         tetrahedron_count=int(array.shape[0]),
         digest=total,
         derived={"tetrahedra": canonical, "faces": (faces, apexes)},
+        source=FaceSource(list(points), faces, apexes),
     )
 
 

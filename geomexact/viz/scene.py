@@ -186,7 +186,7 @@ def exact_text(
 
 
 def _mesh_points(mesh: Mesh2) -> list[Point2]:
-    return [mesh.vertices[vertex] for vertex in range(mesh.vertex_count)]
+    return mesh.point_list()
 
 
 def mesh_scene(mesh: Mesh2, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
