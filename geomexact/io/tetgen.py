@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.errors import FormatError, PreconditionError, UnsupportedValueError
 from geomexact.io.bulk import (
     NotPlain,
     PlainLines,
@@ -43,12 +43,13 @@ from geomexact.io.registry import (
     with_extension,
     write_files,
 )
+from geomexact.kernel.array_filters import orient3d_signs, point_doubles3
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3, point3
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates3d import orient3d
 from geomexact.mesh3d.snapshot import Mesh3, empty_mesh3, tetrahedron_faces
-from geomexact.mesh3d.transient import Transient3
+from geomexact.mesh3d.transient import Transient3, mesh3_from_positive_arrays
 
 NODE, ELE, FACE = ".node", ".ele", ".face"
 
@@ -201,6 +202,7 @@ def _bulk_tetrahedra(
     numbers: list[int] = []
     positive = negative = False
     first = 0
+    doubles = point_doubles3(points)
     try:
         with PlainLines(path) as lines:
             header, _ = lines.next_line()
@@ -234,14 +236,15 @@ def _bulk_tetrahedra(
                 ):
                     return None
                 chunk = list(zip(*(corners[:, k].tolist() for k in range(4)), strict=True))
-                for a, b, c, d in chunk:
-                    orientation = orient3d(points[a], points[b], points[c], points[d])
-                    if orientation == Orientation.COUNTERCLOCKWISE:
-                        positive = True
-                    elif orientation == Orientation.CLOCKWISE:
-                        negative = True
-                    else:
-                        return None
+                # the certified filter on all of them at once, orient3d on the undecided
+                signs = orient3d_signs(*doubles, *corners.T)
+                for row in np.flatnonzero(signs == 0).tolist():
+                    a, b, c, d = chunk[row]
+                    signs[row] = int(orient3d(points[a], points[b], points[c], points[d]))
+                if bool(np.any(signs == 0)):
+                    return None
+                positive = positive or bool(np.any(signs > 0))
+                negative = negative or bool(np.any(signs < 0))
                 if positive and negative:
                     return None
                 tetrahedra.extend(chunk)
@@ -400,6 +403,10 @@ def _build(
 ) -> Mesh3:
     """The mesh of positive ``tetrahedra``; two on the same side of a face (an overlap) is
     a FormatError at the later one's line naming the earlier one's."""
+    try:  # in bulk; an overlap is then found again one tetrahedron at a time, to name it
+        return mesh3_from_positive_arrays(points, np.array(tetrahedra, dtype=np.int64))
+    except PreconditionError:
+        pass
     transient = Transient3(empty_mesh3())
     for point in points:
         transient.add_vertex(point)

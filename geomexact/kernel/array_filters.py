@@ -1,11 +1,12 @@
-"""The certified float filters on numpy arrays: many plane predicates at once.
+"""The certified float filters on numpy arrays: many predicates at once.
 
-Each function takes the points' doubles as two float64 arrays ``fx``, ``fy`` (indexed by
-point id, see :func:`point_doubles`) and index arrays naming the points of each query, and
-returns an int8 array of signs: the exact sign where the float filter certifies it, **0
-where it does not** (an exact zero is never certified either): the caller decides those
-entries exactly, with the scalar predicate.  The filters repeat the scalar ones of
-:mod:`~geomexact.kernel.predicates2d` and :mod:`~geomexact.kernel.comparisons` operation
+Each function takes the points' doubles as two float64 arrays ``fx``, ``fy`` (three with
+``fz`` in space; indexed by point id, see :func:`point_doubles`) and index arrays naming
+the points of each query, and returns an int8 array of signs: the exact sign where the
+float filter certifies it, **0 where it does not** (an exact zero is never certified
+either): the caller decides those entries exactly, with the scalar predicate.  The filters
+repeat the scalar ones of :mod:`~geomexact.kernel.predicates2d`,
+:mod:`~geomexact.kernel.predicates3d` and :mod:`~geomexact.kernel.comparisons` operation
 for operation, in the same order and with the same constants
 (:mod:`~geomexact.kernel.filter_bounds`), so they certify exactly the queries the scalar
 filter certifies, with the same sign; NaN (a coordinate beyond the double range) and
@@ -26,10 +27,13 @@ from geomexact.kernel.filter_bounds import (
     LENGTHS_K,
     ORIENT2D_C,
     ORIENT2D_K,
+    ORIENT3D_C,
+    ORIENT3D_K,
 )
-from geomexact.kernel.points import Point2
+from geomexact.kernel.points import Point2, Point3
 
-__all__ = ["incircle_signs", "orient2d_signs", "point_doubles", "squared_length_signs"]
+__all__ = ["incircle_signs", "orient2d_signs", "orient3d_signs", "point_doubles",
+           "point_doubles3", "squared_length_signs"]
 
 FloatArray = npt.NDArray[np.float64]
 SignArray = npt.NDArray[np.int8]
@@ -45,6 +49,14 @@ def point_doubles(points: Sequence[Point2]) -> tuple[FloatArray, FloatArray]:
     return fx, fy
 
 
+def point_doubles3(points: Sequence[Point3]) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The doubles ``fx``, ``fy`` and ``fz`` of ``points`` (``nan`` beyond the double
+    range), as three arrays indexed like ``points``."""
+    count = len(points)
+    return tuple(  # type: ignore[return-value]
+        np.fromiter((p[k] for p in points), dtype=np.float64, count=count) for k in (3, 4, 5))
+
+
 def _doubles(fx: FloatArray, fy: FloatArray, index: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
     """The doubles of the points ``index`` names (an array of point ids)."""
     ids = np.asarray(index, dtype=np.intp)
@@ -53,6 +65,33 @@ def _doubles(fx: FloatArray, fy: FloatArray, index: npt.ArrayLike) -> tuple[Floa
 
 def _signs(positive: BoolArray, negative: BoolArray) -> SignArray:
     return positive.astype(np.int8) - negative.astype(np.int8)
+
+
+@np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified
+def orient3d_signs(
+    fx: FloatArray, fy: FloatArray, fz: FloatArray, a: npt.ArrayLike, b: npt.ArrayLike,
+    c: npt.ArrayLike, d: npt.ArrayLike,
+) -> SignArray:
+    """``orient3d(p[a[i]], p[b[i]], p[c[i]], p[d[i]])`` of
+    :mod:`~geomexact.kernel.predicates3d` for every i as 1 (positive) or -1 where its float
+    filter certifies it, else 0 (undecided).  ``fx``, ``fy``, ``fz``: the points' doubles
+    (:func:`point_doubles3`).  O(n)."""
+    ids = [np.asarray(index, dtype=np.intp) for index in (a, b, c, d)]
+    dx, dy, dz = fx[ids[3]], fy[ids[3]], fz[ids[3]]
+    adx, ady, adz = fx[ids[0]] - dx, fy[ids[0]] - dy, fz[ids[0]] - dz
+    bdx, bdy, bdz = fx[ids[1]] - dx, fy[ids[1]] - dy, fz[ids[1]] - dz
+    cdx, cdy, cdz = fx[ids[2]] - dx, fy[ids[2]] - dy, fz[ids[2]] - dz
+    det = (
+        adz * (cdx * bdy - bdx * cdy)
+        + bdz * (adx * cdy - cdx * ady)
+        + cdz * (bdx * ady - adx * bdy)
+    )
+    t = (
+        np.abs(adx) + np.abs(ady) + np.abs(adz) + np.abs(bdx) + np.abs(bdy) + np.abs(bdz)
+        + np.abs(cdx) + np.abs(cdy) + np.abs(cdz) + ORIENT3D_K
+    )  # fmt: skip
+    bound = t * t * (np.abs(dx) + np.abs(dy) + np.abs(dz) + t) * ORIENT3D_C
+    return _signs(det > bound, -det > bound)
 
 
 @np.errstate(over="ignore", invalid="ignore")  # inf and NaN are never certified

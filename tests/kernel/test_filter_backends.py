@@ -40,7 +40,9 @@ from geomexact.kernel.angles import AngleThreshold, compare_angle
 from geomexact.kernel.array_filters import (
     incircle_signs,
     orient2d_signs,
+    orient3d_signs,
     point_doubles,
+    point_doubles3,
     squared_length_signs,
 )
 from geomexact.kernel.comparisons import compare_areas, compare_squared_lengths
@@ -290,6 +292,19 @@ def _numpy(signs: Callable[..., Any]) -> Callable[[Sequence[Query]], Decisions]:
     return decide
 
 
+def _numpy3(signs: Callable[..., Any]) -> Callable[[Sequence[Query]], Decisions]:
+    """:func:`_numpy` for points in space (``fx``, ``fy``, ``fz``)."""
+
+    def decide(queries: Sequence[Query]) -> Decisions:
+        points = list(dict.fromkeys(p for query in queries for p in query))
+        ids = {p: i for i, p in enumerate(points)}
+        columns = [np.array([ids[q[k]] for q in queries], dtype=np.intp)
+                   for k in range(len(queries[0]))]
+        return [int(s) or None for s in signs(*point_doubles3(points), *columns).tolist()]
+
+    return decide
+
+
 def _c(name: str) -> Callable[[Sequence[Query]], Decisions]:
     """A C filter of ckernel.h on the points' doubles."""
 
@@ -367,6 +382,11 @@ COPIES = [
     Case("c", "lengths2d", LENGTHS2, 4, _c("squared_lengths_filter"), exact_lengths),
     Case("c", "dot", RIGHT_ANGLES, 3, _c("dot_filter"), exact_dot),
 ]
+# copies in space: checked against the Python filter and the exact sign (the bound-crossing
+# test below moves points in the plane)
+SPACE = [
+    Case("numpy", "orient3d", QUADRUPLES3, 4, _numpy3(orient3d_signs), orient3d_exact, 50),
+]
 GRID = [
     Case("c-grid", "orient2d", TRIPLES2, 3, _c_grid("grid_orient2d"), orient2d_exact),
     Case("c-grid", "incircle", QUADRUPLES2, 4, _c_grid("grid_incircle"), incircle_exact),
@@ -404,13 +424,13 @@ def _same_decisions_as_python(case: Case, points: tuple[Any, ...]) -> None:
     assert case.decide(queries) == expected, (case.id, queries)
 
 
-@pytest.mark.parametrize("case", PYTHON + COPIES + GRID, ids=lambda case: case.id)
+@pytest.mark.parametrize("case", PYTHON + COPIES + SPACE + GRID, ids=lambda case: case.id)
 def test_a_certified_sign_is_the_exact_sign(case: Case) -> None:
     _needs_backend(case)
     _run(case, _certified_signs_are_exact)
 
 
-@pytest.mark.parametrize("case", COPIES, ids=lambda case: case.id)
+@pytest.mark.parametrize("case", COPIES + SPACE, ids=lambda case: case.id)
 def test_every_copy_certifies_what_the_python_filter_certifies(case: Case) -> None:
     _needs_backend(case)
     _run(case, _same_decisions_as_python)
