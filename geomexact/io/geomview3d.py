@@ -73,7 +73,8 @@ def vect_text(mesh: Mesh3, number: NumberText) -> str:
     (2), the colour count of each (1 for the first, 0 after: inherited), the vertices,
     the colour."""
     edges = mesh.edges()
-    points = [mesh.vertices[v] for edge in edges for v in edge]
+    every = mesh.point_list()
+    points = [every[v] for edge in edges for v in edge]
     rows = [
         "VECT",
         f"{len(edges)} {2 * len(edges)} {1 if edges else 0}",

@@ -278,20 +278,29 @@ class Mesh3:
                 outward[np.lexsort(outward.T[::-1])].tolist()]
 
     def interior_faces(self) -> list[Face]:
-        """Each face shared by two tetrahedra once, as its sorted vertex triple, sorted."""
-        faces = self.faces
-        return sorted(
-            tuple(sorted(face))  # type: ignore[misc]
-            for face in faces
-            if opposite_face(face) in faces and face < opposite_face(face)
-        )
+        """Each face shared by two tetrahedra once, as its sorted vertex triple, sorted
+        (one vectorised pass over the face table)."""
+        faces, _ = self._face_arrays()
+        if not len(faces):
+            return []
+        opposite = faces[:, [0, 2, 1]]  # still canonical: a stays the smallest
+        known = faces[np.lexsort(faces.T[::-1])]
+        at = _row_search(known, opposite)
+        found = (at < len(known)) & (known[np.minimum(at, len(known) - 1)] == opposite).all(
+            axis=1)
+        # each shared face once: the orientation whose second vertex is the smaller
+        shared = np.sort(faces[found & (faces[:, 1] < faces[:, 2])], axis=1)
+        return [tuple(row) for row in  # type: ignore[misc]
+                shared[np.lexsort(shared.T[::-1])].tolist()]
 
     def edges(self) -> list[Edge]:
-        """Every edge (min, max), sorted."""
-        found: set[Edge] = set()
-        for a, b, c in self.faces:
-            found.update((undirected(a, b), undirected(b, c), undirected(c, a)))
-        return sorted(found)
+        """Every edge (min, max), sorted (one vectorised pass over the face table)."""
+        faces, _ = self._face_arrays()
+        if not len(faces):
+            return []
+        pairs = np.concatenate((faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]))
+        pairs = np.unique(np.sort(pairs, axis=1), axis=0)
+        return [tuple(row) for row in pairs.tolist()]  # type: ignore[misc]
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Mesh3):

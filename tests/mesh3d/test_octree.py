@@ -319,7 +319,7 @@ def test_bulk_build_equals_the_checked_build() -> None:
        improve=st.booleans())
 def test_vectorised_tables_equal_their_definitions(pattern, template, improve) -> None:
     from geomexact.mesh3d.cuboid.partition import partition_cuboid
-    from geomexact.mesh3d.snapshot import canonical_tetrahedron, opposite_face
+    from geomexact.mesh3d.snapshot import canonical_tetrahedron, opposite_face, undirected
 
     mesh = partition_cuboid(pattern, box_of_extents(1, 2, 4), template=template,
                             improve=improve).mesh
@@ -328,6 +328,10 @@ def test_vectorised_tables_equal_their_definitions(pattern, template, improve) -
                                        for (a, b, c), d in faces.items() if d < min(a, b, c))
     assert mesh.boundary_faces() == sorted(opposite_face(f) for f in faces
                                            if opposite_face(f) not in faces)
+    assert mesh.interior_faces() == sorted(tuple(sorted(f)) for f in faces
+                                           if opposite_face(f) in faces and f < opposite_face(f))
+    assert mesh.edges() == sorted({undirected(u, v) for a, b, c in faces
+                                   for u, v in ((a, b), (b, c), (c, a))})
 
 
 def test_insert_cuboid_checks_its_box() -> None:
