@@ -54,14 +54,6 @@ GX_UNUSED static int gx_map_alloc(gx_map *m, uint64_t slots) {
 GX_UNUSED static void gx_map_free(gx_map *m) {
     free(m->keys); free(m->values); m->keys = NULL; m->values = NULL;
 }
-/* a copy of ``from`` in ``to`` (a map not yet allocated); -1 when out of memory */
-GX_UNUSED static int gx_map_copy(gx_map *to, const gx_map *from) {
-    if (gx_map_alloc(to, from->mask + 1) < 0) return -1;
-    memcpy(to->keys, from->keys, (from->mask + 1) * sizeof(uint64_t));
-    memcpy(to->values, from->values, (from->mask + 1) * sizeof(int64_t));
-    to->count = from->count;
-    return 0;
-}
 static inline uint64_t gx_map_slot(const gx_map *m, uint64_t key) {
     uint64_t i = gx_mix(key) & m->mask;
     while (m->keys[i] != GX_EMPTY && m->keys[i] != key) i = (i + 1) & m->mask;
@@ -71,16 +63,29 @@ static inline int64_t gx_map_get(const gx_map *m, uint64_t key, int64_t missing)
     uint64_t i = gx_map_slot(m, key);
     return m->keys[i] == key ? m->values[i] : missing;
 }
+/* every entry of ``from`` into ``to`` (allocated, empty, large enough) */
+static inline void gx_map_rehash(gx_map *to, const gx_map *from) {
+    for (uint64_t i = 0; i <= from->mask; i++) {
+        if (from->keys[i] != GX_EMPTY) {
+            uint64_t j = gx_map_slot(to, from->keys[i]);
+            to->keys[j] = from->keys[i]; to->values[j] = from->values[i]; to->count++;
+        }
+    }
+}
 GX_UNUSED static int gx_map_grow(gx_map *m) {
     gx_map old = *m;
     if (gx_map_alloc(m, 2 * (old.mask + 1)) < 0) { *m = old; return -1; }
-    for (uint64_t i = 0; i <= old.mask; i++) {
-        if (old.keys[i] != GX_EMPTY) {
-            uint64_t j = gx_map_slot(m, old.keys[i]);
-            m->keys[j] = old.keys[i]; m->values[j] = old.values[i]; m->count++;
-        }
-    }
+    gx_map_rehash(m, &old);
     gx_map_free(&old);
+    return 0;
+}
+/* a copy of ``from`` in ``to`` (a map not yet allocated), in the smallest table that keeps
+   its load at most 1/2 (``from`` may have been sized to grow); -1 when out of memory */
+GX_UNUSED static int gx_map_copy(gx_map *to, const gx_map *from) {
+    uint64_t slots = 64;
+    while (slots < 2 * (from->count + 1)) slots *= 2;
+    if (gx_map_alloc(to, slots) < 0) return -1;
+    gx_map_rehash(to, from);
     return 0;
 }
 static inline int gx_map_set(gx_map *m, uint64_t key, int64_t value) {

@@ -86,23 +86,24 @@ ctypedef struct StepLayout:
     bint direct             # False: set them through the attribute protocol
 
 
+cdef inline Py_ssize_t _object_member_offset(object descriptor) except -2:
+    """Where a slot described by ``descriptor`` lives in its instances, or -1 when it is
+    not a plain object member (a ``member_descriptor`` of type ``T_OBJECT_EX``)."""
+    import types
+
+    if type(descriptor) is not types.MemberDescriptorType:
+        return -1
+    cdef _MemberDef *member = (<_MemberDescr *><PyObject *>descriptor).d_member
+    return member.offset if member.type == _T_OBJECT_EX else -1
+
+
 cdef inline StepLayout step_layout(object step_class):
     """Where a ``Step`` keeps its two slots: plain object members of its class (an attrs
     slotted class); ``direct`` False when they are not that (the slow, general path)."""
     cdef StepLayout layout
-    layout.direct = False
-    layout.op_offset = layout.args_offset = 0
-    op = step_class.__dict__.get("op")
-    args = step_class.__dict__.get("args")
-    import types
-    if type(op) is not types.MemberDescriptorType or type(args) is not types.MemberDescriptorType:
-        return layout
-    if ((<_MemberDescr *><PyObject *>op).d_member.type != _T_OBJECT_EX
-            or (<_MemberDescr *><PyObject *>args).d_member.type != _T_OBJECT_EX):
-        return layout
-    layout.op_offset = (<_MemberDescr *><PyObject *>op).d_member.offset
-    layout.args_offset = (<_MemberDescr *><PyObject *>args).d_member.offset
-    layout.direct = True
+    layout.op_offset = _object_member_offset(step_class.__dict__.get("op"))
+    layout.args_offset = _object_member_offset(step_class.__dict__.get("args"))
+    layout.direct = layout.op_offset >= 0 and layout.args_offset >= 0
     return layout
 
 
