@@ -8,6 +8,7 @@ import email.parser
 import email.policy
 import ipaddress
 import re
+import signal
 import socket
 import sys
 import threading
@@ -359,14 +360,26 @@ def make_server(options: ServeOptions, *, log: TextIO | None = None) -> MeshServ
                       f"{options.host}:{options.port}") from error
 
 
+def _terminate(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt
+
+
 def serve(options: ServeOptions, *, announce: Callable[[str], None] | None = None) -> None:
-    """Run the server until interrupted (``KeyboardInterrupt`` propagates after the
-    server has closed)."""
+    """Run the server until interrupted: Ctrl-C (SIGINT) or, from the main thread, SIGTERM
+    (``KeyboardInterrupt`` propagates after the server has closed).  A SIGINT that the
+    process was started with ignored (a background job of a non-interactive shell, as
+    POSIX shells start ``command &``) stays ignored, as for any program; SIGTERM still
+    stops the server."""
     server = make_server(options)
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _terminate)
     if announce is not None:
         announce(server.url)
     try:
         server.serve_forever(poll_interval=0.25)
     finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
         server.server_close()
 

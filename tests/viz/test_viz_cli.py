@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import urllib.request
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -165,13 +166,31 @@ def test_serve_missing_directory(capsys: pytest.CaptureFixture[str], tmp_path: P
     assert code == 2 and "not a directory" in err
 
 
-def test_serve_runs_until_interrupted(tmp_path: Path) -> None:
+def _sigint_as(disposition: signal.Handlers) -> Callable[[], None]:
+    """A ``preexec_fn`` that starts the child with SIGINT set to ``disposition``: a test
+    run as a background job of a non-interactive shell (``scripts/test &``) inherits
+    SIGINT ignored, which a terminal's Ctrl-C never meets."""
+    def start() -> None:
+        signal.signal(signal.SIGINT, disposition)
+
+    return start
+
+
+@pytest.mark.parametrize(("stop", "sigint"), [
+    (signal.SIGINT, signal.SIG_DFL),
+    (signal.SIGTERM, signal.SIG_DFL),
+    (signal.SIGTERM, signal.SIG_IGN),
+], ids=["ctrl-c", "sigterm", "sigterm-in-background"])
+def test_serve_runs_until_interrupted(tmp_path: Path, stop: signal.Signals,
+                                      sigint: signal.Handlers) -> None:
     """`geomexact serve DIR --port 0` prints its address, answers there, and stops with
-    exit code 0 on Ctrl-C (SIGINT)."""
+    exit code 0 on Ctrl-C (SIGINT) or SIGTERM, also when started as a background job
+    (SIGINT ignored)."""
     (tmp_path / "square.off").write_text(SQUARE_OFF)
     process = subprocess.Popen(
         [sys.executable, "-m", "geomexact", "serve", str(tmp_path), "--port", "0"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        preexec_fn=_sigint_as(sigint),
     )
     try:
         assert process.stdout is not None
@@ -182,7 +201,7 @@ def test_serve_runs_until_interrupted(tmp_path: Path) -> None:
             assert "square.off" in response.read().decode("utf-8")
         with urllib.request.urlopen(url + "view?file=square.off", timeout=60) as response:
             assert response.status == 200
-        process.send_signal(signal.SIGINT)
+        process.send_signal(stop)
         assert process.wait(timeout=30) == 0
     finally:
         if process.poll() is None:
