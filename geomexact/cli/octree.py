@@ -5,6 +5,7 @@ exactly, report its statistics and write it."""
 from __future__ import annotations
 
 import argparse
+import math
 import resource
 import time
 from pathlib import Path
@@ -95,6 +96,12 @@ def _stages(args: argparse.Namespace) -> dict[str, Any]:
             "final": final}
 
 
+def _json_number(value: Any) -> Any:
+    """``value``, or None for a float beyond the doubles (a radius-edge ratio of a box
+    thinner than 2^-1024 of its length along one axis), as JavaScript's JSON writes it."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
 def _box(args: argparse.Namespace) -> Any:
     from geomexact.mesh3d.cuboid.boxes import Box
 
@@ -173,7 +180,7 @@ def _octree(args: argparse.Namespace) -> int:
         "written": [str(path) for path in written],
     }
     if args.json:
-        print_json(report)
+        print_json({key: _json_number(value) for key, value in report.items()})
     else:
         title = (f"octree mesh of {domain.describe()} (grid {'x'.join(map(str, args.grid))}, "
                  f"final {args.final})")

@@ -1,15 +1,27 @@
 """Display measures of tetrahedra, vectorised (numpy, doubles): dihedral angles and the
 radius-edge ratio.  They are for reports and pictures only; exact questions (orientation,
-volume, Delaunay) are answered by ``measures`` and ``validation``."""
+volume, Delaunay) are answered by ``measures`` and ``validation``.  On a lattice with
+exact steps (the octree's), :func:`lattice_quality` gives them at any scale."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from typing import Any
 
 import attrs
+import gmpy2
 import numpy as np
 
-__all__ = ["QualitySummary", "dihedral_angles", "quality_summary", "radius_edge_ratios"]
+from geomexact.kernel.numbers import Rational
+
+__all__ = [
+    "QualitySummary",
+    "dihedral_angles",
+    "lattice_quality",
+    "quality_summary",
+    "radius_edge_ratios",
+]
 
 _EDGES = ((0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2), (1, 2, 0, 3), (1, 3, 0, 2), (2, 3, 0, 1))
 """Each edge (i, j) of a tetrahedron with its two other vertices (k, l)."""
@@ -64,3 +76,97 @@ def quality_summary(points: Any, tetrahedra: Any) -> QualitySummary:
     angles = dihedral_angles(points, tetrahedra)
     ratios = radius_edge_ratios(points, tetrahedra)
     return QualitySummary(float(angles.min()), float(angles.max()), float(ratios.max()))
+
+
+DOUBLES_FROM = gmpy2.mpq(1, 2**100)
+""":func:`lattice_quality` goes through doubles when every step divided by the largest is
+at least this: the norms are products of up to eight coordinates, each non-zero one then
+between 2^-100 and 2^62 in magnitude, so they stay within the normal doubles."""
+
+
+def lattice_quality(
+    vertices: Any, units: Sequence[Rational], tetrahedra: Any
+) -> QualitySummary:
+    """:func:`quality_summary` of ``tetrahedra`` on the integer lattice points ``vertices``
+    (V x 3) whose step along axis a is the exact ``units[a]`` (> 0): right at any scale.
+
+    The figures depend only on the steps' ratios, so the steps are first divided exactly by
+    the largest: a cube of side 1e300 or 1e-300 gives the unit cube's figures bit for bit.
+    When the ratios are at least :data:`DOUBLES_FROM` the doubles measure every
+    tetrahedron; beyond (a box far thinner along one axis than another) each distinct
+    shape is measured in exact integers and rounded once (:func:`exact_shape_quality`).
+    Never NaN; a radius-edge ratio beyond the doubles is ``inf``."""
+    if len(tetrahedra) == 0:
+        return QualitySummary(None, None, None)
+    largest = max(gmpy2.mpq(unit) for unit in units)
+    steps = [gmpy2.mpq(unit) / largest for unit in units]
+    if min(steps) >= DOUBLES_FROM:
+        scale = np.array([float(step) for step in steps])  # exact: 1 or within 2^-100..1
+        return quality_summary(np.asarray(vertices, dtype=np.float64) * scale, tetrahedra)
+    denominator = math.lcm(*(int(step.denominator) for step in steps))
+    integer_steps = [int(step * denominator) for step in steps]
+    lowest, highest, worst = math.inf, -math.inf, 0.0
+    for shape in _lattice_shapes(vertices, tetrahedra).tolist():
+        b, c, d = (tuple(shape[3 * k + a] * integer_steps[a] for a in range(3)) for k in range(3))
+        angles, ratio = exact_shape_quality(b, c, d)
+        lowest, highest = min(lowest, *angles), max(highest, *angles)
+        worst = max(worst, ratio)
+    return QualitySummary(lowest, highest, worst)
+
+
+def _lattice_shapes(vertices: Any, tetrahedra: Any) -> Any:
+    """The distinct shapes of the tetrahedra (rows b - a, c - a, d - a of each, divided by
+    their gcd: the figures do not change under a uniform scaling), as int64 rows of 9."""
+    points = np.asarray(vertices, dtype=np.int64)[np.asarray(tetrahedra, dtype=np.int64)]
+    shapes = (points[:, 1:] - points[:, :1]).reshape(-1, 9)
+    divisor = np.gcd.reduce(shapes, axis=1)
+    return np.unique(shapes // np.maximum(divisor, 1)[:, None], axis=0)
+
+
+Vector = tuple[int, int, int]
+
+
+def _sub(p: Vector, q: Vector) -> Vector:
+    return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
+
+
+def _cross(p: Vector, q: Vector) -> Vector:
+    return (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])
+
+
+def _dot(p: Vector, q: Vector) -> int:
+    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
+
+
+def _root_of_quotient(numerator: int, denominator: int) -> float:
+    """sqrt(numerator / denominator) (positive integers) to within an ulp or two; ``inf``
+    beyond the doubles."""
+    try:
+        return math.sqrt(numerator / denominator)  # int / int: correctly rounded
+    except OverflowError:  # the square is beyond the doubles: the integer root is close
+        try:
+            return float(math.isqrt(numerator // denominator))
+        except OverflowError:
+            return math.inf
+
+
+def exact_shape_quality(b: Vector, c: Vector, d: Vector) -> tuple[list[float], float]:
+    """The six dihedral angles (degrees, :data:`_EDGES` order) and the radius-edge ratio of
+    the non-flat tetrahedron (0, b, c, d) of integer corners: each cosine squared and the
+    ratio squared are exact quotients, rounded once to a double, then rooted."""
+    p = ((0, 0, 0), b, c, d)
+    angles = []
+    for i, j, k, m in _EDGES:
+        edge = _sub(p[j], p[i])
+        first = _cross(edge, _sub(p[k], p[i]))
+        second = _cross(edge, _sub(p[m], p[i]))
+        dot = _dot(first, second)
+        root = math.sqrt(dot * dot / (_dot(first, first) * _dot(second, second)))
+        angles.append(math.degrees(math.acos(-root if dot < 0 else root)))
+    terms = (_cross(c, d), _cross(d, b), _cross(b, c))
+    weights = (_dot(b, b), _dot(c, c), _dot(d, d))
+    centre = tuple(sum(w * t[a] for w, t in zip(weights, terms, strict=True)) for a in range(3))
+    volume = 2 * _dot(b, terms[0])
+    shortest = min(_dot(edge, edge) for edge in (_sub(p[j], p[i]) for i, j, _, _ in _EDGES))
+    ratio = _root_of_quotient(sum(x * x for x in centre), volume * volume * shortest)
+    return angles, ratio

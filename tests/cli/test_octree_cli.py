@@ -5,6 +5,7 @@ file, and the refusals of bad input (exit 2, nothing written).  Levels stay <= 3
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -181,6 +182,41 @@ def test_output_reads_back(tmp_path: Path, capsys: pytest.CaptureFixture[str],
     code, checked = run_json(capsys, "check", str(out), "--json")
     assert code == 0 and checked["valid"] is True
     assert checked["tetrahedra"] == report["tetrahedra"]
+
+
+@pytest.mark.parametrize(("side", "radius", "name"), [("1e300", "3e299", "big.ele"),
+                                                     ("1e-300", "3e-301", "small.vtu")])
+def test_extreme_boxes_have_the_unit_boxs_figures(tmp_path: Path,
+                                                  capsys: pytest.CaptureFixture[str],
+                                                  side: str, radius: str, name: str) -> None:
+    """Issue 27 item 5: the doubles overflowed at 1e300 (NaN angles, and ``--json`` died
+    after writing the mesh); the figures are scale-free, so they are the unit box's."""
+    unit = octree(capsys, "--level", "2", "--refine-sphere", "0", "0", "0", "0.3")
+    out = tmp_path / name
+    report = octree(capsys, "--box", "0", "0", "0", side, side, side, "--level", "2",
+                    "--refine-sphere", "0", "0", "0", radius, "-o", str(out))
+    assert report["written"] and out.exists()
+    assert report["tetrahedra"] == unit["tetrahedra"] and unit["leaves"] > 8
+    for key in ("min_dihedral", "max_dihedral", "max_radius_edge"):
+        assert isinstance(report[key], float) and math.isfinite(report[key])
+        assert report[key] == unit[key], key
+    assert main(["octree", "--box", "0", "0", "0", side, side, side, "--level", "1",
+                 "--no-progress"]) == 0
+    assert "nan" not in capsys.readouterr().out
+
+
+def test_a_box_thinner_than_the_doubles_reports_no_nan(capsys: pytest.CaptureFixture[str]
+                                                       ) -> None:
+    """1e300 long and 1e-300 thick: the angles round to 0 and 180 degrees, and the
+    radius-edge ratio (about 1e600) is beyond the doubles: null in JSON, inf in the
+    table."""
+    box = ("--box", "0", "0", "0", "1e300", "1", "1e-300", "--level", "1")
+    report = octree(capsys, *box)
+    assert report["min_dihedral"] == 0.0 and report["max_dihedral"] == 180.0
+    assert report["max_radius_edge"] is None
+    assert main(["octree", *box, "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "nan" not in out and "inf" in out
 
 
 def test_off_output_is_the_geomview_off_of_tetrahedra(

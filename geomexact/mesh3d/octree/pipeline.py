@@ -8,7 +8,6 @@ from collections.abc import Callable
 from typing import Any
 
 import attrs
-import numpy as np
 
 from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.collector import collector_paused
@@ -24,7 +23,7 @@ from geomexact.mesh3d.octree.stages import (
     LeafMesh,
 )
 from geomexact.mesh3d.octree.tree import Octree
-from geomexact.mesh3d.quality import QualitySummary, quality_summary
+from geomexact.mesh3d.quality import QualitySummary, lattice_quality
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.record import Trace
 
@@ -69,10 +68,11 @@ class OctreeMesh:
         return self.conformity.volume(unit)
 
     def quality(self) -> QualitySummary:
-        """Dihedral angles and radius-edge ratio (doubles, for display)."""
+        """Dihedral angles and radius-edge ratio (doubles, for display), right for any
+        box (:func:`~geomexact.mesh3d.quality.lattice_quality`)."""
         lattice = self.leaf_mesh.lattice
-        scale = np.array([float(lattice.unit(axis)) for axis in range(3)])
-        return quality_summary(lattice.vertices * scale, self.leaf_mesh.tetrahedra)
+        units = [lattice.unit(axis) for axis in range(3)]
+        return lattice_quality(lattice.vertices, units, self.leaf_mesh.tetrahedra)
 
 
 def generate(
