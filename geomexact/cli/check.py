@@ -27,7 +27,10 @@ from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.validation import validate
 from geomexact.mesh3d.snapshot import Mesh3
-from geomexact.mesh3d.validation import validate3
+from geomexact.mesh3d.validation import isolated_vertices3, validate3
+
+_LISTED = 10
+"""At most this many vertices are named in a note."""
 
 
 def command_check(args: argparse.Namespace) -> int:
@@ -43,6 +46,12 @@ def command_check(args: argparse.Namespace) -> int:
         digest = f", digest {value.digest_text}"
     elif isinstance(value, Mesh3):
         violations = validate3(value)
+        isolated = isolated_vertices3(value)
+        if args.strict:
+            violations.extend(isolated)
+        elif isolated:  # legal, but worth a word
+            warnings.append(isolated_note([v.elements[0] for v in isolated], "tetrahedron"))
+            print_warning(f"{args.file}: {warnings[-1]}")
         counts = {"vertices": value.vertex_count, "tetrahedra": value.tetrahedron_count}
         digest = f", digest {value.digest_text}"
     elif isinstance(value, PolygonMesh):
@@ -84,6 +93,16 @@ def command_check(args: argparse.Namespace) -> int:
     return EXIT_FAILED if violations else EXIT_OK
 
 
+def isolated_note(vertices: list[int], cell: str) -> str:
+    """The note on vertices in no ``cell``: how many, and the first :data:`_LISTED`."""
+    shown = ", ".join(map(str, vertices[:_LISTED]))
+    more = f" and {len(vertices) - _LISTED} more" if len(vertices) > _LISTED else ""
+    if len(vertices) == 1:
+        return f"vertex {shown} is in no {cell} (unused; --strict makes it a violation)"
+    return (f"{len(vertices)} vertices are in no {cell}: {shown}{more} (unused; --strict "
+            "makes them violations)")
+
+
 def pslg_violations(loaded: Loaded, *, strict: bool) -> tuple[list[Violation], list[str]]:
     """What ``triangulate`` would refuse in the PSLG of ``loaded`` (crossing segments,
     segments through vertices, duplicate or collinear points: violations naming each
@@ -118,12 +137,14 @@ def add_parser(commands: Subcommands) -> None:
     check = add_command(commands, "check", command_check,
                         "validate a triangle or polygon mesh, or a PSLG (exit 1 on "
                         "violations)")
-    check.add_argument("file", metavar="FILE", help="triangle or polygon mesh or PSLG file")
+    check.add_argument("file", metavar="FILE",
+                       help="triangle, tetrahedral or polygon mesh or PSLG file")
     add_format_option(check)
     check.add_argument(
         "--strict",
         action="store_true",
-        help="also report vertices in no triangle or polygon (isolated-vertex), and a "
+        help="also report vertices in no triangle, tetrahedron or polygon "
+             "(isolated-vertex; for a tetrahedral mesh, a warning without it), and a "
              "PSLG's hole or region seeds that lie in no triangle (ignored-seed)",
     )
     add_json_flag(check)

@@ -6,6 +6,9 @@
 from __future__ import annotations
 
 from collections import Counter
+from typing import Any
+
+import numpy as np
 
 from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.numbers import Rational
@@ -19,7 +22,7 @@ from geomexact.mesh3d.snapshot import (
     tetrahedron_faces,
 )
 
-__all__ = ["check3", "validate3"]
+__all__ = ["check3", "isolated_vertices3", "manifold_violations", "validate3"]
 
 
 def validate3(
@@ -31,10 +34,13 @@ def validate3(
     four faces agree (``adjacency``); every tetrahedron is positively oriented (exact
     orient3d); the tetrahedron count; each vertex hint is a face containing it; the
     boundary is closed (every edge of a boundary face is shared by exactly two boundary
-    faces, in opposite directions); with ``volume``, the volumes sum exactly to it; with
+    faces, in opposite directions); the mesh is a 3-manifold with boundary around every
+    edge and vertex (:func:`manifold_violations`; the boundary check then skips the
+    edges it reports); with ``volume``, the volumes sum exactly to it; with
     ``check_digest``, the digest equals a recomputation.  An interior face is shared by
     exactly two tetrahedra with opposite orientations by construction of the face table
-    (one entry per oriented face), which ``adjacency`` makes sure of."""
+    (one entry per oriented face), which ``adjacency`` makes sure of.  Vertices in no
+    tetrahedron are legal (:func:`isolated_vertices3` lists them)."""
     found: list[Violation] = []
     count = mesh.vertex_count
     if sorted(mesh.vertices) != list(range(count)):
@@ -67,7 +73,10 @@ def validate3(
         if hint not in faces or vertex not in hint:
             found.append(Violation("hint", f"vertex {vertex}: hint {hint} is not a face "
                                    "containing it", (vertex,)))
-    found.extend(_open_boundary(mesh))
+    manifold = manifold_violations(tetrahedra)
+    found.extend(manifold)
+    pinched = {v.elements for v in manifold if v.kind == "non-manifold-edge"}
+    found.extend(_open_boundary(mesh, pinched))
     if volume is not None and total_volume(mesh) != volume:
         found.append(Violation("volume", f"the tetrahedra's volumes sum to "
                                f"{total_volume(mesh)}, not {volume}"))
@@ -76,8 +85,9 @@ def validate3(
     return found
 
 
-def _open_boundary(mesh: Mesh3) -> list[Violation]:
-    """Boundary edges not shared by exactly two boundary faces in opposite directions."""
+def _open_boundary(mesh: Mesh3, skipped: set[tuple[int, ...]]) -> list[Violation]:
+    """Boundary edges not shared by exactly two boundary faces in opposite directions,
+    but those ``skipped`` (as sorted pairs: non-manifold edges, reported as such)."""
     directed: Counter[tuple[int, int]] = Counter()
     faces = mesh.faces
     for face in faces:
@@ -86,11 +96,159 @@ def _open_boundary(mesh: Mesh3) -> list[Violation]:
             directed.update(((a, b), (b, c), (c, a)))
     problems = []
     for (u, v), times in sorted(directed.items()):
+        if (min(u, v), max(u, v)) in skipped:
+            continue
         if times != 1 or directed.get((v, u), 0) != 1:
             problems.append(Violation(
                 "boundary", f"boundary edge ({u}, {v}) is used {times} time(s), its reverse "
                 f"{directed.get((v, u), 0)}: the boundary is not a closed surface", (u, v)))
     return problems
+
+
+_EDGE_CORNERS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
+"""The six edges of a tetrahedron, by the positions of their corners."""
+
+_EDGE_OF = np.full((4, 4), -1, dtype=np.int64)
+"""Corner positions (i, j) -> the index of their edge in :data:`_EDGE_CORNERS`."""
+_EDGE_OF[tuple(np.array(_EDGE_CORNERS).T)] = np.arange(6)
+_EDGE_OF[tuple(np.array(_EDGE_CORNERS).T[::-1])] = np.arange(6)
+
+_OPPOSITE = np.array([[k for k in range(4) if k != i] for i in range(4)], dtype=np.int64)
+"""Row i: the corner positions of the face opposite corner i."""
+
+
+def manifold_violations(tetrahedra: list[tuple[int, int, int, int]]) -> list[Violation]:
+    """Where the tetrahedra (each listed once, consistent with a face table: no oriented
+    face twice) are not a 3-manifold with boundary, decided combinatorially.
+
+    ``non-manifold-edge``: the tetrahedra around an edge are not one fan, i.e. not
+    connected through their faces containing the edge (two tetrahedra sharing only an
+    edge).  ``non-manifold-vertex``, at a vertex on no such edge: the tetrahedra around it
+    are not connected through their faces containing it (two tetrahedra sharing only a
+    vertex), or they are but do not make a ball: the surface of their faces opposite it
+    (its link) is then connected and orientable, and it is a sphere (interior vertex) or a
+    disk (boundary vertex) exactly when its Euler characteristic is 2 or 1.  Edges first,
+    then vertices, each in increasing order.  O(n log n), on arrays."""
+    if not tetrahedra:
+        return []
+    tets = np.array(tetrahedra, dtype=np.int64)
+    count = len(tets)
+    pairs, face_counts = _shared_faces(tets)
+    first, second = pairs[:, 0], pairs[:, 1]  # rows of the 4T (tetrahedron, corner) table
+    t1, t2 = first // 4, second // 4
+    in_first = _OPPOSITE[first % 4]  # (P x 3) positions of the shared face's corners in t1
+    vertices = tets[t1[:, None], in_first]
+    in_second = np.argmax(tets[t2][:, None, :] == vertices[:, :, None], axis=2)
+    corner_label = _components(
+        4 * count, (4 * t1[:, None] + in_first).ravel(), (4 * t2[:, None] + in_second).ravel()
+    )
+    edge_links = [(_EDGE_OF[in_first[:, i], in_first[:, j]], _EDGE_OF[in_second[:, i],
+                                                                      in_second[:, j]])
+                  for i, j in ((0, 1), (0, 2), (1, 2))]
+    edge_label = _components(
+        6 * count,
+        np.concatenate([6 * t1 + e1 for e1, _ in edge_links]),
+        np.concatenate([6 * t2 + e2 for _, e2 in edge_links]),
+    )
+    found: list[Violation] = []
+    corners = np.array(_EDGE_CORNERS, dtype=np.int64)
+    ends = np.sort(tets[:, corners].reshape(-1, 2), axis=1)  # row 6 t + j: edge j of t
+    edge_keys, fans = _groups(ends, edge_label)
+    pinched = edge_keys[fans > 1]
+    for (u, v), k in zip(pinched.tolist(), fans[fans > 1].tolist(), strict=True):
+        found.append(Violation(
+            "non-manifold-edge", f"the tetrahedra around edge ({u}, {v}) form {k} fans that "
+            "share no face: they meet only along the edge", (u, v)))
+    vertex_keys, groups = _groups(tets.reshape(-1, 1), corner_label)
+    on_pinched = np.zeros(int(tets.max()) + 1, dtype=bool)
+    on_pinched[pinched.ravel()] = True
+    euler, closed = _link_euler(tets, ends, face_counts)
+    for vertex, k in zip(vertex_keys[:, 0].tolist(), groups.tolist(), strict=True):
+        if on_pinched[vertex]:
+            continue
+        if k > 1:
+            found.append(Violation(
+                "non-manifold-vertex", f"the tetrahedra around vertex {vertex} form {k} "
+                "groups that share no face: they meet only at the vertex", (vertex,)))
+        elif euler[vertex] != (2 if closed[vertex] else 1):
+            shape = "sphere" if closed[vertex] else "disk"
+            found.append(Violation(
+                "non-manifold-vertex", f"the tetrahedra around vertex {vertex} do not form a "
+                f"ball: their faces opposite it make a surface of Euler characteristic "
+                f"{euler[vertex]}, not a {shape}", (vertex,)))
+    return found
+
+
+def _shared_faces(tets: Any) -> tuple[Any, Any]:
+    """The interior faces as pairs of rows of the (tetrahedron, opposite corner) table
+    (row 4 t + i: the face of t opposite its corner i), and every face as its sorted
+    vertices with its number of tetrahedra (1 or 2)."""
+    keys = np.sort(tets[:, _OPPOSITE].reshape(-1, 3), axis=1)
+    order = np.lexsort(keys.T[::-1])
+    ordered = keys[order]
+    same = np.all(ordered[1:] == ordered[:-1], axis=1)
+    pairs = np.stack([order[:-1][same], order[1:][same]], axis=1)
+    return pairs, _counted_rows(ordered)
+
+
+def _counted_rows(ordered: Any) -> tuple[Any, Any]:
+    """The distinct rows of the lexicographically sorted ``ordered`` and how many times
+    each occurs (``np.unique(axis=0)``, without its slow sort of whole rows)."""
+    starts = np.flatnonzero(np.concatenate(
+        [[True], np.any(ordered[1:] != ordered[:-1], axis=1)]))
+    return ordered[starts], np.diff(np.append(starts, len(ordered)))
+
+
+def _distinct_rows(rows: Any) -> tuple[Any, Any]:
+    """:func:`_counted_rows` of ``rows`` in any order."""
+    return _counted_rows(rows[np.lexsort(rows.T[::-1])])
+
+
+def _components(size: int, first: Any, second: Any) -> Any:
+    """The smallest node of each node's connected component, in the graph of ``size``
+    nodes with the edges ``first[k]``-``second[k]`` (hooking roots, then path doubling)."""
+    parent = np.arange(size)
+    while True:
+        a, b = parent[first], parent[second]
+        differ = a != b
+        if not differ.any():
+            return parent
+        np.minimum.at(parent, np.maximum(a, b)[differ], np.minimum(a, b)[differ])
+        while True:
+            grand = parent[parent]
+            if np.array_equal(grand, parent):
+                break
+            parent = grand
+
+
+def _groups(keys: Any, labels: Any) -> tuple[Any, Any]:
+    """The distinct rows of ``keys``, sorted, and how many distinct ``labels`` each has."""
+    distinct, _ = _distinct_rows(np.column_stack([keys, labels]))
+    return _counted_rows(distinct[:, :-1])
+
+
+def _link_euler(tets: Any, ends: Any, faces: tuple[Any, Any]) -> tuple[Any, Any]:
+    """Per vertex: the Euler characteristic of its link (edges - faces + tetrahedra
+    through it: the link's vertices, edges and triangles) and whether the link is closed
+    (no boundary face through the vertex)."""
+    size = int(tets.max()) + 1
+    keys, counts = faces
+    edges, _ = _distinct_rows(ends)
+    euler = (np.bincount(edges.ravel(), minlength=size)
+             - np.bincount(keys.ravel(), minlength=size)
+             + np.bincount(tets.ravel(), minlength=size))
+    on_boundary = np.bincount(keys[counts == 1].ravel(), minlength=size)
+    return euler, on_boundary == 0
+
+
+def isolated_vertices3(mesh: Mesh3) -> list[Violation]:
+    """An ``isolated-vertex`` violation for each vertex in no tetrahedron (legal in a
+    :class:`Mesh3`, reported by ``geomexact check --strict``), in id order.  O(n)."""
+    used = np.zeros(mesh.vertex_count, dtype=bool)
+    tets = mesh.tetrahedron_array()
+    used[tets.ravel()] = True
+    return [Violation("isolated-vertex", f"vertex {vertex} is in no tetrahedron", (vertex,))
+            for vertex in np.flatnonzero(~used).tolist()]
 
 
 def check3(mesh: Mesh3, *, volume: Rational | int | None = None) -> Mesh3:

@@ -85,7 +85,42 @@ def test_check_reports_violations(tmp_path: Path, capsys: pytest.CaptureFixture[
     (tmp_path / "bow.ele").write_text("2 4 0\n0 0 1 2 3\n1 0 3 4 5\n")
     code = main(["check", str(tmp_path / "bow.ele"), "--json"])
     report = json.loads(capsys.readouterr().out)
-    assert code == 1 and report["valid"] is False and report["violations"]
+    assert code == 1 and report["valid"] is False
+    assert [(v["kind"], v["elements"]) for v in report["violations"]] == [
+        ("non-manifold-edge", [0, 3])]
+
+
+def test_check_reports_a_non_manifold_vertex(tmp_path: Path,
+                                             capsys: pytest.CaptureFixture[str]) -> None:
+    """Two tetrahedra sharing only a vertex (issue 27, item 4: was "valid")."""
+    (tmp_path / "tie.node").write_text(
+        "7 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 -1 0 0\n5 0 -1 0\n6 0 0 -1\n"
+    )
+    (tmp_path / "tie.ele").write_text("2 4 0\n0 0 1 2 3\n1 0 4 6 5\n")
+    assert main(["check", str(tmp_path / "tie.ele")]) == 1
+    out = capsys.readouterr().out
+    assert "invalid, 1 violation(s)" in out
+    assert "non-manifold-vertex: the tetrahedra around vertex 0 form 2 groups" in out
+
+
+def test_check_notes_unused_vertices(tmp_path: Path,
+                                     capsys: pytest.CaptureFixture[str]) -> None:
+    """A vertex in no tetrahedron: valid with a warning; a violation with --strict."""
+    (tmp_path / "u.node").write_text(
+        "5 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n4 5 5 5\n")
+    (tmp_path / "u.ele").write_text("1 4 0\n0 0 1 2 3\n")
+    path = str(tmp_path / "u.ele")
+    assert main(["check", path, "--json"]) == 0
+    captured = capsys.readouterr()
+    report = json.loads(captured.out)
+    assert report["valid"] is True and report["violations"] == []
+    assert report["warnings"] == [
+        "vertex 4 is in no tetrahedron (unused; --strict makes it a violation)"]
+    assert f"warning: {path}: vertex 4 is in no tetrahedron" in captured.err
+    assert main(["check", path, "--strict", "--json"]) == 1
+    report = json.loads(capsys.readouterr().out)
+    assert [(v["kind"], v["elements"]) for v in report["violations"]] == [
+        ("isolated-vertex", [4])]
 
 
 def test_named_formats(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
