@@ -6,9 +6,9 @@ its ``.ele`` file (or its stem); the ``.node`` beside it is required; a ``.face`
 it, when present, must list exactly the boundary faces (any order, any orientation).
 Indices are 0- or 1-based as the first vertex number says.  Tetrahedra must all have the
 same orientation: all positive (our ``orient3d``) are kept, all negative are reversed
-with a note, a file mixing them is refused naming one line of each.  Vertex attributes
-and markers and tetrahedron attributes are not part of a :class:`Mesh3`: they are dropped
-with a note.
+with a note, a file mixing them is refused naming one tetrahedron of each (the rule of
+:mod:`geomexact.io.tetrahedron_orientation`).  Vertex attributes and markers and
+tetrahedron attributes are not part of a :class:`Mesh3`: they are dropped with a note.
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ from geomexact.io.registry import (
     with_extension,
     write_files,
 )
+from geomexact.io.tetrahedron_orientation import flat_problem, mixed_problem, negative_note
 from geomexact.kernel.array_filters import orient3d_signs, point_doubles3
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3, point3
@@ -255,10 +256,7 @@ def _bulk_tetrahedra(
         return None
     if negative:
         tetrahedra = [(b, a, c, d) for a, b, c, d in tetrahedra]
-        notes.append(
-            f"all {counted(len(tetrahedra), 'tetrahedron', 'tetrahedra')} were negatively "
-            "oriented; reversed them"
-        )
+        notes.append(negative_note(len(tetrahedra)))
     if attributes:
         notes.append(f"dropped the {counted(attributes, 'attribute')} of each tetrahedron")
     return tetrahedra, numbers
@@ -297,8 +295,8 @@ def _read_tetrahedra(
     fields = 5 + attributes
     tetrahedra: list[tuple[int, int, int, int]] = []
     numbers: list[int] = []
-    positive: int | None = None  # the line of the first of each orientation
-    negative: int | None = None
+    positive: str | None = None  # the first tetrahedron of each orientation, described
+    negative: str | None = None
     first = 0
     for index in range(count):
         number, tokens = lines.next_item(
@@ -321,28 +319,23 @@ def _read_tetrahedra(
             parse_number(name, number, token, f"attribute of tetrahedron {label}")
         if len({a, b, c, d}) < 4:
             raise FormatError(name, number, f"tetrahedron {label} repeats a vertex")
+        shown = ", ".join(str(vertex + base) for vertex in (a, b, c, d))
+        described = f"tetrahedron {label} ({shown}) on line {number}"
         orientation = orient3d(points[a], points[b], points[c], points[d])
         if orientation == Orientation.COLLINEAR:
-            raise FormatError(name, number, f"tetrahedron {label} is flat (zero volume)")
+            raise FormatError(name, number, flat_problem(described))
         if orientation == Orientation.COUNTERCLOCKWISE:
-            positive = number if positive is None else positive
+            positive = described if positive is None else positive
         else:
-            negative = number if negative is None else negative
+            negative = described if negative is None else negative
         if positive is not None and negative is not None:
-            raise FormatError(
-                name, number,
-                f"tetrahedra of both orientations: line {positive} is positive, line "
-                f"{negative} negative (orient3d, specs/predicates.md)",
-            )
+            raise FormatError(name, number, mixed_problem(negative, positive))
         tetrahedra.append((a, b, c, d))
         numbers.append(number)
     lines.expect_end(f"the {counted(count, 'tetrahedron', 'tetrahedra')}")
     if negative is not None:
         tetrahedra = [(b, a, c, d) for a, b, c, d in tetrahedra]
-        notes.append(
-            f"all {counted(count, 'tetrahedron', 'tetrahedra')} were negatively oriented; "
-            "reversed them"
-        )
+        notes.append(negative_note(count))
     if attributes:
         notes.append(f"dropped the {counted(attributes, 'attribute')} of each tetrahedron")
     return tetrahedra, numbers

@@ -156,7 +156,9 @@ def test_mixed_orientation_names_both_lines(tmp_path: Path) -> None:
     a, b, c, d = tets[3]
     tets[3] = (b, a, c, d)
     error = _error(tmp_path, CUBE_NODE, _ele(tets))
-    assert error.line == 5 and "line 2 is positive, line 5 negative" in str(error)
+    assert error.line == 5 and ("tetrahedron 3 (7, 2, 6, 4) on line 5 is negatively "
+                                "oriented but tetrahedron 0 (0, 1, 2, 4) on line 2 is "
+                                "positive") in str(error)
 
 
 def test_missing_node(tmp_path: Path) -> None:
