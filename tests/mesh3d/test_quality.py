@@ -88,8 +88,8 @@ def test_exact_measures_agree_with_the_doubles(corners: list[tuple[int, int, int
     order = [0, 1, 2, 3] if volume > 0 else [1, 0, 2, 3]
     tetrahedron = [order]
     a, b, c, d = (points[v] for v in order)
-    shape = [tuple(q - p for q, p in zip(x, a, strict=True)) for x in (b, c, d)]
-    angles, ratio = exact_shape_quality(*shape)
+    shape = [(x[0] - a[0], x[1] - a[1], x[2] - a[2]) for x in (b, c, d)]
+    angles, ratio = exact_shape_quality(shape[0], shape[1], shape[2])
     assert np.allclose(dihedral_angles(points, tetrahedron)[0], angles, rtol=0, atol=1e-6)
     assert radius_edge_ratios(points, tetrahedron)[0] == pytest.approx(ratio, rel=1e-9)
     # lattice_quality on either path: the doubles, and exactly (every ratio of steps
