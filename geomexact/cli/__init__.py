@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import sys
 from collections.abc import Sequence
 from typing import NoReturn
 
-from geomexact.cli.errors import UsageProblem, os_error_text, print_error
+from geomexact.cli.errors import Terminated, UsageProblem, os_error_text, print_error
 from geomexact.cli.exit_codes import (
     EXIT_BAD_INPUT,
     EXIT_BROKEN_PIPE,
@@ -26,6 +27,7 @@ from geomexact.cli.exit_codes import (
     EXIT_FAILED,
     EXIT_INTERRUPTED,
     EXIT_OK,
+    EXIT_TERMINATED,
 )
 from geomexact.cli.parser import build_parser
 
@@ -37,6 +39,7 @@ __all__ = [
     "EXIT_FAILED",
     "EXIT_INTERRUPTED",
     "EXIT_OK",
+    "EXIT_TERMINATED",
     "UsageProblem",
     "build_parser",
     "main",
@@ -65,9 +68,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as stop:  # --help, --version and usage errors
         return stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
     from geomexact.errors import GeomexactError
+    from geomexact.io.files import output_set
 
     try:
-        return int(args.run(args))
+        with output_set():  # every output of the command appears together, or none
+            return int(args.run(args))
     except (GeomexactError, UsageProblem) as error:
         print_error(str(error))
     except BrokenPipeError:
@@ -78,14 +83,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print_error("interrupted")
         return EXIT_INTERRUPTED
+    except Terminated:
+        print_error("terminated (SIGTERM)")
+        return EXIT_TERMINATED
     return EXIT_BAD_INPUT
+
+
+def _terminate(signum: int, frame: object) -> None:
+    raise Terminated
 
 
 def run() -> NoReturn:
     """The console script (and ``python -m geomexact``): :func:`main`, then end the
     process at once, once stdout and stderr are flushed: the objects of a large mesh are
     not freed one by one when the process ends anyway (a second or more on a mesh of
-    10^5 tetrahedra)."""
+    10^5 tetrahedra).  SIGTERM ends a command as Ctrl-C does: nothing half-written."""
+    signal.signal(signal.SIGTERM, _terminate)
     code = main()
     try:
         sys.stdout.flush()

@@ -7,6 +7,10 @@ import re
 import sys
 
 
+class Terminated(BaseException):
+    """The command received SIGTERM: it stops as on Ctrl-C (its outputs are discarded)."""
+
+
 class UsageProblem(Exception):
     """A command given the wrong kind of input (e.g. ``polylla`` on a polygon mesh): exit 2."""
 

@@ -7,6 +7,7 @@ EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
 EXIT_BUDGET = 3  # refine stopped by its default step budget (specs/refine.md)
 EXIT_INTERRUPTED = 130  # what a shell reports for a command stopped by Ctrl-C (SIGINT)
+EXIT_TERMINATED = 143  # what a shell reports for a command ended by SIGTERM
 EXIT_BROKEN_PIPE = 141  # what a shell reports for a command killed by SIGPIPE
 
 EXIT_CODES_HELP = """\
@@ -18,4 +19,5 @@ exit codes:
      overwrite an existing file (use --force), trace recorded on another mesh, bad option
   3  refine stopped at its default step budget (the refinement may not end; the partial
      result is written; --max-steps none lifts the budget)
+  130, 143  stopped by Ctrl-C (SIGINT) or SIGTERM: no output of the command was written
 """

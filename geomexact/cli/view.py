@@ -21,6 +21,7 @@ from geomexact.cli.exit_codes import EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
 from geomexact.errors import GeomexactError
+from geomexact.io.files import staged_path
 from geomexact.io.trace_file import read_trace
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.record import Trace
@@ -82,7 +83,7 @@ def command_view(args: argparse.Namespace) -> int:
         "clip": None if args.clip is None else {"axis": args.clip[0],
                                                 "position": args.clip[1]},
         "output": str(output),
-        "bytes": output.stat().st_size,
+        "bytes": staged_path(output).stat().st_size,  # appears when the command ends
     }
     if args.json:
         print_json(report)

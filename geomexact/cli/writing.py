@@ -12,6 +12,7 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.kinds import Value, kind_name
 from geomexact.cli.summaries import summary_of
 from geomexact.errors import FormatError, OverwriteError
+from geomexact.io.files import staged_path
 from geomexact.io.registry import NumberStyle, WriteReport
 
 # the exact properties a command reports that rounding can break
@@ -69,8 +70,8 @@ def _rounding(report: WriteReport, name: str, numbers: NumberStyle) -> str:
 def recheck(value: Value, report: WriteReport, name: str) -> list[str]:
     """The reported properties of ``value`` that the file as written (rounded) no longer
     has, one sentence each; the file is read back to find out."""
-    try:
-        written = io.read(report.paths[0], format=name)
+    try:  # inside the command's output set: the staged file, not yet in place
+        written = io.read(staged_path(report.paths[0]), format=name)
     except FormatError as error:
         return [f"the rounded file does not read back: {error}"]
     before, after = summary_of(value), summary_of(written)

@@ -22,7 +22,9 @@ written once (``specs/formats/registry.md``):
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
 from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any, Literal, Protocol, TypeAlias
@@ -32,7 +34,7 @@ import gmpy2
 import numpy as np
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
-from geomexact.io.files import read_lines, write_chunks_atomic, write_text_atomic
+from geomexact.io.files import output_set, read_lines
 from geomexact.kernel.numbers import (
     ZERO,
     Rational,
@@ -969,26 +971,89 @@ def write_files(
     overwrite: bool,
     numbers: NumberText | None = None,
     dropped: tuple[str, ...] = (),
+    members: Sequence[Path] = (),
 ) -> WriteReport:
-    """Write each (path, text) atomically, the text whole or in chunks written as they
-    come; when not ``overwrite``, refuse (OverwriteError) before writing anything if any
-    target exists.  The report counts what ``numbers`` rounded and lists what was
-    ``dropped``."""
+    """Write each (path, text), the text whole or in chunks written as they come, as one
+    set: every file appears or none does (:func:`~geomexact.io.files.output_set`).  When
+    not ``overwrite``, refuse (OverwriteError) before writing anything if any target, or
+    any other of the format's ``members`` (e.g. the ``.poly`` of a Triangle mesh), exists;
+    with ``overwrite`` a member not written again is removed with the set, so no stale
+    file is read with the new ones.  Files of more than one are stamped as one set
+    (:func:`file_set_stamp`).  The report counts what ``numbers`` rounded and lists what
+    was ``dropped``."""
+    written = [path for path, _ in files]
     if not overwrite:
-        for path, _ in files:
+        for path in (*written, *members):
             if path.exists():
                 raise OverwriteError(str(path))
-    written: list[Path] = []
-    for path, text in files:
-        if isinstance(text, str):
-            write_text_atomic(path, text, overwrite=overwrite)
-        else:
-            write_chunks_atomic(path, (chunk.encode("utf-8") for chunk in text),
-                                overwrite=overwrite)
-        written.append(path)
+    with output_set() as outputs:
+        digests = []
+        for path, text in files:
+            chunks = (text,) if isinstance(text, str) else text
+            digests.append(outputs.stage(path, (chunk.encode("utf-8") for chunk in chunks),
+                                         overwrite=overwrite))
+        if len(files) > 1:
+            stamp = file_set_stamp(digests, written)
+            for path in written:
+                outputs.append(path, stamp.encode("utf-8"))
+        for member in members:
+            if member not in written:
+                outputs.remove_with_commit(member)
     return WriteReport(
         tuple(written), numbers.rounded if numbers is not None else 0, dropped
     )
+
+
+FILE_SET_MARK = "# geomexact file set "
+"""How the last line of each file of a set written together starts (:func:`write_files`)."""
+
+
+def file_set_stamp(digests: Sequence[str], paths: Sequence[Path]) -> str:
+    """The last line written into each file of a set: :data:`FILE_SET_MARK`, then an
+    identifier made from the files' contents and their extensions (so the same set is the
+    same bytes, whatever its name), then ``(N files)``."""
+    parts = [f"{path.suffix}:{digest}" for path, digest in zip(paths, digests, strict=True)]
+    identifier = hashlib.blake2b(" ".join(parts).encode("utf-8"), digest_size=12).hexdigest()
+    return f"{FILE_SET_MARK}{identifier} ({len(paths)} files)\n"
+
+
+_TAIL_BYTES = 1024
+
+
+def _file_set_identifier(path: Path) -> str | None:
+    """The set identifier stamped on the last line of ``path``, or None."""
+    try:
+        with open(path, "rb") as handle:
+            handle.seek(0, os.SEEK_END)
+            size = handle.tell()
+            handle.seek(max(0, size - _TAIL_BYTES))
+            tail = handle.read()
+    except OSError:
+        return None
+    lines = tail.rstrip(b"\n").rsplit(b"\n", 1)
+    last = lines[-1].decode("utf-8", "replace")
+    if not last.startswith(FILE_SET_MARK):
+        return None
+    return last[len(FILE_SET_MARK):].split(" ", 1)[0].strip()
+
+
+def check_file_set(paths: Sequence[Path]) -> None:
+    """Refuse (:class:`FormatError` naming the files) files of one mesh that were not
+    written together: the existing ``paths`` that carry a file-set stamp must all carry
+    the same one.  A write interrupted between its renames, or files mixed from two
+    writes, would otherwise read as a valid, wrong mesh.  A file without a stamp (written
+    by another program, or edited by hand) is not compared."""
+    stamped = [(path, stamp) for path in paths if path.exists()
+               if (stamp := _file_set_identifier(path)) is not None]
+    for path, stamp in stamped[1:]:
+        first, identifier = stamped[0]
+        if stamp != identifier:
+            raise FormatError(
+                str(path), None,
+                f"{first.name} and {path.name} come from different writes (file sets "
+                f"{identifier} and {stamp}): a write was interrupted or the files of two "
+                "meshes were mixed; write the mesh again (or, to combine them on purpose, "
+                f"delete the last line '{FILE_SET_MARK}...' of each)")
 
 
 def uniform_attributes(

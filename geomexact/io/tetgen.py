@@ -31,6 +31,7 @@ from geomexact.io.registry import (
     NumberText,
     Value,
     WriteReport,
+    check_file_set,
     check_index,
     check_numbering,
     counted,
@@ -430,6 +431,7 @@ def read_tetgen(path: Path) -> tuple[Value, list[str]]:
             str(ele_path), None,
             f"a TetGen mesh needs its vertices in {node_path.name}, which does not exist",
         )
+    check_file_set((node_path, ele_path, face_path))
     notes: list[str] = []
     points, base = _read_nodes(node_path, notes)
     tetrahedra, numbers = _read_tetrahedra(ele_path, points, base, notes)
@@ -481,7 +483,6 @@ def write_tetgen(
         )
     number = NumberText(numbers)
     texts = tetgen_texts(value, number)
-    return write_files(
-        list(zip(tetgen_output_paths(path), texts, strict=True)),
-        overwrite=overwrite, numbers=number,
-    )
+    outputs = tetgen_output_paths(path)
+    return write_files(list(zip(outputs, texts, strict=True)), overwrite=overwrite,
+                       numbers=number, members=outputs)

@@ -49,6 +49,7 @@ from geomexact.io.registry import (
     Value,
     WriteReport,
     build_mesh,
+    check_file_set,
     check_index,
     check_numbering,
     counted,
@@ -863,6 +864,7 @@ def read_triangle(path: Path) -> tuple[Value, list[str]]:
             None,
             f"a Triangle mesh needs its vertices in {node_path.name}, which does not exist",
         )
+    check_file_set((node_path, ele_path, neigh_path, poly_path))
     notes: list[str] = []
     nodes = read_node_table(node_path)
     elements = _read_ele(ele_path, nodes)
@@ -941,5 +943,6 @@ def write_triangle(
     if segments:
         poly = ["0 2 0 1", *_poly_sections_text(segments, (), (), number)]
         files.append((with_extension(stem, POLY), "\n".join(poly) + "\n"))
-    return write_files(files, overwrite=overwrite, numbers=number)
+    return write_files(files, overwrite=overwrite, numbers=number,
+                       members=triangle_output_paths(path))
 

@@ -23,7 +23,13 @@ from hypothesis import strategies as st
 from test_io_shared_data import EVERY_FILE
 
 from geomexact import io, mesh_from_triangles, mpq, point2
-from geomexact.io.registry import NUMBER_STYLES, NumberStyle, NumberText, exact_decimal_text
+from geomexact.io.registry import (
+    FILE_SET_MARK,
+    NUMBER_STYLES,
+    NumberStyle,
+    NumberText,
+    exact_decimal_text,
+)
 from geomexact.kernel.numbers import Rational, dyadic_decimal, exact_decimal
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
@@ -38,8 +44,16 @@ def _written(path: Path, value: object, style: NumberStyle) -> tuple[dict[str, s
     and how many numbers it rounded."""
     report = io.write_with_report(path, value, numbers=style, overwrite=True)  # type: ignore[arg-type]
     texts = {}
+    stamps = set()
     for written in report.paths:
-        texts[written.suffix] = written.read_text()
+        text = written.read_text()
+        if len(report.paths) > 1:  # a file set: the same stamp ends every file of it
+            body, stamp = text.rstrip("\n").rsplit("\n", 1)
+            assert stamp.startswith(FILE_SET_MARK), written
+            stamps.add(stamp)
+            text = body + "\n"
+        texts[written.suffix] = text
+    assert len(stamps) <= 1
     return texts, report.rounded
 
 

@@ -207,7 +207,7 @@ def test_round_trip_one_based_and_decimal(
         rows = file.read_text().splitlines()
         file.write_text("\n".join([rows[0], *(
             " ".join([*(str(int(t) + 1) for t in row.split()[:width]), *row.split()[width:]])
-            for row in rows[1:]
+            for row in rows[1:] if not row.startswith("#")
         )]) + "\n")
     back = io.read(directory / "m.ele")
     assert back == mesh and back.digest == mesh.digest
@@ -221,7 +221,8 @@ def test_overlap_names_both_lines(tmp_path: Path) -> None:
 
 # -- the orientation written: TetGen's own (specs/formats/tetgen.md, "What TetGen writes") --
 def _rows(path: Path) -> list[list[str]]:
-    return [line.split() for line in path.read_text().splitlines()[1:] if line.strip()]
+    return [line.split() for line in path.read_text().splitlines()[1:]
+            if line.strip() and not line.startswith("#")]
 
 
 def _det(a: list[Fraction], b: list[Fraction], c: list[Fraction],

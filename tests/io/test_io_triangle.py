@@ -85,9 +85,12 @@ def test_writing_a_mesh_writes_node_ele_neigh_and_poly(tmp_path: Path) -> None:
     """x.ele names the mesh: x.node, x.ele, x.neigh, and x.poly for its segments."""
     written = io.write(tmp_path / "x.ele", SQUARE)
     assert [path.name for path in written] == ["x.node", "x.ele", "x.neigh", "x.poly"]
-    assert (tmp_path / "x.poly").read_text().splitlines() == [
-        "0 2 0 1", "2 1", "0 0 1 5", "1 1 2 6", "0", "0"
-    ]
+    poly = (tmp_path / "x.poly").read_text().splitlines()
+    assert poly[:-1] == ["0 2 0 1", "2 1", "0 0 1 5", "1 1 2 6", "0", "0"]
+    # the last line of each file of the set: the same stamp (specs/formats/registry.md)
+    stamps = {(tmp_path / name).read_text().splitlines()[-1] for name in
+              ("x.node", "x.ele", "x.neigh", "x.poly")}
+    assert stamps == {poly[-1]} and poly[-1].startswith("# geomexact file set ")
     again, notes = io.read_with_notes(tmp_path / "x.ele")
     assert again == SQUARE
     assert f"read 2 segments from {tmp_path / 'x.poly'}" in notes
