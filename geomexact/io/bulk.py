@@ -30,7 +30,8 @@ import immutables
 import numpy as np
 import numpy.typing as npt
 
-from geomexact.errors import RationalParseError
+from geomexact.errors import FormatError, RationalParseError
+from geomexact.io.files import open_regular
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.array_filters import orient2d_signs, point_doubles
 from geomexact.kernel.numbers import Rational, parse_rational
@@ -144,20 +145,26 @@ BLOCK = 1 << 15
 """Bytes read at a time by :class:`PlainLines`: a bad line near the start of a large
 file is found after one block, in bounded memory, as the line reader finds it."""
 
+PLAIN_LINE_LIMIT = 1 << 20
+"""The longest line (bytes) a fast path takes: the lines of a plain table are short, and
+a longer one (all of a file on one line) is left to the line reader, which refuses it
+beyond :data:`~geomexact.io.files.LINE_LIMIT`."""
+
 
 class PlainLines:
     """A plain ASCII file read in blocks of whole lines, each block split into tokens in
     one pass, the tokens of its lines counted with numpy; a context manager (the file is
     closed on leaving).  Anything a fast path does not handle raises :class:`NotPlain`: a
     byte-order mark or any non-ASCII byte (the line reader names the line of a bad
-    byte), a file that cannot be opened, a section whose lines do not all have the
-    announced number of tokens, a file that ends early.  Comments and blank lines are
+    byte), a file that cannot be opened or is not a regular file, a line longer than
+    :data:`PLAIN_LINE_LIMIT`, a section whose lines do not all have the announced number
+    of tokens, a file that ends early.  Comments and blank lines are
     dropped as :func:`~geomexact.io.registry.token_lines` drops them."""
 
     def __init__(self, path: Path) -> None:
         try:
-            self._handle = open(path, "rb")  # noqa: SIM115 - closed by __exit__
-        except OSError:
+            self._handle = open_regular(path)
+        except FormatError:
             raise NotPlain from None
         self._newlines = 0  # newlines before the current block
         self._carry = b""
@@ -174,13 +181,19 @@ class PlainLines:
         self._handle.close()
 
     def _load(self) -> bool:
-        """Read the next block of whole lines; False at the end of the file."""
-        data = self._carry + self._handle.read(BLOCK)
-        while data and b"\n" not in data:  # a line longer than a block: read on
+        """Read the next block of whole lines; False at the end of the file.  Linear in
+        the length of a long line: its pieces are joined once, not one onto the other."""
+        parts = [self._carry]
+        size = len(self._carry)  # the carry holds no newline
+        while True:
             more = self._handle.read(BLOCK)
-            if not more:
+            parts.append(more)
+            size += len(more)
+            if not more or b"\n" in more:
                 break
-            data += more
+            if size > PLAIN_LINE_LIMIT:
+                raise NotPlain
+        data = b"".join(parts)
         if not data:
             return False
         cut = data.rfind(b"\n") + 1 or len(data)
