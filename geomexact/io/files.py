@@ -4,10 +4,14 @@ stream, with the same bytes for the same text (no time stamp, no file name)."""
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import errno
 import gzip
+import hashlib
 import io
 import os
+import shutil
 import stat
 import tempfile
 import zlib
@@ -209,39 +213,239 @@ def write_lines_atomic(
 def write_chunks_atomic(
     path: str | Path, chunks: Iterable[bytes], *, overwrite: bool = False
 ) -> None:
-    """Write ``chunks`` one after the other, atomically, as :func:`write_text_atomic`."""
-    target = Path(path)
-    if target.exists() and not overwrite:
-        raise OverwriteError(str(target))
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise FileNotFoundError(
-            errno.ENOENT, f"cannot write {target}: directory {directory} does not exist"
-        )
-    descriptor, temporary = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=".tmp", dir=directory
-    )
-    try:
-        with os.fdopen(descriptor, "wb") as handle:
-            for chunk in chunks:
-                handle.write(chunk)
-        os.chmod(temporary, 0o666 & ~_umask())
-        if not overwrite:
-            # link() fails if the target appeared meanwhile: never clobber a file silently
+    """Write ``chunks`` one after the other, atomically, as :func:`write_text_atomic`.
+    Inside :func:`output_set` the file is staged and appears with the rest of the set."""
+    active = _ACTIVE_SET.get()
+    if active is not None:
+        active.stage(path, chunks, overwrite=overwrite)
+        return
+    with output_set() as files:
+        files.stage(path, chunks, overwrite=overwrite)
+
+
+STAGING_PREFIX = ".geomexact-staging-"
+"""The name of a hidden folder that holds an output set's files until they appear
+together; it is followed by the writing process's id and a random part."""
+
+
+class OutputSet:
+    """Files that appear together: each is written whole, and flushed to the disk, into a
+    hidden staging folder beside its target (:data:`STAGING_PREFIX`); :meth:`commit`
+    then renames every one into place, and :meth:`discard` (any failure, Ctrl-C, a full
+    disk) removes them all, leaving every target as it was.  Staging folders left by a
+    process that was killed are removed by the next set that writes in that folder.
+
+    A set is used once: :func:`output_set` makes one and ends it."""
+
+    def __init__(self) -> None:
+        self._staged: dict[Path, tuple[Path, bool]] = {}  # target -> (staged file, overwrite)
+        self._folders: dict[Path, Path] = {}  # target directory -> its staging folder
+        self._removals: list[Path] = []
+        self._ended = False
+
+    @property
+    def targets(self) -> tuple[Path, ...]:
+        """The files staged so far, in the order they were staged."""
+        return tuple(self._staged)
+
+    def staged_path(self, path: str | Path) -> Path:
+        """Where the staged copy of ``path`` is until the set is committed (``path``
+        itself when the set holds no such file)."""
+        entry = self._staged.get(_absolute(Path(path)))
+        return entry[0] if entry is not None else Path(path)
+
+    def stage(self, path: str | Path, chunks: Iterable[bytes], *, overwrite: bool) -> str:
+        """Write ``chunks`` as the staged copy of ``path`` and return the BLAKE2b-128
+        digest (hex) of what was written.  :class:`OverwriteError` when ``path`` exists
+        and not ``overwrite``; an :class:`OSError` (a full disk, a folder that cannot be
+        written) names ``path``, not the staging folder."""
+        if self._ended:
+            raise RuntimeError("this output set has ended")
+        target = Path(path)
+        if target.exists() and not overwrite:
+            raise OverwriteError(str(target))
+        directory = target.parent if str(target.parent) else Path(".")
+        if not directory.is_dir():
+            raise FileNotFoundError(
+                errno.ENOENT, f"cannot write {target}: directory {directory} does not exist"
+            )
+        key = _absolute(target)
+        staged = self._folder(key.parent, target) / target.name
+        digest = hashlib.blake2b(digest_size=16)
+        try:
+            with open(staged, "wb") as handle:
+                for chunk in chunks:
+                    handle.write(chunk)
+                    digest.update(chunk)
+                handle.flush()
+                os.fsync(handle.fileno())
+            os.chmod(staged, 0o666 & ~_umask())
+        except OSError as error:
+            with contextlib.suppress(OSError):
+                staged.unlink()
+            raise _naming(error, target) from error
+        self._staged[key] = (staged, overwrite)
+        return digest.hexdigest()
+
+    def append(self, path: str | Path, data: bytes) -> None:
+        """Add ``data`` at the end of the staged copy of ``path`` (flushed to the disk)."""
+        target = Path(path)
+        staged = self._staged[_absolute(target)][0]
+        try:
+            with open(staged, "ab") as handle:
+                handle.write(data)
+                handle.flush()
+                os.fsync(handle.fileno())
+        except OSError as error:
+            raise _naming(error, target) from error
+
+    def remove_with_commit(self, path: str | Path) -> None:
+        """Remove ``path`` (when it exists) as the set is committed: a member of an earlier
+        set at that name that this one does not write again (a stale ``.poly``)."""
+        key = _absolute(Path(path))
+        if key not in self._staged and key not in self._removals:
+            self._removals.append(key)
+
+    def commit(self) -> None:
+        """Move every staged file into place (refusing first, before any move, a target
+        that appeared meanwhile and may not be replaced), make the moves durable, and
+        remove the staging folders."""
+        if self._ended:
+            raise RuntimeError("this output set has ended")
+        self._ended = True
+        try:
+            for target, (_, overwrite) in self._staged.items():
+                if not overwrite and os.path.lexists(target):
+                    raise OverwriteError(str(target))
+            for target, (staged, overwrite) in self._staged.items():
+                if overwrite:
+                    os.replace(staged, target)
+                else:
+                    _link_or_move(staged, target)
+            for target in self._removals:
+                with contextlib.suppress(FileNotFoundError):
+                    target.unlink()
+            for directory in self._folders:
+                _sync_directory(directory)
+        finally:
+            self._remove_folders()
+
+    def discard(self) -> None:
+        """Remove every staged file: no target is touched."""
+        self._ended = True
+        self._remove_folders()
+
+    def _folder(self, directory: Path, target: Path) -> Path:
+        folder = self._folders.get(directory)
+        if folder is None:
+            _remove_abandoned_staging(directory)
             try:
-                os.link(temporary, target)
-            except FileExistsError as error:
-                raise OverwriteError(str(target)) from error
-            except OSError:
-                os.replace(temporary, target)
-                return
-            os.unlink(temporary)
-        else:
-            os.replace(temporary, target)
+                folder = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-",
+                                               dir=directory))
+            except OSError as error:
+                raise _naming(error, target) from error
+            self._folders[directory] = folder
+        return folder
+
+    def _remove_folders(self) -> None:
+        for folder in self._folders.values():
+            shutil.rmtree(folder, ignore_errors=True)
+        self._folders.clear()
+
+
+_ACTIVE_SET: contextvars.ContextVar[OutputSet | None] = contextvars.ContextVar(
+    "geomexact_output_set", default=None)
+
+
+@contextlib.contextmanager
+def output_set() -> Iterator[OutputSet]:
+    """A new :class:`OutputSet` that every atomic write of this module stages into until
+    the block ends: committed when the block ends normally, discarded when it raises
+    (``KeyboardInterrupt`` included).  Sets do not nest: inside an active set the block
+    shares it (and the outer block commits)."""
+    active = _ACTIVE_SET.get()
+    if active is not None:
+        yield active
+        return
+    files = OutputSet()
+    token = _ACTIVE_SET.set(files)
+    try:
+        yield files
     except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
+        _ACTIVE_SET.reset(token)
+        files.discard()
         raise
+    _ACTIVE_SET.reset(token)
+    files.commit()
+
+
+def staged_path(path: str | Path) -> Path:
+    """Where ``path`` is readable now: its staged copy inside an active
+    :func:`output_set` that holds it, else ``path`` itself."""
+    active = _ACTIVE_SET.get()
+    return active.staged_path(path) if active is not None else Path(path)
+
+
+def _absolute(path: Path) -> Path:
+    return Path(os.path.abspath(path))
+
+
+def _naming(error: OSError, target: Path) -> OSError:
+    """``error`` as the same kind of OSError naming ``target`` (never a staging file)."""
+    return type(error)(error.errno, error.strerror or str(error), str(target))
+
+
+def _link_or_move(staged: Path, target: Path) -> None:
+    """Move ``staged`` to ``target`` without ever replacing a file that appeared there
+    (``link`` fails on an existing name; a file system without links is moved to)."""
+    try:
+        os.link(staged, target)
+    except FileExistsError as error:
+        raise OverwriteError(str(target)) from error
+    except OSError:
+        os.replace(staged, target)
+        return
+    os.unlink(staged)
+
+
+def _sync_directory(directory: Path) -> None:
+    """Make the renames in ``directory`` durable (where the system allows)."""
+    try:
+        descriptor = os.open(directory, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(descriptor)
+    except OSError:
+        pass
+    finally:
+        os.close(descriptor)
+
+
+def _remove_abandoned_staging(directory: Path) -> None:
+    """Remove staging folders in ``directory`` whose writing process no longer runs (it
+    was killed before it could clean up)."""
+    try:
+        names = [name for name in os.listdir(directory) if name.startswith(STAGING_PREFIX)]
+    except OSError:
+        return
+    for name in names:
+        pid_text = name[len(STAGING_PREFIX):].split("-", 1)[0]
+        if not pid_text.isdigit() or _process_runs(int(pid_text)):
+            continue
+        shutil.rmtree(directory / name, ignore_errors=True)
+
+
+def _process_runs(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def _umask() -> int:

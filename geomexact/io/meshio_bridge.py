@@ -2,7 +2,8 @@
 tetrahedral meshes.  Spec: ``specs/formats/meshio.md``.
 
 A file with ``tetra`` cells is read as a :class:`Mesh3` (exact binary values of its 3D
-points; other cells ignored with a note; each negative tetrahedron reversed); a
+points; other cells ignored with a note; all negative tetrahedra reversed with a note, a
+mix or a flat one refused, as in :mod:`geomexact.io.tetrahedron_orientation`); a
 :class:`Mesh3` is written as its points (doubles, rounding counted) and ``tetra`` cells.
 
 Reading takes the ``triangle`` cells (``line`` and ``vertex`` cells are ignored, with a
@@ -43,11 +44,12 @@ from geomexact.io.registry import (
     clipped,
     dropped_parts,
 )
+from geomexact.io.tetrahedron_orientation import orient_tetrahedra
 from geomexact.kernel.numbers import to_float, to_rational
 from geomexact.kernel.points import Point2, Point3, point2, point3
 from geomexact.mesh2d.snapshot import Mesh2
-from geomexact.mesh3d.snapshot import Mesh3
-from geomexact.mesh3d.transient import mesh3_from_tetrahedra
+from geomexact.mesh3d.snapshot import Mesh3, tetrahedron_faces
+from geomexact.mesh3d.transient import mesh3_from_positive_arrays, mesh3_from_tetrahedra
 
 EXTENSIONS = (".vtk", ".vtu", ".xdmf", ".xmf", ".msh", ".mesh", ".obj", ".ply")
 # extension -> meshio's formats (modules) to read it with, first one also to write it
@@ -249,7 +251,9 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
 
 
 def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
-    """The ``tetra`` cells of a meshio mesh as a :class:`Mesh3` (exact 3D points)."""
+    """The ``tetra`` cells of a meshio mesh as a :class:`Mesh3` (exact 3D points), oriented
+    by :func:`~geomexact.io.tetrahedron_orientation.orient_tetrahedra`; FormatErrors name
+    the tetrahedron and its cell (its index among all the file's cells, from 0)."""
     raw_points = data.points
     if raw_points.ndim != 2 or raw_points.shape[1] != 3:
         raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 3")
@@ -260,6 +264,8 @@ def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
         except RationalParseError as error:
             raise FormatError(name, None, f"point {index}: {error}") from error
     tetrahedra: list[tuple[int, int, int, int]] = []
+    cells: list[int] = []  # the cell of each tetrahedron
+    first_cell = 0
     for block in data.cells:
         if block.type == "tetra":
             shape: tuple[int, ...] = tuple(getattr(block.data, "shape", ()))
@@ -270,10 +276,39 @@ def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
             tetrahedra.extend(
                 (int(a), int(b), int(c), int(d)) for a, b, c, d in block.data.tolist()
             )
+            cells.extend(range(first_cell, first_cell + len(block.data)))
         else:
             notes.append(f"ignored {len(block.data)} {block.type} cells")
+        first_cell += len(block.data)
+
+    def describe(index: int) -> str:
+        corners = ", ".join(map(str, tetrahedra[index]))
+        return f"tetrahedron ({corners}) in cell {cells[index]}"
+
+    count = len(points)
+    for index, tetrahedron in enumerate(tetrahedra):
+        outside = [vertex for vertex in tetrahedron if not 0 <= vertex < count]
+        if outside:
+            raise FormatError(name, None, f"{describe(index)}: vertex {outside[0]} is out of "
+                              f"range (there are {count} points)")
+        if len(set(tetrahedron)) < 4:
+            raise FormatError(name, None, f"{describe(index)} repeats a vertex")
+    rows = orient_tetrahedra(name, points, tetrahedra, describe, notes)
+    try:  # in bulk; an overlap is then found again one tetrahedron at a time, to name it
+        return mesh3_from_positive_arrays(points, rows)
+    except PreconditionError:
+        pass
+    owner: dict[tuple[int, int, int], int] = {}  # oriented face -> its tetrahedron
+    for index, tetrahedron in enumerate(rows.tolist()):
+        faces = [face for face, _ in tetrahedron_faces(*tetrahedron)]
+        for face in faces:
+            if face in owner:
+                raise FormatError(
+                    name, None, f"the tetrahedra overlap: face {face} of {describe(index)} is "
+                    f"on the same side as {describe(owner[face])}")
+        owner.update((face, index) for face in faces)
     try:
-        return mesh3_from_tetrahedra(points, tetrahedra, orient=True)
+        return mesh3_from_tetrahedra(points, rows.tolist())
     except PreconditionError as error:
         raise FormatError(name, None, str(error)) from error
 
