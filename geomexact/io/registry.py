@@ -34,7 +34,7 @@ import gmpy2
 import numpy as np
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
-from geomexact.io.files import output_set, read_lines
+from geomexact.io.files import open_regular, output_set, read_lines
 from geomexact.kernel.numbers import (
     ZERO,
     Rational,
@@ -1021,14 +1021,15 @@ _TAIL_BYTES = 1024
 
 
 def _file_set_identifier(path: Path) -> str | None:
-    """The set identifier stamped on the last line of ``path``, or None."""
+    """The set identifier stamped on the last line of ``path``, or None (also for a file
+    that is not a regular one, which its reader then refuses: a FIFO would block here)."""
     try:
-        with open(path, "rb") as handle:
+        with open_regular(path) as handle:
             handle.seek(0, os.SEEK_END)
             size = handle.tell()
             handle.seek(max(0, size - _TAIL_BYTES))
             tail = handle.read()
-    except OSError:
+    except (OSError, FormatError):
         return None
     lines = tail.rstrip(b"\n").rsplit(b"\n", 1)
     last = lines[-1].decode("utf-8", "replace")

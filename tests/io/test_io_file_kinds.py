@@ -63,6 +63,24 @@ def test_a_fifo_beside_an_ele_is_refused(tmp_path: Path) -> None:
 
 
 @needs_fifo
+@pytest.mark.parametrize(("mesh", "companion"), [("2d", "m.neigh"), ("3d", "m.face")])
+def test_a_fifo_companion_is_refused(tmp_path: Path, mesh: str, companion: str) -> None:
+    """A ``.neigh`` or ``.face`` beside the ``.ele`` that is a FIFO: refused naming it
+    (the file-set check reads the last line of each companion: it must not open it)."""
+    if mesh == "2d":
+        value = io.read(write(tmp_path, "t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"))
+    else:
+        from helpers.mesh3d_cases import cube_grid
+
+        value = cube_grid(1, 1, 1)
+    io.write(tmp_path / "m.ele", value)
+    (tmp_path / companion).unlink()
+    os.mkfifo(tmp_path / companion)
+    error = refused(tmp_path / "m.ele")
+    assert error.path == str(tmp_path / companion) and "a FIFO" in error.problem
+
+
+@needs_fifo
 def test_a_fifo_trace_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "t.jsonl"
     os.mkfifo(path)
