@@ -130,13 +130,53 @@ def _trace_start_candidates(directory: Path, trace_path: Path) -> list[Path]:
     return sorted(files, key=lambda path: (-shared(path), path.name))
 
 
-def view_job(directory: Path, file: str | None, trace: str | None) -> str:
-    """The viewer page of a served file, or of a trace (its start found beside it by
-    digest when ``file`` is None)."""
-    from geomexact.errors import GeomexactError
-    from geomexact.io.trace_file import read_trace
-    from geomexact.viz.scene import trace_start
+def _page_of(value: Any, notes: list[str], name: str, links: tuple[tuple[str, str], ...]
+             ) -> str:
+    """The viewer page of a read file: the 3D viewer for a tetrahedral mesh, else the 2D
+    one."""
+    from geomexact.mesh3d.snapshot import Mesh3
+
+    if isinstance(value, Mesh3):
+        from geomexact.viz.scene3d import viewer_html_3d
+
+        return viewer_html_3d(value, title=name)
     from geomexact.viz.viewer import viewer_html
+
+    return viewer_html(value, title=name, source=name, notes=notes, links=links)
+
+
+def _trace_page(value: Any, run: Any, notes: list[str], candidate: str, trace: str,
+                links: tuple[tuple[str, str], ...]) -> str | None:
+    """The viewer page of ``run`` on the read file ``candidate``, or None when that file is
+    not the trace's input."""
+    from geomexact.errors import GeomexactError
+    from geomexact.mesh3d.snapshot import Mesh3
+    from geomexact.viz.scene import trace_start
+
+    try:
+        start = value if isinstance(value, Mesh3) else trace_start(value)
+    except TypeError:  # a value no trace starts from
+        return None
+    if start.digest != run.input_digest:
+        return None
+    title = f"{candidate} + {trace}"
+    try:
+        if isinstance(value, Mesh3):
+            from geomexact.viz.scene3d import viewer_html_3d
+
+            return viewer_html_3d(value, run, title=title)
+        from geomexact.viz.viewer import viewer_html
+
+        return viewer_html(value, trace=run, title=title, source=candidate,
+                           trace_source=trace, notes=notes, links=links)
+    except GeomexactError as error:
+        raise JobFailed(HTTPStatus.BAD_REQUEST, f"{trace}: {error}") from None
+
+
+def view_job(directory: Path, file: str | None, trace: str | None) -> str:
+    """The viewer page of a served file (the 3D viewer for a tetrahedral mesh), or of a
+    trace (its start found beside it by digest when ``file`` is None)."""
+    from geomexact.io.trace_file import read_trace
 
     root = directory.resolve()
     links = (("← files", "/"),)
@@ -144,7 +184,7 @@ def view_job(directory: Path, file: str | None, trace: str | None) -> str:
         if file is None:
             raise JobFailed(HTTPStatus.BAD_REQUEST, "name a file to view")
         value, notes = _read_served(root, file)
-        return viewer_html(value, title=file, source=file, notes=notes, links=links)
+        return _page_of(value, notes, file, links)
     trace_file = confined_files(root, trace)[0]
     try:
         run = read_trace(trace_file.target)
@@ -157,20 +197,13 @@ def view_job(directory: Path, file: str | None, trace: str | None) -> str:
     for candidate in candidates:
         try:
             value, notes = _read_served(root, candidate)
-            start = trace_start(value)
         except JobFailed:
             if file is not None:
                 raise
             continue
-        except TypeError:
-            continue
-        if start.digest == run.input_digest:
-            try:
-                return viewer_html(value, trace=run, title=f"{candidate} + {trace}",
-                                   source=candidate, trace_source=trace, notes=notes,
-                                   links=links)
-            except GeomexactError as error:
-                raise JobFailed(HTTPStatus.BAD_REQUEST, f"{trace}: {error}") from None
+        page = _trace_page(value, run, notes, candidate, trace, links)
+        if page is not None:
+            return page
     raise JobFailed(
         HTTPStatus.NOT_FOUND,
         f"{trace}: no mesh or PSLG in its directory is the input this trace was recorded on "

@@ -7,7 +7,7 @@ import os
 from collections.abc import Iterator
 from pathlib import Path
 
-from geomexact.server.served_files import is_servable
+from geomexact.server.served_files import MAX_FOLDER_DEPTH, is_servable
 
 MAX_LISTED_FILES = 2000
 TRACE_SUFFIXES = (".trace.jsonl", ".trace")
@@ -19,8 +19,9 @@ def is_trace(name: str) -> bool:
 
 
 def listed_files(directory: Path) -> list[Path]:
-    """The mesh, PSLG and trace files of ``directory`` and its subdirectories (two levels,
-    hidden names skipped, at most :data:`MAX_LISTED_FILES`), sorted.  A Triangle
+    """The mesh, PSLG and trace files of ``directory`` and its subdirectories
+    (:data:`~geomexact.server.served_files.MAX_FOLDER_DEPTH` levels, hidden names skipped,
+    at most :data:`MAX_LISTED_FILES`), sorted.  A Triangle
     ``.node`` or ``.poly`` beside an ``.ele`` of the same stem is part of that mesh and not
     listed on its own.  Only what the server would read is listed: a file (or symlink)
     resolving outside ``directory``, or whose companions do
@@ -41,7 +42,7 @@ def listed_files(directory: Path) -> list[Path]:
                 continue
             path = Path(entry.path)
             if entry.is_dir(follow_symlinks=False):
-                if depth < 2:
+                if depth < MAX_FOLDER_DEPTH:
                     yield from walk(path, depth + 1)
             elif entry.is_file():
                 yield path

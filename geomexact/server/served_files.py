@@ -23,6 +23,18 @@ from geomexact.server.bounded import JobFailed
 TRIANGLE_MESH_SUFFIXES = (".ele", ".node", ".neigh", ".poly")
 """The files of one Triangle mesh, by stem (what ``io.triangle.read_triangle`` opens)."""
 
+TETGEN_MESH_SUFFIXES = (".ele", ".node", ".face")
+"""The files of one TetGen mesh, by stem (what ``io.tetgen.read_tetgen`` opens)."""
+
+MAX_FOLDER_DEPTH = 2
+"""How deep under the served directory files are listed and served (folders)."""
+
+NAME_MAX_BYTES = 255
+"""The longest file or folder name (UTF-8 bytes) of common file systems."""
+
+SHOWN_NAME_CHARS = 120
+"""A requested name longer than this is shortened in messages."""
+
 UNSERVED_SUFFIXES = (".xdmf", ".xmf")
 """Formats whose files name their data files by any path (XDMF's HDF5 and binary data
 items): the server reads none of them, served or uploaded."""
@@ -43,26 +55,40 @@ def _stem_of(name: str, suffix: str) -> str:
 
 def companion_names(name: str) -> tuple[str, ...]:
     """The other file names a read of the file ``name`` may open, by its extension:
-    ``x.ele`` → ``x.ele``'s stem with ``.ele``, ``.node``, ``.neigh``, ``.poly`` (those
-    differing from ``name``), ``x.poly`` → ``x.node``, none for other formats."""
+    ``x.ele`` → ``x.ele``'s stem with ``.ele``, ``.node``, ``.neigh``, ``.poly`` and
+    ``.face`` (Triangle's and TetGen's; those differing from ``name``), ``x.poly`` →
+    ``x.node``, none for other formats."""
     lowered = name.lower()
     if lowered.endswith(".ele"):
         stem = _stem_of(name, ".ele")
-        return tuple(stem + suffix for suffix in TRIANGLE_MESH_SUFFIXES if stem + suffix != name)
+        suffixes = dict.fromkeys(TRIANGLE_MESH_SUFFIXES + TETGEN_MESH_SUFFIXES)
+        return tuple(stem + suffix for suffix in suffixes if stem + suffix != name)
     if lowered.endswith(".poly"):
         return (_stem_of(name, ".poly") + ".node",)
     return ()
 
 
+def shown_name(text: str) -> str:
+    """``text`` quoted for a message, its middle elided past :data:`SHOWN_NAME_CHARS`."""
+    if len(text) > SHOWN_NAME_CHARS:
+        half = SHOWN_NAME_CHARS // 2
+        return f"{text[:half]!r}…{text[-half:]!r} ({len(text):,} characters)"
+    return repr(text)
+
+
 def relative_name(text: str) -> PurePosixPath | None:
     """``text`` as a plain relative name under the served directory, or None when it is
-    absolute, climbs (``..``) or names a hidden file or folder (the index lists none)."""
+    absolute, climbs (``..``), names a hidden file or folder, lies deeper than
+    :data:`MAX_FOLDER_DEPTH` folders or has a part longer than :data:`NAME_MAX_BYTES`
+    (the index lists none of these)."""
     if not text or "\x00" in text:
         return None
     relative = PurePosixPath(text)
-    if relative.is_absolute() or not relative.parts:
+    if relative.is_absolute() or not 0 < len(relative.parts) <= MAX_FOLDER_DEPTH + 1:
         return None
-    if any(part == ".." or part.startswith(".") for part in relative.parts):
+    if any(part == ".." or part.startswith(".")
+           or len(part.encode("utf-8", "surrogatepass")) > NAME_MAX_BYTES
+           for part in relative.parts):
         return None
     return relative
 
@@ -81,7 +107,8 @@ def confined_files(root: Path, text: str) -> tuple[ServedFile, ...]:
     companions, each resolved inside ``root``.  :class:`JobFailed` 404 when the file is not
     a file inside ``root``, 403 when a companion (even a dangling link) points outside."""
     relative = relative_name(text)
-    missing = JobFailed(HTTPStatus.NOT_FOUND, f"no file {text!r} in the served directory")
+    missing = JobFailed(HTTPStatus.NOT_FOUND,
+                        f"no file {shown_name(text)} in the served directory")
     if relative is None:
         raise missing
     if relative.name.lower().endswith(UNSERVED_SUFFIXES):
@@ -89,19 +116,22 @@ def confined_files(root: Path, text: str) -> tuple[ServedFile, ...]:
                         f"{relative}: XDMF names its data files by path; the server does not "
                         "read it")
     path = root.joinpath(*relative.parts)
-    if not is_inside(path, root) or not path.is_file():
-        raise missing
-    found = [ServedFile(relative, path.resolve())]
-    for name in companion_names(relative.name):
-        companion = path.with_name(name)
-        if not os.path.lexists(companion):
-            continue
-        if not is_inside(companion, root):
-            raise JobFailed(HTTPStatus.FORBIDDEN,
-                            f"{relative}: its companion {name} lies outside the served "
-                            "directory; the mesh is not read")
-        if companion.is_file():
-            found.append(ServedFile(relative.with_name(name), companion.resolve()))
+    try:
+        if not is_inside(path, root) or not path.is_file():
+            raise missing
+        found = [ServedFile(relative, path.resolve())]
+        for name in companion_names(relative.name):
+            companion = path.with_name(name)
+            if not os.path.lexists(companion):
+                continue
+            if not is_inside(companion, root):
+                raise JobFailed(HTTPStatus.FORBIDDEN,
+                                f"{relative}: its companion {name} lies outside the served "
+                                "directory; the mesh is not read")
+            if companion.is_file():
+                found.append(ServedFile(relative.with_name(name), companion.resolve()))
+    except OSError:  # a path the system refuses (too long for it, say): no such file here
+        raise missing from None
     return tuple(found)
 
 

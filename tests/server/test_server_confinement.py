@@ -7,10 +7,13 @@ from __future__ import annotations
 import html
 import os
 import re
+import tempfile
+import urllib.parse
 from collections.abc import Iterator
 from pathlib import Path, PurePosixPath
 
 import pytest
+from helpers.mesh3d_cases import cube_grid
 from helpers.server_client import SQUARE_OFF, alert, request, running
 
 from geomexact import io
@@ -54,6 +57,10 @@ def served(tmp_path_factory: pytest.TempPathFactory) -> Path:
         io.write(root / f"{stem}.ele", run.mesh, exact=True)  # .node .ele .neigh .poly
         (root / f"{stem}.{companion}").unlink()
         os.symlink(outside / f"secret.{companion}", root / f"{stem}.{companion}")
+    io.write(root / "face_out.ele", cube_grid(1, 1, 1), format="tetgen")  # TetGen's .face
+    (outside / "secret.face").write_text(f"{SECRET} 0\n")
+    (root / "face_out.face").unlink()
+    os.symlink(outside / "secret.face", root / "face_out.face")
     (root / "zero.poly").write_text("0 2 0 0\n0 0\n0\n")
     os.symlink(outside / "secret.node", root / "zero.node")
     os.symlink(outside / "square.off", root / "linked_out.off")
@@ -96,7 +103,7 @@ def test_index_lists_no_link_out_of_the_directory(server: MeshServer) -> None:
     assert status == 200
     links = re.findall(r'href="/view\?(?:file|trace)=([^"]+)"', page)
     assert "linked_in.off" in links and "meshes/square.off" in links
-    for name in ("node_out.ele", "neigh_out.ele", "poly_out.ele", "zero.poly",
+    for name in ("node_out.ele", "neigh_out.ele", "poly_out.ele", "face_out.ele", "zero.poly",
                  "linked_out.off", "folder_out/inner.off", "dangling_out.off",
                  "dangling.ele", "scene.xdmf", ".private/hidden.off"):
         assert name not in links, name
@@ -104,10 +111,10 @@ def test_index_lists_no_link_out_of_the_directory(server: MeshServer) -> None:
 
 
 @pytest.mark.parametrize("name", ["node_out.ele", "neigh_out.ele", "poly_out.ele",
-                                  "zero.poly", "dangling.ele"])
+                                  "face_out.ele", "zero.poly", "dangling.ele"])
 def test_companion_out_of_the_directory_is_refused_and_not_read(server: MeshServer,
                                                                name: str) -> None:
-    """A mesh whose .node / .neigh / .poly (or a dangling link) points out of DIR: 403
+    """A mesh whose .node / .neigh / .poly / .face (or a dangling link) points out of DIR: 403
     naming the companion, and nothing of the secret file on the page."""
     status, page = request(server, "GET", f"/view?file={name}")
     assert status == 403, alert(page)
@@ -124,6 +131,31 @@ def test_links_out_and_hidden_names_are_not_found(server: MeshServer, path: str)
     """A link out of DIR (file, folder, dangling), a hidden name or a climb: 404."""
     status, page = request(server, "GET", path)
     assert status == 404 and not leaked(page)
+
+
+LONG = "a" * 300
+DEEP = "a/" * 5000
+
+
+@pytest.mark.parametrize("path", [
+    f"/view?file={LONG}.off", f"/view?file={DEEP}x.off", f"/view?file=meshes/{LONG}.off",
+    f"/view?file={'é' * 200}.off", f"/view?file=a/b/c/d/{LONG}.off",
+    f"/view?trace={LONG}.trace.jsonl", f"/view?trace={DEEP}x.trace.jsonl",
+    f"/view?file=meshes/square.off&trace={DEEP}x.trace.jsonl",
+    f"/view?file={DEEP}x.off&trace=linked.trace.jsonl",
+])
+def test_long_names_and_deep_paths_are_not_found(server: MeshServer, served: Path,
+                                                  path: str) -> None:
+    """A 300-character name (or one past 255 bytes of UTF-8), a 5,000-level path, a path
+    deeper than the index lists: 404 naming the request, shortened, and no path of the
+    server's on the page (was 500 quoting "File name too long: '/tmp/…'")."""
+    status, page = request(server, "GET", urllib.parse.quote(path, safe="/?=&"))
+    assert status == 404, alert(page)
+    text = html.unescape(page)
+    assert "no file" in alert(page) and len(alert(page)) < 400
+    for absolute in (str(served), str(served.resolve()), tempfile.gettempdir() + os.sep,
+                     str(Path.cwd())):
+        assert absolute not in text, absolute
 
 
 def test_links_inside_the_directory_are_served(server: MeshServer) -> None:
@@ -182,8 +214,8 @@ def test_a_bad_upload_is_not_echoed_either(server: MeshServer) -> None:
 # ---------------------------------------------------------------------------------------
 def test_companion_names() -> None:
     """What a reader opens beside a file, by its extension (case of the stem kept)."""
-    assert companion_names("a.1.ele") == ("a.1.node", "a.1.neigh", "a.1.poly")
-    assert companion_names("A.ELE") == ("A.ele", "A.node", "A.neigh", "A.poly")
+    assert companion_names("a.1.ele") == ("a.1.node", "a.1.neigh", "a.1.poly", "a.1.face")
+    assert companion_names("A.ELE") == ("A.ele", "A.node", "A.neigh", "A.poly", "A.face")
     assert companion_names("x.poly") == ("x.node",)
     assert companion_names("x.node") == () and companion_names("x.off") == ()
 
@@ -192,9 +224,12 @@ def test_companion_names() -> None:
     ("a/b.off", PurePosixPath("a/b.off")), ("a//./b.off", PurePosixPath("a/b.off")),
     ("/etc/passwd", None), ("../x.off", None), ("a/../b.off", None), (".git/config", None),
     ("a/.b.off", None), ("", None), (".", None), ("a\x00b", None),
+    ("a/b/c.off", PurePosixPath("a/b/c.off")), ("a/b/c/d.off", None),
+    ("a" * 255, PurePosixPath("a" * 255)), ("a" * 256, None), ("é" * 128, None),
 ])
 def test_relative_names(text: str, expected: PurePosixPath | None) -> None:
-    """Only plain relative names: no absolute path, climb, hidden part or NUL."""
+    """Only plain relative names: no absolute path, climb, hidden part or NUL, no deeper
+    than the index lists (two folders), no part past 255 bytes."""
     assert relative_name(text) == expected
 
 
