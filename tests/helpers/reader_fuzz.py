@@ -9,10 +9,16 @@ their bytes, and :func:`check_read`, which reads a (mutated) case and asserts th
   none of the structural kinds a reader guarantees; the geometric kinds — fold-over,
   overlap, boundary loops, non-manifold vertices, segments that are not edges — describe
   the file's own geometry, which ``geomexact check`` reports, so a reader reads them), a
-  ``PolygonMesh`` whose structure is sound, a ``PSLG`` with segments between distinct
-  existing vertices and tables of the right sizes, or a ``Trace`` of steps with integer
-  and rational arguments and 128-bit digests;
-- never any other exception.
+  ``Mesh3`` likewise (``validate3``: faces, adjacency, positive orientation, counts,
+  hints and digest hold; a non-manifold edge or vertex or an open boundary is the file's
+  geometry), a ``PolygonMesh`` whose structure is sound, a ``PSLG`` with segments between
+  distinct existing vertices and tables of the right sizes, or a ``Trace`` of steps with
+  integer and rational arguments and 128-bit digests;
+- never any other exception, and no hang (a read is stopped after 20 s: :class:`Hang`).
+
+The 3D readers have their own seeds (:func:`seeds3d`, :func:`meshio_seeds`): TetGen
+``.node``/``.ele``/``.face`` (0- and 1-based, attributes and markers), Geomview OFF
+pictures of a ``Mesh3`` read back as OFF, and VTU/VTK tetrahedra, binary and ASCII.
 """
 
 from __future__ import annotations
@@ -23,6 +29,7 @@ import random
 import signal
 import tempfile
 from collections.abc import Callable, Iterator
+from io import StringIO
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +46,8 @@ from geomexact.mesh2d.pslg import PSLG, RegionSeed
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.transient import Transient2
 from geomexact.mesh2d.validation import validate
+from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.mesh3d.validation import validate3
 from geomexact.trace.record import Trace
 
 GEOMETRIC_KINDS = frozenset(
@@ -47,19 +56,26 @@ GEOMETRIC_KINDS = frozenset(
 )
 """``validate`` kinds about the file's geometry (reported by ``check``, read by readers)."""
 
+GEOMETRIC_KINDS3 = frozenset(
+    {"non-manifold-edge", "non-manifold-vertex", "boundary", "isolated-vertex"}
+)
+"""``validate3`` kinds about the file's geometry (a reader reads them)."""
+
 MESSAGE_LIMIT = 1500
 """The longest problem text a reader may give (quotes are ~200 characters each)."""
 
 
 @attrs.frozen
 class Case:
-    """Seed files (name -> bytes), the file read, its format, and what reads it."""
+    """Seed files (name -> bytes), the file read, its format, what reads it, and what the
+    unmutated seed gives (``"value"``, or ``"error"`` for a file the reader refuses)."""
 
     name: str
     files: dict[str, bytes]
     main: str
     format: str | None = None
     trace: bool = False
+    seed_gives: str = "value"
 
 
 def _grid_mesh() -> Mesh2:
@@ -133,16 +149,77 @@ def seeds() -> tuple[Case, ...]:
     return tuple(cases)
 
 
+ONE_BASED_TETGEN = {
+    "t.node": b"# 1-based, an attribute and markers\n5 3 1 1\n1 0 0 0 0.5 1\n"
+              b"2 1 0 0 1/3 1\n3 0 1 0 2 0\n4 0 0 1 -1 1\n5 1 1 1 7 2\n",
+    "t.ele": b"2 4 1\n1 1 2 3 4 10\n2 2 3 4 5 20\n",
+    "t.face": b"6 1\n1 1 2 3 1\n2 1 2 4 1\n3 1 3 4 1\n4 2 3 5 2\n5 2 4 5 2\n6 3 4 5 2\n",
+}
+"""Two tetrahedra sharing a face, 1-based, with node attributes, markers, a tetrahedron
+attribute and face markers (every optional column of the TetGen reader)."""
+
+
+def _cube() -> Mesh3:
+    from helpers.mesh3d_cases import cube_grid
+
+    return cube_grid(1, 1, 1)
+
+
+@functools.cache
+def seeds3d() -> tuple[Case, ...]:
+    """The valid seed files of the 3D readers that need no meshio: TetGen (selected by
+    the ``.node``'s dimension and named by ``format="tetgen"``) and the Geomview OFF
+    pictures of a ``Mesh3``, read back by the OFF reader (whose vertices have z ≠ 0)."""
+    cube = _cube()
+    tetgen = _written(cube, "m.ele")
+    return (
+        Case("tetgen", tetgen, "m.ele"),
+        Case("tetgen-named", tetgen, "m.ele", format="tetgen"),
+        Case("tetgen-one-based", ONE_BASED_TETGEN, "t.ele"),
+        # OFF is read as planar: a 3D picture is refused at its first vertex with z != 0
+        Case("off-geomview3d", _written(cube, "g.off", "geomview3d"), "g.off",
+             seed_gives="error"),
+        Case("off-geomview3d-boundary", _written(cube, "b.off", "geomview3d-boundary"),
+             "b.off", seed_gives="error"),
+    )
+
+
+def _meshio_text(value: Mesh2 | Mesh3, name: str) -> dict[str, bytes]:
+    """``value`` written by meshio itself as text (``binary=False``): the ASCII forms
+    of VTK and VTU, which geomexact's writer (binary) does not make."""
+    import meshio
+    import numpy
+
+    if isinstance(value, Mesh3):
+        cells = [("tetra", numpy.array(value.tetrahedra()))]
+        points = [[float(c) for c in (p.x, p.y, p.z)] for p in value.point_list()]
+    else:
+        cells = [("triangle", numpy.array(value.triangles()))]
+        points = [[float(p.x), float(p.y), 0.0] for p in value.point_list()]
+    with tempfile.TemporaryDirectory() as directory:
+        path = Path(directory) / name
+        with contextlib.redirect_stdout(StringIO()), contextlib.redirect_stderr(StringIO()):
+            meshio.write(path, meshio.Mesh(numpy.array(points), cells), binary=False)
+        return {name: path.read_bytes()}
+
+
 def meshio_seeds() -> tuple[Case, ...]:
-    """Text meshio formats (VTK legacy ASCII, Gmsh 4 ASCII); empty without meshio."""
+    """meshio formats: VTK legacy (binary), Gmsh 4 text, VTU (zlib, base64) of a
+    triangle mesh and of tetrahedra, and the ASCII VTK and VTU of tetrahedra; empty
+    without meshio."""
     try:
         import meshio  # noqa: F401
     except ImportError:
         return ()
-    mesh = _grid_mesh()
+    mesh, cube = _grid_mesh(), _cube()
     return (
         Case("vtk", _written(mesh, "m.vtk"), "m.vtk"),
         Case("msh", _written(mesh, "m.msh"), "m.msh"),
+        Case("vtu", _written(mesh, "m.vtu"), "m.vtu"),
+        Case("vtk-tetra", _written(cube, "c.vtk"), "c.vtk"),
+        Case("vtu-tetra", _written(cube, "c.vtu"), "c.vtu"),
+        Case("vtk-tetra-ascii", _meshio_text(cube, "a.vtk"), "a.vtk"),
+        Case("vtu-tetra-ascii", _meshio_text(cube, "a.vtu"), "a.vtu"),
     )
 
 
@@ -216,6 +293,11 @@ def check_value(value: Any) -> None:
     if isinstance(value, Mesh2):
         structural = [v for v in validate(value) if v.kind not in GEOMETRIC_KINDS]
         assert not structural, structural
+    elif isinstance(value, Mesh3):
+        structural3 = [v for v in validate3(value) if v.kind not in GEOMETRIC_KINDS3]
+        assert not structural3, structural3
+        for point in value.point_list():
+            assert all(isinstance(c, EXACT) for c in (point.x, point.y, point.z))
     elif isinstance(value, PolygonMesh):
         assert all(len(polygon) >= 3 for polygon in value.polygons)
         count = len(value.vertices)

@@ -1,6 +1,7 @@
 """Coverage-guided fuzzing of every reader with atheris (libFuzzer), under the contract of
-``helpers.reader_fuzz``.  The first input byte chooses the seed case (and so the reader),
-the rest is the content of its main file; the case's other files stay valid.
+``helpers.reader_fuzz``: the 2D readers, the 3D ones (TetGen, Geomview OFF of a Mesh3,
+VTU/VTK tetrahedra) and meshio's.  The first input byte chooses the seed case (and so
+the reader), the rest is the content of its main file; the case's other files stay valid.
 
     PYTHONPATH=tests python tests/io/fuzz_readers.py CORPUS_DIR -runs=100000
 
@@ -46,8 +47,8 @@ def main() -> None:
     import atheris  # only here: importing this module (pytest's doctest pass) needs none
 
     with atheris.instrument_imports(include=["geomexact"]):
-        from helpers.reader_fuzz import meshio_seeds, seeds
-    CASES = (*seeds(), *meshio_seeds())
+        from helpers.reader_fuzz import meshio_seeds, seeds, seeds3d
+    CASES = (*seeds(), *seeds3d(), *meshio_seeds())
     corpus = [argument for argument in sys.argv[1:] if not argument.startswith("-")]
     if corpus:
         write_corpus(Path(corpus[0]))

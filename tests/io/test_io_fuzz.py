@@ -1,7 +1,9 @@
 """The readers' fuzz suite: every reader (Triangle .node/.ele/.neigh/.poly, OFF with
-Geomview blocks and polygons, PSLG text, triangle lists, trace files, and meshio's VTK and
-Gmsh text) on mutated valid files gives a clear FormatError or a well-formed value, never
-another exception (the contract: ``helpers.reader_fuzz``).  Sampled in CI; ``--runslow``
+Geomview blocks and polygons, PSLG text, triangle lists, trace files; the 3D readers:
+TetGen .node/.ele/.face, Geomview OFF pictures of a Mesh3, meshio's VTU and VTK of
+tetrahedra; and meshio's VTK, VTU and Gmsh of triangles) on mutated valid files gives a
+clear FormatError or a well-formed value, never another exception and never a hang (the
+contract: ``helpers.reader_fuzz``).  Sampled in CI; ``--runslow``
 runs many more examples.  Each failure it found is a plain regression test in
 ``test_io_fuzz_found.py``."""
 
@@ -12,11 +14,11 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from helpers.reader_fuzz import Case, check_read, meshio_seeds, mutate, seeds
+from helpers.reader_fuzz import Case, check_read, meshio_seeds, mutate, seeds, seeds3d
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-CASES = {case.name: case for case in seeds()}
+CASES = {case.name: case for case in (*seeds(), *seeds3d())}
 MESHIO_CASES = {case.name: case for case in meshio_seeds()}
 
 
@@ -30,10 +32,12 @@ def _run(case: Case, which: int, seed: int, count: int) -> str:
 
 
 def test_every_seed_reads_as_a_value() -> None:
-    """The seeds are valid: unmutated, each reads to a well-formed value."""
+    """The seeds are valid: unmutated, each reads to a well-formed value (or to the
+    clear error its reader gives for it, e.g. OFF of a Mesh3: z != 0)."""
     for case in (*CASES.values(), *MESHIO_CASES.values()):
         with tempfile.TemporaryDirectory() as directory:
-            assert check_read(Path(directory), case, dict(case.files)) == "value", case.name
+            outcome = check_read(Path(directory), case, dict(case.files))
+            assert outcome == case.seed_gives, case.name
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
@@ -63,4 +67,16 @@ def test_mutated_files_long_run(name: str) -> None:
     outcomes = {"value": 0, "error": 0}
     for seed in range(3000):
         outcomes[_run(case, seed % 4, seed, 1 + seed % 4)] += 1
+    assert outcomes["error"] > 0
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not MESHIO_CASES, reason="meshio is not installed")
+@pytest.mark.parametrize("name", sorted(MESHIO_CASES))
+def test_mutated_meshio_files_long_run(name: str) -> None:
+    """Many more mutations per meshio format (``--runslow``): 600 each, seeded."""
+    case = MESHIO_CASES[name]
+    outcomes = {"value": 0, "error": 0}
+    for seed in range(600):
+        outcomes[_run(case, 0, seed, 1 + seed % 3)] += 1
     assert outcomes["error"] > 0
