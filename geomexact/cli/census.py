@@ -21,6 +21,7 @@ from geomexact.cli.arguments import (
     positive_int,
 )
 from geomexact.cli.cuboid import add_cuboid_options, shape_box
+from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.progress import add_progress_flags, progress_bar
 from geomexact.cli.reporting import print_json
@@ -107,6 +108,10 @@ def command_census(args: argparse.Namespace) -> int:
     outputs: list[Path] = []
     pyarrow = None
     if args.output:
+        if Path(args.output).suffix.lower() != ".csv":
+            raise UsageProblem(
+                f"{args.output}: census -o writes CSV rows to a .csv file (and the same rows "
+                "as Parquet beside it when pyarrow is installed); give a name ending in .csv")
         outputs.append(Path(args.output))
         pyarrow = None if args.no_parquet else _pyarrow()
         if pyarrow is not None:

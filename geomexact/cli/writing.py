@@ -47,10 +47,24 @@ def write(
         warn(f"{path}: the {name} format cannot hold {_listed(report.dropped)}; "
              "they were not written")
     if report.rounded:
-        warn(f"{path}: {_rounding(report, name, numbers)}")
-        for problem in recheck(value, report, name):
+        rounding = _rounding(report, name, numbers)
+        problems = recheck(value, report, name)
+        broken = [problem for problem in problems if problem.startswith(_BROKEN)]
+        if broken and numbers != "float":  # the output set is discarded: nothing written
+            raise UsageProblem(
+                f"{path}: {rounding}, and the rounded mesh is not the mesh: {broken[0]}; "
+                "nothing was written (write .pslg, .ele or .off with --exact to keep the "
+                "exact values, or give --float to write the rounded mesh all the same)")
+        warn(f"{path}: {rounding}")
+        for problem in problems:
             warn(f"{path}: {problem}")
     return list(report.paths)
+
+
+_BROKEN = ("the rounded file does not read back", "vertices is", "triangles is",
+           "polygons is")
+"""How :func:`recheck` begins a sentence about a rounding that changed the mesh itself
+(vertices merged, cells lost): a refusal, not a warning."""
 
 
 def _listed(parts: Sequence[str]) -> str:
@@ -73,7 +87,8 @@ def recheck(value: Value, report: WriteReport, name: str) -> list[str]:
     try:  # inside the command's output set: the staged file, not yet in place
         written = io.read(staged_path(report.paths[0]), format=name)
     except FormatError as error:
-        return [f"the rounded file does not read back: {error}"]
+        where = f" (line {error.line})" if error.line is not None else ""
+        return [f"the rounded file does not read back{where}: {error.problem}"]
     before, after = summary_of(value), summary_of(written)
     return [
         f"{key} is {_shown(before[key])} in the mesh but {_shown(after.get(key))} in the "

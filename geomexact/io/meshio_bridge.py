@@ -2,9 +2,11 @@
 tetrahedral meshes.  Spec: ``specs/formats/meshio.md``.
 
 A file with ``tetra`` cells is read as a :class:`Mesh3` (exact binary values of its 3D
-points; other cells ignored with a note; all negative tetrahedra reversed with a note, a
-mix or a flat one refused, as in :mod:`geomexact.io.tetrahedron_orientation`); a
-:class:`Mesh3` is written as its points (doubles, rounding counted) and ``tetra`` cells.
+points; its boundary's cells (triangles, quads, lines, vertices) ignored with a note,
+other solid cells (hexahedra, prisms, pyramids, …) refused; all negative tetrahedra
+reversed with a note, a mix or a flat one refused, as in
+:mod:`geomexact.io.tetrahedron_orientation`); a :class:`Mesh3` is written as its points
+(doubles, rounding counted) and ``tetra`` cells.
 
 Reading takes the ``triangle`` cells (``line`` and ``vertex`` cells are ignored, with a
 note; any other cell type is an error), requires z = 0, and converts each float to its
@@ -65,6 +67,10 @@ _MESHIO_FORMATS: dict[str, tuple[str, ...]] = {
     ".ply": ("ply",),
 }
 _IGNORED_CELLS = ("vertex", "line", "line3")
+_BOUNDARY_CELLS = ("vertex", "line", "line3", "triangle", "triangle6", "quad", "quad8",
+                   "quad9", "polygon")
+"""Cells of a tetrahedral file that are not solids (its boundary's faces, edges and
+points): ignored with a note; any other cell but a tetrahedron is refused."""
 # meshio's XDMF writer puts the arrays in an HDF5 file beside the .xdmf by default; XML
 # keeps the output one self-contained file.
 _WRITE_OPTIONS: dict[str, dict[str, Any]] = {
@@ -277,8 +283,14 @@ def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
                 (int(a), int(b), int(c), int(d)) for a, b, c, d in block.data.tolist()
             )
             cells.extend(range(first_cell, first_cell + len(block.data)))
-        else:
+        elif block.type in _BOUNDARY_CELLS:
             notes.append(f"ignored {len(block.data)} {block.type} cells")
+        else:  # a solid cell that is not a tetrahedron: dropping it would lose volume
+            raise FormatError(
+                name, None,
+                f"has {len(block.data)} {block.type} cell(s) (from cell {first_cell}); only "
+                "tetrahedral meshes are read (lower-dimensional cells, a boundary's, are "
+                "ignored): nothing was read rather than drop them")
         first_cell += len(block.data)
 
     def describe(index: int) -> str:
