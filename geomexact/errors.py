@@ -49,6 +49,18 @@ class OverwriteError(GeomexactError, FileExistsError):
         self.path = path
 
 
+class InputOverwriteError(GeomexactError, FileExistsError):
+    """An output would replace a file that the same command read (its input or one of the
+    input's companions): refused even with ``overwrite=True`` / ``--force``."""
+
+    def __init__(self, path: str, source: str) -> None:
+        same = "" if path == source else f" (read as {source})"
+        super().__init__(f"{path} is an input of this command{same}; refusing to replace it, "
+                         "even with --force: give the output another name")
+        self.path = path
+        self.source = source
+
+
 class PreconditionError(GeomexactError, ValueError):
     """An operation's precondition does not hold (e.g. flipping a constrained edge)."""
 

@@ -250,7 +250,7 @@ def command_refine(args: argparse.Namespace) -> int:
     if args.polylla == "":
         raise UsageProblem("--polylla without a file name needs --output DIR")
     distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file"),
-                      ("--polylla", args.polylla, None),
+                      ("--polylla", args.polylla, None), ("--polylla", polylla_input, None),
                       ("--print-region", args.print_region, None)])
     outputs = [args.output, args.trace, args.polylla, polylla_input, args.print_region]
     for path in outputs:

@@ -12,7 +12,7 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.kinds import Value, kind_name
 from geomexact.cli.summaries import summary_of
 from geomexact.errors import FormatError, OverwriteError
-from geomexact.io.files import staged_path
+from geomexact.io.files import refuse_inputs, staged_path
 from geomexact.io.registry import NumberStyle, WriteReport
 
 # the exact properties a command reports that rounding can break
@@ -103,15 +103,17 @@ def _shown(value: object) -> str:
 
 
 def distinct_outputs(outputs: Sequence[tuple[str, str | None, str | None]]) -> None:
-    """Refuse (exit 2, before anything is written) two outputs that would be the same
-    file: ``outputs`` are (option, path or None, format) triples, the format a mesh format
-    name, None (by the extension) or ``"file"`` (one plain file: a trace, a picture); a
-    multi-file format's companions count (``x.ele`` also writes ``x.node``)."""
+    """Refuse (exit 2, before anything is written) an output that is a file the command
+    read, and two outputs that would be the same file: ``outputs`` are (option, path or
+    None, format) triples, the format a mesh format name, None (by the extension) or
+    ``"file"`` (one plain file: a trace, a picture); a multi-file format's companions
+    count (``x.ele`` also writes ``x.node``)."""
     claimed: dict[Path, str] = {}
     for option, path, format in outputs:
         if not path:
             continue
         files = io.output_paths(path, format) if format != "file" else (Path(path),)
+        refuse_inputs(files)  # an input, or a companion of one, even with --force
         for file in files:
             resolved = file.resolve()
             if resolved in claimed and claimed[resolved] != option:

@@ -18,7 +18,7 @@ import zlib
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-from geomexact.errors import FormatError, OverwriteError
+from geomexact.errors import FormatError, InputOverwriteError, OverwriteError
 
 
 def _unreadable(name: str, error: OSError) -> FormatError:
@@ -48,12 +48,15 @@ def check_regular(path: str | Path) -> None:
     for reading waits for a writer), a device (``/dev/zero`` never ends) or a socket."""
     name = str(path)
     try:
-        mode = os.stat(path).st_mode
+        status = os.stat(path)
     except OSError as error:
         raise _unreadable(name, error) from error
-    problem = _not_regular(mode)
+    problem = _not_regular(status.st_mode)
     if problem is not None:
         raise FormatError(name, None, problem)
+    active = _ACTIVE_SET.get()
+    if active is not None:
+        active.note_input(Path(path), status)
 
 
 _NONBLOCK = getattr(os, "O_NONBLOCK", 0)
@@ -241,12 +244,29 @@ class OutputSet:
         self._staged: dict[Path, tuple[Path, bool]] = {}  # target -> (staged file, overwrite)
         self._folders: dict[Path, Path] = {}  # target directory -> its staging folder
         self._removals: list[Path] = []
+        self._inputs: dict[tuple[int, int], Path] = {}  # (device, inode) -> path as read
         self._ended = False
 
     @property
     def targets(self) -> tuple[Path, ...]:
         """The files staged so far, in the order they were staged."""
         return tuple(self._staged)
+
+    def note_input(self, path: Path, status: os.stat_result) -> None:
+        """Remember that ``path`` (whose ``os.stat`` is ``status``) was read: no file of
+        the set may replace it (:meth:`refuse_input`)."""
+        self._inputs.setdefault((status.st_dev, status.st_ino), path)
+
+    def refuse_input(self, path: str | Path) -> None:
+        """:class:`InputOverwriteError` when ``path`` is a file this set's command read
+        (the same file by any name: a link, another spelling of the path)."""
+        try:
+            status = os.stat(path)
+        except OSError:
+            return
+        source = self._inputs.get((status.st_dev, status.st_ino))
+        if source is not None:
+            raise InputOverwriteError(str(path), str(source))
 
     def staged_path(self, path: str | Path) -> Path:
         """Where the staged copy of ``path`` is until the set is committed (``path``
@@ -262,6 +282,7 @@ class OutputSet:
         if self._ended:
             raise RuntimeError("this output set has ended")
         target = Path(path)
+        self.refuse_input(target)
         if target.exists() and not overwrite:
             raise OverwriteError(str(target))
         directory = target.parent if str(target.parent) else Path(".")
@@ -304,6 +325,7 @@ class OutputSet:
         set at that name that this one does not write again (a stale ``.poly``)."""
         key = _absolute(Path(path))
         if key not in self._staged and key not in self._removals:
+            self.refuse_input(key)
             self._removals.append(key)
 
     def commit(self) -> None:
@@ -377,6 +399,16 @@ def output_set() -> Iterator[OutputSet]:
         raise
     _ACTIVE_SET.reset(token)
     files.commit()
+
+
+def refuse_inputs(paths: Iterable[str | Path]) -> None:
+    """:class:`InputOverwriteError` for the first of ``paths`` that the command in the
+    active :func:`output_set` has read: checked before the work, and again as each file
+    is written."""
+    active = _ACTIVE_SET.get()
+    if active is not None:
+        for path in paths:
+            active.refuse_input(path)
 
 
 def staged_path(path: str | Path) -> Path:
