@@ -20,7 +20,7 @@ from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any, TextIO
 
-from geomexact.server.bounded import JobFailed, run_bounded
+from geomexact.server.bounded import RETRY_AFTER_SECONDS, ClientGone, JobFailed, run_bounded
 from geomexact.server.jobs import upload_job, view_job
 from geomexact.server.options import ServeOptions
 from geomexact.server.pages import error_page, index_page
@@ -28,6 +28,10 @@ from geomexact.server.pages import error_page, index_page
 LOOPBACK_NAMES = {"localhost", "127.0.0.1", "::1"}
 LISTEN_BACKLOG = 1024  # connections waiting to be accepted (the kernel may cap it lower)
 LINGER_SECONDS = 5.0  # how long an unread request body is drained after the answer
+RESERVED_DESCRIPTORS = 64  # the process's own files, the log, the listening socket
+JOB_DESCRIPTORS = 8  # what one running job holds (pipes to it, its status) at most
+ACCEPT_WAIT_SECONDS = 0.25  # how often a full server checks whether it is shutting down
+MAX_LOGGED_CHARS = 500
 _DIGITS = re.compile(r"[0-9]+", re.ASCII)
 
 
@@ -81,39 +85,60 @@ def parse_multipart(content_type: str, body: bytes) -> tuple[list[tuple[str, byt
 
 
 class JobSlots:
-    """At most ``size`` jobs of one kind at once: :meth:`try_acquire` takes a slot or says
-    there is none free (the request is answered "busy" then, never queued)."""
+    """At most ``size`` jobs (or connections) of one kind at once: :meth:`try_acquire`
+    takes a slot or says there is none free (the request is answered "busy" then, never
+    queued)."""
 
     def __init__(self, size: int) -> None:
         self.size = max(1, size)
         self._used = 0
-        self._lock = threading.Lock()
+        self._free = threading.Condition()
 
     @property
     def in_use(self) -> int:
         """How many slots are taken now."""
         return self._used
 
-    def try_acquire(self) -> bool:
-        """Take a free slot (True), or False when all are taken."""
-        with self._lock:
-            if self._used >= self.size:
+    def try_acquire(self, timeout: float = 0.0) -> bool:
+        """Take a free slot (True), waiting at most ``timeout`` seconds for one; False
+        when all stayed taken."""
+        with self._free:
+            if not self._free.wait_for(lambda: self._used < self.size, timeout):
                 return False
             self._used += 1
             return True
 
     def release(self) -> None:
         """Give back a slot taken by :meth:`try_acquire`."""
-        with self._lock:
+        with self._free:
             if self._used == 0:
                 raise ValueError("release() without try_acquire()")
             self._used -= 1
+            self._free.notify()
+
+
+def connection_limit(options: ServeOptions) -> int:
+    """How many connections the server answers at once: ``options.max_connections``, fewer
+    when the process's limit on open files would not hold them besides the jobs' (each
+    connection is a thread and a descriptor; past the limit, starting a job fails)."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - Windows: no such limit
+        return max(1, options.max_connections)
+    soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
+    if soft == resource.RLIM_INFINITY:
+        return max(1, options.max_connections)
+    jobs = max(1, options.jobs) + max(1, options.view_jobs)
+    room = soft - RESERVED_DESCRIPTORS - JOB_DESCRIPTORS * jobs
+    return max(1, min(options.max_connections, room))
 
 
 class MeshServer(ThreadingHTTPServer):
     """The HTTP server: its options, the slots of upload jobs and of viewing jobs (two
-    pools: uploads never make viewing busy), and its log (``log``, default standard
-    error: one line per request and per client that went away)."""
+    pools: uploads never make viewing busy), at most :func:`connection_limit` connections
+    answered at once (more are left in the listen queue until one ends), and its log
+    (``log``, default standard error: one line per request and per client that went
+    away)."""
 
     daemon_threads = True
     request_queue_size = LISTEN_BACKLOG
@@ -122,6 +147,7 @@ class MeshServer(ThreadingHTTPServer):
         self.options = options
         self.upload_slots = JobSlots(options.jobs)
         self.view_slots = JobSlots(options.view_jobs)
+        self.connection_slots = JobSlots(connection_limit(options))
         self.loopback = is_loopback(options.host)
         self.log = log
         self._log_lock = threading.Lock()
@@ -135,6 +161,25 @@ class MeshServer(ThreadingHTTPServer):
         name = host.decode() if isinstance(host, bytes) else str(host)
         shown = f"[{name}]" if ":" in name else name
         return f"http://{shown}:{port}/"
+
+    def get_request(self) -> tuple[socket.socket, Any]:
+        """Accept a connection once fewer than the limit are being answered; while the
+        server is full, ``OSError`` after :data:`ACCEPT_WAIT_SECONDS` (the serving loop
+        then checks for shutdown and comes back)."""
+        if not self.connection_slots.try_acquire(ACCEPT_WAIT_SECONDS):
+            raise OSError("every connection slot is taken")
+        try:
+            return self.socket.accept()
+        except BaseException:
+            self.connection_slots.release()
+            raise
+
+    def shutdown_request(self, request: Any) -> None:
+        """Close an accepted connection and free its slot (called once for each)."""
+        try:
+            super().shutdown_request(request)
+        finally:
+            self.connection_slots.release()
 
     def write_log(self, text: str) -> None:
         """Write ``text`` and a newline to the log (whole lines: threads share it)."""
@@ -164,12 +209,18 @@ class _Handler(BaseHTTPRequestHandler):
     default_request_version = "HTTP/1.0"
 
     def log_message(self, format: str, *args: Any) -> None:
-        self.server.write_log(f"{self.address_string()} {format % args}")
+        message = format % args
+        if len(message) > MAX_LOGGED_CHARS:  # a 10,000-character path stays one short line
+            message = f"{message[:MAX_LOGGED_CHARS]}… ({len(message):,} characters)"
+        self.server.write_log(f"{self.address_string()} {message}")
 
     # -- responses ---------------------------------------------------------------------
-    def _send(self, status: int, text: str, content_type: str = "text/html") -> None:
+    def _send(self, status: int, text: str, content_type: str = "text/html",
+              retry_after: int | None = None) -> None:
         data = text.encode("utf-8")
         self.send_response(status)
+        if retry_after is not None:
+            self.send_header("Retry-After", str(retry_after))
         self.send_header("Content-Type", f"{content_type}; charset=utf-8")
         self.send_header("Content-Length", str(len(data)))
         self.send_header("Cache-Control", "no-store")
@@ -181,21 +232,29 @@ class _Handler(BaseHTTPRequestHandler):
         if self.command != "HEAD":
             self.wfile.write(data)
 
-    def _fail(self, status: int, message: str) -> None:
-        self._send(status, error_page(status, message, self.server.options))
+    def _fail(self, status: int, message: str, retry_after: int | None = None) -> None:
+        self._send(status, error_page(status, message, self.server.options),
+                   retry_after=retry_after)
 
     def _busy(self, slots: JobSlots, kind: str) -> None:
         self._fail(HTTPStatus.SERVICE_UNAVAILABLE,
-                   f"the server is busy with {slots.size} {kind} job(s); try again when one "
-                   "has finished")
+                   f"the server is busy with {slots.size} {kind} job(s); try again in a few "
+                   "seconds", retry_after=RETRY_AFTER_SECONDS)
 
     def _run(self, slots: JobSlots, job: Callable[..., str], args: tuple[Any, ...]) -> None:
-        """Run ``job`` in a slot already taken from ``slots``; release it; answer."""
+        """Run ``job`` in a slot already taken from ``slots``; release it; answer (nothing
+        when the client went away: its job was stopped)."""
         options = self.server.options
         try:
-            page = run_bounded(job, args, options.time_limit, options.memory_limit_bytes)
+            page = run_bounded(job, args, options.time_limit, options.memory_limit_bytes,
+                               client=self.connection)
+        except ClientGone:
+            self.close_connection = True
+            self.server.write_log(f"{self.address_string()} went away during its job "
+                                  f"({self.command} {self.path[:100]}); the job was stopped")
+            return
         except JobFailed as failure:
-            self._fail(failure.status, failure.message)
+            self._fail(failure.status, failure.message, failure.retry_after)
             return
         finally:
             slots.release()

@@ -30,6 +30,7 @@ from helpers.server_client import (
 
 from geomexact import server as serve
 from geomexact.server import MeshServer, ServeOptions
+from geomexact.server.bounded import running_jobs
 from geomexact.server.http_server import LISTEN_BACKLOG, same_origin
 
 
@@ -196,12 +197,14 @@ def reset_on_close(connection: socket.socket) -> None:
 
 @pytest.mark.skipif("refine" not in serve.available_actions(),
                     reason="needs geomexact.mesh2d.refinement.api (a long job)")
-def test_a_client_that_leaves_is_one_log_line(served: Path) -> None:
-    """A client that disconnects (a reset) while its job runs: when the job ends (here at
-    the 2 s time limit) the server logs one line naming the client and the error, no
-    traceback, and keeps answering."""
+@pytest.mark.parametrize("reset", [True, False], ids=["reset", "close"])
+def test_a_client_that_leaves_gets_its_job_stopped(served: Path, reset: bool) -> None:
+    """A client that disconnects (a reset, or a plain close) while its job runs: the job's
+    process is killed and its slot released at once, not at the time limit (60 s; the
+    guard waits 15 s); the server logs one line naming the client, no traceback, and
+    keeps answering."""
     log = Log()
-    with running(ServeOptions(served, port=0, time_limit=2), log) as server:
+    with running(ServeOptions(served, port=0, time_limit=60), log) as server:
         host, port = address(server)
         body, content_type = multipart([("sq.pslg", UNIT_SQUARE_PSLG)], {
             "action": "refine", "criterion": "max_area", "value": "1e-12"})
@@ -210,15 +213,18 @@ def test_a_client_that_leaves_is_one_log_line(served: Path) -> None:
             connection.sendall(f"POST /upload HTTP/1.1\r\nHost: {host}:{port}\r\n"
                                f"Content-Type: {content_type}\r\n"
                                f"Content-Length: {len(body)}\r\n\r\n".encode() + body)
-            wait_until(lambda: server.upload_slots.in_use == 1)
-            reset_on_close(connection)
+            wait_until(lambda: server.upload_slots.in_use == 1 and len(running_jobs()) == 1)
+            (pid,) = running_jobs()
+            if reset:
+                reset_on_close(connection)
         finally:
             connection.close()
-        wait_until(lambda: server.upload_slots.in_use == 0)
+        wait_until(lambda: server.upload_slots.in_use == 0 and not running_jobs(), 15)
+        wait_until(lambda: not Path(f"/proc/{pid}").exists(), 15)
         wait_until(lambda: "went away" in log.getvalue())
         assert request(server, "GET", "/")[0] == 200
     gone = [line for line in log.lines() if "went away" in line]
     assert len(gone) == 1, log.getvalue()
-    assert re.fullmatch(r"geomexact serve: 127\.0\.0\.1 went away before its answer was "
-                        r"sent \((ConnectionResetError|BrokenPipeError)\)", gone[0]), gone
+    assert re.fullmatch(r"geomexact serve: 127\.0\.0\.1 went away during its job "
+                        r"\(POST /upload\); the job was stopped", gone[0]), gone
     assert "Traceback" not in log.getvalue()
