@@ -27,6 +27,7 @@ Modules: :mod:`~geomexact.server.options` (:class:`ServeOptions`),
 :mod:`~geomexact.server.actions` (what an upload can be run through),
 :mod:`~geomexact.server.jobs` (the work behind each page),
 :mod:`~geomexact.server.bounded` (running a job in a child process with a time limit),
+:mod:`~geomexact.server.form_data` (an upload's form, read in linear time),
 :mod:`~geomexact.server.listing` (the served directory's files),
 :mod:`~geomexact.server.served_files` (what a read opens, confined to the directory),
 :mod:`~geomexact.server.read_failures` (error messages without the files' text),
@@ -38,14 +39,8 @@ from __future__ import annotations
 
 from geomexact.server.actions import ACTIONS, Action, Outcome, available_actions
 from geomexact.server.bounded import JobFailed, run_bounded
-from geomexact.server.http_server import (
-    JobSlots,
-    MeshServer,
-    is_loopback,
-    make_server,
-    parse_multipart,
-    serve,
-)
+from geomexact.server.form_data import parse_multipart
+from geomexact.server.http_server import JobSlots, MeshServer, is_loopback, make_server, serve
 from geomexact.server.jobs import safe_name, upload_job, view_job
 from geomexact.server.options import ServeOptions
 

@@ -4,8 +4,6 @@ pools of job slots), :func:`make_server` and :func:`serve`."""
 
 from __future__ import annotations
 
-import email.parser
-import email.policy
 import ipaddress
 import re
 import signal
@@ -21,6 +19,7 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any, TextIO
 
 from geomexact.server.bounded import RETRY_AFTER_SECONDS, ClientGone, JobFailed, run_bounded
+from geomexact.server.form_data import parse_multipart
 from geomexact.server.jobs import upload_job, view_job
 from geomexact.server.options import ServeOptions
 from geomexact.server.pages import error_page, index_page
@@ -57,31 +56,6 @@ def same_origin(origin: str, host: str) -> bool:
     return (named.scheme == "http" and named.hostname is not None
             and named.hostname == served.hostname and named_port == served_port
             and not named.path.strip("/") and not named.username)
-
-
-def parse_multipart(content_type: str, body: bytes) -> tuple[list[tuple[str, bytes]],
-                                                             dict[str, str]]:
-    """The uploaded files (name, bytes) and text fields of a ``multipart/form-data``
-    body."""
-    head = f"Content-Type: {content_type}\r\nMIME-Version: 1.0\r\n\r\n".encode("latin-1")
-    message = email.parser.BytesParser(policy=email.policy.HTTP).parsebytes(head + body)
-    if not message.is_multipart():
-        raise JobFailed(HTTPStatus.BAD_REQUEST, "the upload is not multipart/form-data")
-    files: list[tuple[str, bytes]] = []
-    fields: dict[str, str] = {}
-    for part in message.iter_parts():
-        name = part.get_param("name", header="content-disposition")
-        if not isinstance(name, str):
-            continue
-        filename = part.get_filename()
-        payload = part.get_payload(decode=True)
-        data = payload if isinstance(payload, bytes) else b""
-        if filename is not None:
-            if filename or data:
-                files.append((filename or "upload", data))
-        else:
-            fields[name] = data.decode("utf-8", "replace")
-    return files, fields
 
 
 class JobSlots:
