@@ -14,6 +14,7 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
 from geomexact.cli.writing import distinct_outputs, write
@@ -36,8 +37,8 @@ def command_polylla(args: argparse.Namespace) -> int:
     elif isinstance(loaded.value, Mesh2):
         mesh = loaded.value
     else:
-        raise UsageProblem(f"{args.input}: is already a polygon mesh; polylla needs a "
-                           "triangle mesh (or a PSLG, which is triangulated first)")
+        raise wrong_kind(args.input, loaded.value, "polylla",
+                         "a triangle mesh (or a PSLG, which is triangulated first)")
     convex = args.convex or args.no_opt
     distinct_outputs([("-o", args.output, args.to), ("--picture", args.picture, "file")])
     for path in (args.output, args.picture):

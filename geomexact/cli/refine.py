@@ -18,6 +18,7 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_BUDGET, EXIT_FAILED, EXIT_OK
+from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
 from geomexact.cli.progress import add_progress_flags
 from geomexact.cli.provenance import with_provenance
@@ -232,8 +233,8 @@ def command_refine(args: argparse.Namespace) -> int:
     elif isinstance(loaded.value, Mesh2):
         mesh = loaded.value
     else:
-        raise UsageProblem(f"{args.input}: a polygon mesh cannot be refined; give a triangle "
-                           "mesh or a PSLG")
+        raise wrong_kind(args.input, loaded.value, "refine",
+                         "2D triangle meshes and PSLGs")
     polylla_input = None
     if args.output and (args.output.endswith(("/", "\\")) or Path(args.output).is_dir()):
         # Pineda's -output DIR -filename NAME: NAME.off, and with --polylla the Polylla

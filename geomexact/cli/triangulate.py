@@ -12,8 +12,8 @@ from geomexact.cli.arguments import (
     add_command,
     add_writing_options,
 )
-from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
@@ -49,7 +49,8 @@ def command_triangulate(args: argparse.Namespace) -> int:
         mesh, trace = construction.mesh, construction.trace
         algorithm = "constrained delaunay" if loaded.value.segments else "delaunay"
     else:
-        raise UsageProblem(f"{args.input}: a polygon mesh cannot be triangulated here")
+        raise wrong_kind(args.input, loaded.value, "triangulate",
+                         "2D PSLGs and triangle meshes (made Delaunay by flips)")
     seconds = time.perf_counter() - started
     written: list[Path] = []
     if args.output:

@@ -1,4 +1,5 @@
-"""``info``, ``check`` and ``convert`` on tetrahedral meshes (TetGen files)."""
+"""``info``, ``check`` and ``convert`` on tetrahedral meshes (TetGen files), and the 2D
+commands refusing them by name."""
 
 from __future__ import annotations
 
@@ -148,3 +149,26 @@ def test_view_writes_the_3d_viewer_of_a_tetrahedral_mesh(
     assert "http://" not in page and "https://" not in page
     assert main(["view", str(tmp_path / "c.ele"), "-o", str(tmp_path / "c.png")]) == 0
     assert (tmp_path / "c.png").read_bytes().startswith(b"\x89PNG")
+
+
+_NEEDS = {
+    "refine": "2D triangle meshes and PSLGs",
+    "triangulate": "2D PSLGs and triangle meshes (made Delaunay by flips)",
+    "polylla": "a triangle mesh (or a PSLG, which is triangulated first)",
+}
+
+
+@pytest.mark.parametrize(("command", "options"), [
+    ("refine", ["--max-area", "1"]), ("polylla", []), ("triangulate", []),
+])
+def test_2d_commands_name_a_tetrahedral_mesh(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                             command: str, options: list[str]) -> None:
+    path = _written(tmp_path)
+    assert main([command, str(path), "-o", str(tmp_path / "out.off"), *options]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert captured.err == (
+        f"geomexact: error: {path}: is a tetrahedral mesh (3D): {command} works on "
+        f"{_NEEDS[command]}; see geomexact octree for 3D meshing (check, info, convert and "
+        "view also read tetrahedral meshes)\n")
+    assert not (tmp_path / "out.off").exists()

@@ -127,7 +127,7 @@ def test_bad_inputs_exit_2(capsys: pytest.CaptureFixture[str], pentagon: Path,
     assert run(capsys, "polylla", pentagon, "-o", polygons)[0] == 0
     code, out, err = run(capsys, "polylla", polygons)
     assert code == 2 and out == ""
-    assert err.startswith("geomexact: error: ") and "already a polygon mesh" in err
+    assert err.startswith("geomexact: error: ") and "is a polygon mesh: polylla works on" in err
     code, _, err = run(capsys, "polylla", pentagon, "-o", tmp_path / "out.ele")
     assert code == 2 and "polygon mesh" in err
     code, _, err = run(capsys, "polylla", pentagon, "--picture", tmp_path / "x.gif")
