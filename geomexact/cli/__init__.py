@@ -57,9 +57,11 @@ def _silence_stdout() -> None:
         pass
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, *, cap_memory: bool = False) -> int:
     """Run the ``geomexact`` command with ``argv`` (default: ``sys.argv[1:]``); return the
-    exit code."""
+    exit code.  With ``cap_memory`` (the console script) the process may grow by at most
+    the command's memory budget (``--max-memory``), so that any larger allocation is a
+    one-line error instead of swapping or the kernel's out-of-memory killer."""
     words = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(words)  # only the command named is loaded
     try:
@@ -67,14 +69,27 @@ def main(argv: Sequence[str] | None = None) -> int:
         args.argv = ["geomexact", *words]
     except SystemExit as stop:  # --help, --version and usage errors
         return stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
+    from geomexact.cli.memory import budget_of, cap_address_space, command_budget, size_text
     from geomexact.errors import GeomexactError
     from geomexact.io.files import output_set
 
+    budget = budget_of(getattr(args, "max_memory", None))
+    if cap_memory and hasattr(args, "max_memory"):  # (serve bounds each job instead)
+        cap_address_space(budget)
     try:
-        with output_set():  # every output of the command appears together, or none
+        with command_budget(budget), output_set():  # the outputs appear together, or none
             return int(args.run(args))
     except (GeomexactError, UsageProblem) as error:
         print_error(str(error))
+    except MemoryError:
+        print_error(f"out of memory: the command needed more than the "
+                    f"{size_text(budget.limit)} it may use ({budget.source}); nothing was "
+                    "written: ask for less, or give a larger --max-memory")
+    except SystemError as error:  # an allocation failed in a C extension (GMP under a cap)
+        if "without setting an exception" not in str(error):
+            raise
+        print_error(f"out of memory in a compiled routine ({size_text(budget.limit)} "
+                    f"allowed, {budget.source}); nothing was written")
     except BrokenPipeError:
         _silence_stdout()  # the reader went away (e.g. `| head`): stop quietly, as SIGPIPE
         return EXIT_BROKEN_PIPE
@@ -99,7 +114,7 @@ def run() -> NoReturn:
     not freed one by one when the process ends anyway (a second or more on a mesh of
     10^5 tetrahedra).  SIGTERM ends a command as Ctrl-C does: nothing half-written."""
     signal.signal(signal.SIGTERM, _terminate)
-    code = main()
+    code = main(cap_memory=True)
     try:
         sys.stdout.flush()
     except BrokenPipeError:

@@ -24,7 +24,24 @@ def add_command(
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub.set_defaults(run=run)
+    if name == "serve":  # the server bounds each job by its own --memory-limit-mb
+        return sub
+    sub.add_argument("--max-memory", type=memory_size, default=None, metavar="SIZE",
+                     help="use at most this much memory, e.g. 512M or 4G (default: 80%% of "
+                          "this machine's, within ulimit -v); a command that would need "
+                          "more refuses before it starts (exit 2), or stops with its partial "
+                          "result (exit 3)")
     return sub
+
+
+def memory_size(text: str) -> int:
+    """``--max-memory``: a size such as ``512M`` or ``4G`` (bytes when plain)."""
+    from geomexact.cli.memory import parse_size
+
+    try:
+        return parse_size(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def add_json_flag(sub: argparse.ArgumentParser) -> None:

@@ -11,6 +11,7 @@ import attrs
 from geomexact import io
 from geomexact.cli.errors import UsageProblem, print_warning
 from geomexact.cli.kinds import Value, kind_name
+from geomexact.cli.memory import BYTES_PER_POINT, active_budget, refuse_large_file
 from geomexact.errors import FormatError, PreconditionError, SegmentError
 from geomexact.io.registry import SourceLines, clipped
 from geomexact.kernel.numbers import format_rational
@@ -50,6 +51,7 @@ def load(path: str, format: str | None, verbose: bool) -> Loaded:
                 f"{error.path}: {error.problem.partition('; pass format=')[0]}; use "
                 "--format F to name one"
             ) from None
+    refuse_large_file(path)
     reading = io.read_with_sources(path, format=format)
     if verbose:
         for note in reading.notes:
@@ -187,6 +189,9 @@ def triangulate_input(loaded: Loaded, *, split_hint: str, **options: Any) -> Con
     item, and each ignored hole or region seed is a warning on stderr."""
     pslg = loaded.value
     assert isinstance(pslg, PSLG)
+    count = len(pslg.vertices)
+    active_budget().refuse_beyond(f"triangulating {count:,} points", count * BYTES_PER_POINT,
+                                  "triangulate fewer points")
     try:
         construction = triangulate(pslg, **options)
     except PreconditionError as error:

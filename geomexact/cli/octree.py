@@ -23,6 +23,7 @@ from geomexact.cli.arguments import (
 from geomexact.cli.cuboid import rational_argument
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
+from geomexact.cli.memory import BYTES_PER_TETRAHEDRON, active_budget
 from geomexact.cli.progress import add_progress_flags, progress_bar
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
@@ -96,6 +97,51 @@ def _stages(args: argparse.Namespace) -> dict[str, Any]:
             "final": final}
 
 
+TETRAHEDRA_PER_LEAF = 6
+"""About how many tetrahedra a leaf's pattern partition makes (5 to 12; measured 5.8 on
+a ball at level 5)."""
+
+
+def estimated_tetrahedra(args: argparse.Namespace, level: int) -> int:
+    """An upper estimate of the tetrahedra the octree of ``args`` makes at most at
+    ``level``: every leaf of the finest level where a region (its bounding box widened by
+    one finest box, in the domain) asks, with the coarser levels above them (8/7) and the
+    2:1 balance (2x), never more than the grid refined everywhere.  Floats on ratios of the
+    domain's sides, so any scale of box is measured alike; a refusal needs only the
+    order of magnitude."""
+    cells = args.grid[0] * args.grid[1] * args.grid[2]
+    everywhere = cells * 8 ** level
+    regions = [*(("sphere" if args.surface else "ball", values)
+                 for values in args.refine_sphere or []),
+               *(("box", values) for values in args.refine_box or [])]
+    if not regions:  # the whole domain, to the level (or to --max-edge: at most the level)
+        return int(TETRAHEDRA_PER_LEAF * everywhere)
+    low, high = args.box[:3], args.box[3:]
+
+    def along(axis: int, value: Any) -> float:  # exact, then one rounding: any scale
+        return float((value - low[axis]) / (high[axis] - low[axis]))
+
+    finest = [1 / (args.grid[a] * 2.0 ** level) for a in range(3)]  # in units of the sides
+    share = 0.0
+    for kind, values in regions:
+        if kind == "box":
+            spans = [(along(a, values[a]), along(a, values[a + 3])) for a in range(3)]
+        else:
+            radius = values[3]
+            spans = [(along(a, values[a] - radius), along(a, values[a] + radius))
+                     for a in range(3)]
+        volume = 1.0
+        for (start, end), step in zip(spans, finest, strict=True):
+            volume *= max(0.0, min(1.0, end + step) - max(0.0, start - step))
+        if kind == "sphere":  # a shell two finest boxes thick, not the ball
+            radii = [(end - start) / 2 for start, end in spans]
+            shell = 4 * math.pi * (radii[0] * radii[1] * radii[2]) ** (2 / 3) * 4 * max(finest)
+            volume = min(volume, shell)
+        share += volume
+    fine_leaves = min(1.0, share) * everywhere
+    return int(TETRAHEDRA_PER_LEAF * min(everywhere, fine_leaves * 8 / 7 * 2 + cells))
+
+
 def _json_number(value: Any) -> Any:
     """``value``, or None for a float beyond the doubles (a radius-edge ratio of a box
     thinner than 2^-1024 of its length along one axis), as JavaScript's JSON writes it."""
@@ -130,6 +176,12 @@ def _octree(args: argparse.Namespace) -> int:
                    ("--trace", args.trace, "file")], Mesh3, force=args.force)
     if args.start and not args.trace:
         raise UsageProblem("--start writes the input of the trace: give --trace too")
+    level = stages["refinement"].max_level
+    active_budget().refuse_beyond(
+        f"an octree of {args.grid[0]} x {args.grid[1]} x {args.grid[2]} boxes to level {level}",
+        estimated_tetrahedra(args, level) * BYTES_PER_TETRAHEDRON,
+        "ask for a coarser mesh (a smaller --level or --grid, a larger --max-edge, smaller "
+        "refinement regions)")
     bar = progress_bar(args, "octree")
 
     def on_stage(name: str) -> None:

@@ -20,6 +20,7 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_BUDGET, EXIT_FAILED, EXIT_OK
 from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
+from geomexact.cli.memory import BYTES_PER_TRIANGLE, active_budget, size_text
 from geomexact.cli.progress import add_progress_flags
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
@@ -265,13 +266,16 @@ def command_refine(args: argparse.Namespace) -> int:
 
     max_steps: int | Literal["auto"] | None = args.max_steps
     limit = default_budget(mesh, criterion) if max_steps == "auto" else max_steps
+    memory_steps = _memory_steps(mesh, criterion)
+    if limit is None or memory_steps < limit:
+        limit = memory_steps  # the run stops there with its partial result: exit 3
     show = args.progress if args.progress is not None else sys.stderr.isatty()
     progress = _RefineProgress(limit) if show else None
     result = refine(
         mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
         centroid=args.centroid, second_longest_rule=_second_longest_rule(args),
-        max_steps=max_steps, on_step=progress, engine=args.engine, preset=args.preset,
-        order=args.order, factor_stop=args.factor_stop,
+        max_steps=max_steps, step_cap=memory_steps, on_step=progress, engine=args.engine,
+        preset=args.preset, order=args.order, factor_stop=args.factor_stop,
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
@@ -357,7 +361,16 @@ def command_refine(args: argparse.Namespace) -> int:
             print(f"wrote {len(written) - 2} more files")
         for violation in violations:
             print(f"  {violation}")
-    if stats.status == "budget":
+    memory_stop = stats.status == "budget" and dict(result.trace.parameters).get(
+        "step_budget") == memory_steps
+    if memory_stop:
+        budget = active_budget()
+        print(f"geomexact: refine stopped at its memory budget ({stats.steps} steps, "
+              f"{result.mesh.triangle_count} triangles: about {size_text(budget.limit)}, "
+              f"{budget.source}); the partial result is written (a valid mesh, not yet "
+              "meeting the criterion everywhere); give a larger --max-memory to go on",
+              file=sys.stderr)
+    elif stats.status == "budget":
         print(f"geomexact: refine stopped at its default step budget ({stats.steps} steps "
               "= 100 x (input triangles + the criterion's estimate) + 10000): this "
               "refinement may not end (specs/refine.md lists the known cases); the partial "
@@ -373,7 +386,23 @@ def command_refine(args: argparse.Namespace) -> int:
         print("geomexact: the result is not Delaunay", file=sys.stderr)
     if violations or not_delaunay:
         return EXIT_FAILED
-    return EXIT_BUDGET if stats.status == "budget" else EXIT_OK
+    return EXIT_BUDGET if stats.status == "budget" or memory_stop else EXIT_OK
+
+
+def _memory_steps(mesh: Mesh2, criterion: Any) -> int:
+    """Refuse (exit 2) a refinement whose criterion asks for more triangles than the
+    memory budget holds; else the steps the budget allows (each adds at most two
+    triangles)."""
+    from geomexact.mesh2d.refinement.budget import estimated_triangles
+
+    budget = active_budget()
+    estimate = estimated_triangles(mesh, criterion)
+    budget.refuse_beyond(
+        f"refining to about {estimate + mesh.triangle_count:,} triangles",
+        (estimate + mesh.triangle_count) * BYTES_PER_TRIANGLE,
+        "ask for fewer triangles (a larger --max-area, --max-edge or --factor)")
+    room = budget.items(BYTES_PER_TRIANGLE) - mesh.triangle_count
+    return max(0, room // 2)
 
 
 def add_parser(commands: Subcommands) -> None:

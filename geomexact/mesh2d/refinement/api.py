@@ -205,6 +205,7 @@ def refine(
     centroid: CentroidKind | None = None,
     constraint_midpoints: bool | None = None,
     max_steps: int | Literal["auto"] | None = "auto",
+    step_cap: int | None = None,
     on_step: Callable[[Progress], None] | None = None,
     engine: Engine = "auto",
     preset: Preset | None = None,
@@ -256,6 +257,11 @@ def refine(
         :func:`~geomexact.mesh2d.refinement.budget.default_budget` derived from the input
         and the criterion; a run it stops has status ``"budget"``.  ``None`` runs without
         any limit.
+    step_cap:
+        A further limit set from outside the refinement (a command's memory budget), or
+        None: when it is below ``max_steps`` it acts as a budget (a run it stops has
+        status ``"budget"`` and records it as ``step_budget``); a run it does not stop is
+        the same run, trace and all, as without it.
     on_step:
         Called with a :class:`Progress` after every step.
     engine:
@@ -321,6 +327,10 @@ def refine(
             )
     budget = default_budget(mesh, rule) if max_steps == "auto" else None
     limit = budget if max_steps == "auto" else max_steps
+    if step_cap is not None and (limit is None or step_cap < limit):
+        if step_cap < 0:
+            raise PreconditionError("refine", f"step_cap must be >= 0, not {step_cap!r}")
+        limit = budget = step_cap
     began = time.perf_counter()
     options: dict[str, Any] = {
         "criterion": rule,
