@@ -18,7 +18,14 @@ import sys
 from collections.abc import Sequence
 from typing import NoReturn
 
-from geomexact.cli.errors import Terminated, UsageProblem, os_error_text, print_error
+from geomexact.cli.errors import (
+    StdoutClosed,
+    Terminated,
+    UsageProblem,
+    os_error_text,
+    print_error,
+    stand_in_for_closed_streams,
+)
 from geomexact.cli.exit_codes import (
     EXIT_BAD_INPUT,
     EXIT_BROKEN_PIPE,
@@ -90,6 +97,10 @@ def main(argv: Sequence[str] | None = None, *, cap_memory: bool = False) -> int:
             raise
         print_error(f"out of memory in a compiled routine ({size_text(budget.limit)} "
                     f"allowed, {budget.source}); nothing was written")
+    except StdoutClosed:
+        print_error("standard output is closed (>&-): the command cannot print its report; "
+                    "nothing was written (send it to /dev/null to discard it)")
+        return EXIT_BROKEN_PIPE
     except BrokenPipeError:
         _silence_stdout()  # the reader went away (e.g. `| head`): stop quietly, as SIGPIPE
         return EXIT_BROKEN_PIPE
@@ -114,6 +125,7 @@ def run() -> NoReturn:
     not freed one by one when the process ends anyway (a second or more on a mesh of
     10^5 tetrahedra).  SIGTERM ends a command as Ctrl-C does: nothing half-written."""
     signal.signal(signal.SIGTERM, _terminate)
+    stand_in_for_closed_streams()
     code = main(cap_memory=True)
     try:
         sys.stdout.flush()

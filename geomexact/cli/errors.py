@@ -3,12 +3,55 @@ the words of the command line."""
 
 from __future__ import annotations
 
+import errno
+import io
+import os
 import re
 import sys
 
 
 class Terminated(BaseException):
     """The command received SIGTERM: it stops as on Ctrl-C (its outputs are discarded)."""
+
+
+class StdoutClosed(OSError):
+    """The command was started with its standard output closed (``>&-``) and has something
+    to print: it fails (exit 141, as for a reader gone away), its outputs discarded."""
+
+
+class _ClosedStdout(io.TextIOBase):
+    """Stands for a standard output closed at start: writing raises :class:`StdoutClosed`."""
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        raise StdoutClosed(errno.EBADF, "standard output is closed")
+
+
+def stand_in_for_closed_streams() -> None:
+    """Give the standard streams closed at start (Python then sets ``sys.stdout`` or
+    ``sys.stderr`` to None and ``print`` writes nothing) a stand-in: printing on a closed
+    stdout raises :class:`StdoutClosed`, and a closed stderr discards what it is given."""
+    if sys.stdout is None:
+        sys.stdout = _ClosedStdout()
+        _hold_descriptor(1)
+    if sys.stderr is None:
+        sys.stderr = io.StringIO()
+        _hold_descriptor(2)
+
+
+def _hold_descriptor(fd: int) -> None:
+    """Open /dev/null on the free descriptor ``fd``."""
+    # else a file the command opens would get it, and what a subprocess or a C library
+    # writes on its stdout or stderr would land in that file
+    try:
+        os.fstat(fd)
+    except OSError:
+        null = os.open(os.devnull, os.O_WRONLY)
+        if null != fd:
+            os.dup2(null, fd)
+            os.close(null)
 
 
 class UsageProblem(Exception):

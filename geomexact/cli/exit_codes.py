@@ -8,7 +8,7 @@ EXIT_BAD_INPUT = 2
 EXIT_BUDGET = 3  # refine stopped by its default step budget (specs/refine.md)
 EXIT_INTERRUPTED = 130  # what a shell reports for a command stopped by Ctrl-C (SIGINT)
 EXIT_TERMINATED = 143  # what a shell reports for a command ended by SIGTERM
-EXIT_BROKEN_PIPE = 141  # what a shell reports for a command killed by SIGPIPE
+EXIT_BROKEN_PIPE = 141  # as a shell reports for SIGPIPE; also a stdout closed at start
 
 EXIT_CODES_HELP = """\
 exit codes:
@@ -20,4 +20,6 @@ exit codes:
   3  refine stopped at its default step budget (the refinement may not end; the partial
      result is written; --max-steps none lifts the budget)
   130, 143  stopped by Ctrl-C (SIGINT) or SIGTERM: no output of the command was written
+  141  the report could not be printed: its reader went away (| head) or stdout was
+     closed (>&-)
 """

@@ -331,7 +331,7 @@ class OutputSet:
     def commit(self) -> None:
         """Move every staged file into place (refusing first, before any move, a target
         that appeared meanwhile and may not be replaced), make the moves durable, and
-        remove the staging folders."""
+        remove the staging folders.  An :class:`OSError` of a move names the target."""
         if self._ended:
             raise RuntimeError("this output set has ended")
         self._ended = True
@@ -340,10 +340,15 @@ class OutputSet:
                 if not overwrite and os.path.lexists(target):
                     raise OverwriteError(str(target))
             for target, (staged, overwrite) in self._staged.items():
-                if overwrite:
-                    os.replace(staged, target)
-                else:
-                    _link_or_move(staged, target)
+                try:
+                    if overwrite:
+                        os.replace(staged, target)
+                    else:
+                        _link_or_move(staged, target)
+                except OverwriteError:
+                    raise
+                except OSError as error:  # e.g. the target is a directory
+                    raise _naming(error, target) from error
             for target in self._removals:
                 with contextlib.suppress(FileNotFoundError):
                     target.unlink()
