@@ -12,8 +12,10 @@ import hashlib
 import io
 import os
 import shutil
+import signal
 import stat
 import tempfile
+import threading
 import zlib
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -334,6 +336,10 @@ class OutputSet:
         remove the staging folders.  An :class:`OSError` of a move names the target."""
         if self._ended:
             raise RuntimeError("this output set has ended")
+        with _signals_deferred():
+            self._commit()
+
+    def _commit(self) -> None:
         self._ended = True
         try:
             for target, (_, overwrite) in self._staged.items():
@@ -360,18 +366,20 @@ class OutputSet:
     def discard(self) -> None:
         """Remove every staged file: no target is touched."""
         self._ended = True
-        self._remove_folders()
+        with _signals_deferred():
+            self._remove_folders()
 
     def _folder(self, directory: Path, target: Path) -> Path:
         folder = self._folders.get(directory)
         if folder is None:
             _remove_abandoned_staging(directory)
-            try:
-                folder = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-",
-                                               dir=directory))
-            except OSError as error:
-                raise _naming(error, target) from error
-            self._folders[directory] = folder
+            with _signals_deferred():  # a folder made is a folder remembered
+                try:
+                    folder = Path(tempfile.mkdtemp(
+                        prefix=f"{STAGING_PREFIX}{os.getpid()}-", dir=directory))
+                except OSError as error:
+                    raise _naming(error, target) from error
+                self._folders[directory] = folder
         return folder
 
     def _remove_folders(self) -> None:
@@ -421,6 +429,33 @@ def staged_path(path: str | Path) -> Path:
     :func:`output_set` that holds it, else ``path`` itself."""
     active = _ACTIVE_SET.get()
     return active.staged_path(path) if active is not None else Path(path)
+
+
+_DEFERRED = (signal.SIGINT, signal.SIGTERM)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Ctrl-C and SIGTERM wait until the block ends, then act as they would have: the
+    renames of a commit all happen, and a staging folder made is one the set will
+    remove.  Python's handlers run in the main thread only: elsewhere the block runs as
+    it is."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+
+    def defer(signum: int, frame: object) -> None:
+        caught.append(signum)
+
+    previous = {number: signal.signal(number, defer) for number in _DEFERRED}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler if handler is not None else signal.SIG_DFL)
+        for caught_number in dict.fromkeys(caught):
+            signal.raise_signal(caught_number)
 
 
 def _absolute(path: Path) -> Path:

@@ -169,3 +169,28 @@ def test_a_full_disk_names_the_file_and_keeps_the_old_set(tmp_path: Path) -> Non
     assert caught.value.errno == errno.ENOSPC
     assert caught.value.filename == str(tmp_path / "x.node")
     assert {name: (tmp_path / name).read_bytes() for name in _listing(tmp_path)} == before
+
+
+def test_ctrl_c_during_the_renames_waits_for_them(tmp_path: Path,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """A Ctrl-C that arrives between two renames of a commit acts once they are all
+    done: the set is all new, and the KeyboardInterrupt comes after."""
+    import signal
+
+    from geomexact.io import files as module
+
+    moved: list[Path] = []
+    real_move = module._link_or_move
+
+    def move_then_interrupt(staged: Path, target: Path) -> None:
+        real_move(staged, target)
+        moved.append(target)
+        if len(moved) == 1:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(module, "_link_or_move", move_then_interrupt)
+    with pytest.raises(KeyboardInterrupt), output_set():
+        for name in ("a.txt", "b.txt", "c.txt"):
+            write_text_atomic(tmp_path / name, f"{name}\n")
+    assert len(moved) == 3
+    assert _listing(tmp_path) == ["a.txt", "b.txt", "c.txt"]
