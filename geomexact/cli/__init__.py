@@ -91,7 +91,7 @@ def main(argv: Sequence[str] | None = None, *, cap_memory: bool = False) -> int:
     except MemoryError:
         print_error(f"out of memory: the command needed more than the "
                     f"{size_text(budget.limit)} it may use ({budget.source}); nothing was "
-                    "written: ask for less, or give a larger --max-memory")
+                    f"written: ask for less, or {budget.more()}")
     except SystemError as error:  # an allocation failed in a C extension (GMP under a cap)
         if "without setting an exception" not in str(error):
             raise

@@ -61,7 +61,12 @@ class MemoryBudget:
             raise MemoryBudgetError(
                 f"{what} needs about {size_text(estimate)} of memory, more than the "
                 f"{size_text(self.limit)} this command may use ({self.source}); {hint}, or "
-                "give a larger --max-memory")
+                f"{self.more()}")
+
+    def more(self) -> str:
+        """How to allow more: a larger ``--max-memory``, or a larger ``ulimit -v``."""
+        return ("raise the limit (ulimit -v)" if "ulimit" in self.source
+                else "give a larger --max-memory")
 
     def items(self, bytes_per_item: int) -> int:
         """How many items of ``bytes_per_item`` bytes fit in the budget."""
@@ -127,18 +132,24 @@ def machine_budget() -> MemoryBudget:
     available = _meminfo("MemAvailable")
     if available is not None and available < limit:
         limit, source = available, "the memory available on this machine now"
+    return _within_address_space_limit(MemoryBudget(limit, source))
+
+
+def _within_address_space_limit(budget: MemoryBudget) -> MemoryBudget:
+    """``budget``, or less when this process's address-space limit leaves less."""
     cap = _address_space_limit()
-    if cap is not None and cap - _address_space() < limit:
-        limit = max(0, cap - _address_space())
-        source = "what this process's address-space limit (ulimit -v) leaves"
-    return MemoryBudget(limit, source)
+    if cap is not None and cap - _address_space() < budget.limit:
+        return MemoryBudget(max(0, cap - _address_space()),
+                            "what this process's address-space limit (ulimit -v) leaves")
+    return budget
 
 
 def budget_of(max_memory: int | None) -> MemoryBudget:
-    """The budget of ``--max-memory`` (None: :func:`machine_budget`)."""
+    """The budget of ``--max-memory`` (None: :func:`machine_budget`), never more than the
+    address-space limit leaves."""
     if max_memory is None:
         return machine_budget()
-    return MemoryBudget(max_memory, "--max-memory")
+    return _within_address_space_limit(MemoryBudget(max_memory, "--max-memory"))
 
 
 def cap_address_space(budget: MemoryBudget) -> None:

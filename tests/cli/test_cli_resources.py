@@ -66,7 +66,7 @@ def test_refine_runaways_are_refused_up_front(folder: Path, criterion: list[str]
     result = _geomexact(folder, "refine", "sq.off", *criterion, "-o", "out.off",
                         "--trace", "out.trace")
     line = _one_line(result, 2)
-    assert "needs about" in line and "--max-memory" in line
+    assert "needs about" in line and "(ulimit -v)" in line  # the 2 GB limit binds
     _nothing_written(folder, "sq.off")
 
 
