@@ -2,7 +2,8 @@
 
 - ``trace show TRACE``: the header (input, version, parameters with the command line that
   recorded it), the number of steps and of each operation; with ``--step K`` or
-  ``--steps A-B`` each step's arguments, digest and the cells it removed and added;
+  ``--steps A-B`` each step's arguments, digest and the cells it removed and added; which
+  steps were replayed (their digests checked) and which not (``--check``: every one);
 - ``trace diff INPUT A B``: the first step where two traces of the same input part, with
   a picture of both meshes after it (``--picture``);
 - ``trace bisect INPUT TRACE --fails CHECK``: the first step after which a property
@@ -39,7 +40,13 @@ from geomexact.cli.reporting import print_json
 from geomexact.cli.trace_checks import CHECKS_HELP, named_check
 from geomexact.cli.writing import check_outputs, write
 from geomexact.errors import FormatError, PreconditionError, TraceError
-from geomexact.io.trace_file import FORMAT_NAME, FORMAT_VERSION, read_trace
+from geomexact.io.trace_file import (
+    FORMAT_NAME,
+    FORMAT_VERSION,
+    HEADER_DIGEST,
+    read_trace,
+    read_trace_header,
+)
 from geomexact.kernel.digest import digest_text
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.cuboid.partition import recorded_start
@@ -168,7 +175,8 @@ def _show_start(args: argparse.Namespace, trace: Trace) -> tuple[Mesh | None, st
 
 
 def command_show(args: argparse.Namespace) -> int:
-    """Print a trace's header and operation counts, and the chosen steps."""
+    """Print a trace's header and operation counts, and the chosen steps; say which steps
+    were replayed (their digests checked) and which were not (``--check``: all are)."""
     trace = read_trace(args.trace)
     total = len(trace)
     chosen = _selected(args, total)
@@ -185,32 +193,62 @@ def command_show(args: argparse.Namespace) -> int:
         "parameters": dict(trace.parameters),
         "steps": total,
         "operations": operations,
+        "header_checked": HEADER_DIGEST in read_trace_header(args.trace),
     }
     shown: list[dict[str, Any]] = []
     note = ""
-    if chosen is not None:
+    stepper = None
+    looked = chosen is not None or args.check  # for the input: cells and replays need it
+    if looked:
         start, source, note = _show_start(args, trace)
-        report["cells_from"] = source or None
-        report["cells"] = None if start is None else _cells_word(start)
-        report["cells_note"] = note or None
+        if args.check and start is None:
+            raise UsageProblem(f"--check replays {args.trace} on its input: {note}")
         stepper = None if start is None else Stepper(start, trace)
-        for k in chosen:
+        if chosen is not None:
+            report["cells_from"] = source or None
+            report["cells"] = None if start is None else _cells_word(start)
+            report["cells_note"] = note or None
+    checked = 0  # steps 1..checked replayed, each digest as recorded
+    try:
+        if args.check and stepper is not None:
+            stepper.goto(total)
+            checked = total
+        for k in chosen or ():
             entry = step_json(trace, k)
             if stepper is not None:
-                try:
-                    stepper.goto(k)
-                    change = stepper.changed
-                except TraceError as error:
-                    return _diverged(args.trace, error, args.json, report)
+                stepper.goto(k)
+                checked = max(checked, k)
+                change = stepper.changed
                 entry["removed"] = [list(cell) for cell in change.removed]
                 entry["added"] = [list(cell) for cell in change.added]
             shown.append(entry)
+    except TraceError as error:
+        return _diverged(args.trace, error, args.json, report)
+    if chosen is not None:
         report["shown"] = shown
+    report["checked_steps"] = checked
+    report["unchecked_steps"] = total - checked
+    report["check_note"] = _check_note(args, total, checked,
+                                       (stepper is not None) if looked else None)
     if args.json:
         print_json(report)
         return EXIT_OK
     _print_show(args.trace, trace, report, chosen, note)
     return EXIT_OK
+
+
+def _check_note(args: argparse.Namespace, total: int, checked: int, found: bool | None
+                ) -> str | None:
+    """What was not checked, and the command that checks it (None: every step was);
+    ``found``: whether the trace's input was found (None: not looked for)."""
+    if checked == total:
+        return None
+    unchecked = f"step {total}" if checked == total - 1 else f"steps {checked + 1}-{total}"
+    given = f" --input {shlex.quote(args.input)}" if args.input else ""
+    if found is False:
+        given = " --input INPUT"
+    return (f"{unchecked} not replayed, their digests not checked: geomexact trace show "
+            f"{shlex.quote(args.trace)} --check{given} (or geomexact replay) checks them")
 
 
 def _print_show(path: str, trace: Trace, report: dict[str, Any], chosen: range | None,
@@ -221,6 +259,8 @@ def _print_show(path: str, trace: Trace, report: dict[str, Any], chosen: range |
     rows = [("input", f"{name}digest {report['input_digest']}"),
             ("final digest", report["final_digest"]),
             ("dimension", f"{report['dimension']}D" if report["dimension"] else "unknown"),
+            ("header", "checked against its header_digest" if report["header_checked"] else
+             "not covered by a digest (a trace written before header_digest)"),
             ("steps", str(report["steps"])),
             ("operations", ", ".join(f"{op} {count}" for op, count in
                                      report["operations"].items()) or "none")]
@@ -232,8 +272,24 @@ def _print_show(path: str, trace: Trace, report: dict[str, Any], chosen: range |
         inner = max(len(key) for key, _ in trace.parameters)
         for key, value in trace.parameters:
             print(f"    {key:<{inner}}  {_json_value(value)}")
-    if chosen is None:
-        return
+    if chosen is not None:
+        _print_steps(trace, report, note)
+    print(_checked_line(report["checked_steps"], report["steps"], report["check_note"]))
+
+
+def _checked_line(checked: int, total: int, note: str | None) -> str:
+    if total == 0:
+        return "checked: the trace has no steps"
+    if note is None:
+        return f"checked: all {total} steps replay as recorded" if total > 1 else \
+            "checked: its one step replays as recorded"
+    if checked == 0:
+        return f"not checked: {note}"
+    done = "step 1 replays" if checked == 1 else f"steps 1-{checked} replay"
+    return f"checked: {done} as recorded; {note}"
+
+
+def _print_steps(trace: Trace, report: dict[str, Any], note: str) -> None:
     if note:
         print(f"cells not shown: {note}")
     for entry in report["shown"]:
@@ -484,6 +540,10 @@ def add_parser(commands: Subcommands) -> None:
     chosen.add_argument("--step", type=positive_int, metavar="K", help="show step K (1-based)")
     chosen.add_argument("--steps", type=step_range, metavar="A-B",
                         help="show steps A to B (1-based, inclusive)")
+    show.add_argument("--check", action="store_true",
+                      help="replay every step on the trace's input, checking its digest "
+                      "(exit 1 at the first that differs); otherwise only the steps up to "
+                      "the last one shown are replayed")
     add_format_option(show)
     add_json_flag(show)
     add_verbose_flag(show)

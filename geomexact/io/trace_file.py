@@ -2,8 +2,10 @@
 
 Line 1 is the header
 ``{"format": "geomexact-trace", "version": 1, "geomexact": "...", "input_digest": "<hex>",
-"parameters": {...}, "steps": n}`` (and ``"input_name"``, the input's file name, when the
-run knows it); each further line is one step
+"parameters": {...}, "steps": n, "header_digest": "<hex>"}`` (and ``"input_name"``, the
+input's file name, when the run knows it; ``header_digest`` covers the other fields, and a
+header without it, written before it existed, reads unchecked); each further line is one
+step
 ``{"i": k, "op": "flip", "args": [3, 5, "1/2"], "digest": "<hex>"}`` where integer
 arguments are vertex ids and string arguments are exact rationals ``"p/q"``.  Keys are
 sorted and separators fixed, so the same run gives byte-identical files on every machine.
@@ -13,6 +15,7 @@ starts with the gzip magic bytes).  Specification: ``specs/trace.md``.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 from collections.abc import Iterable, Iterator, Mapping
@@ -28,6 +31,8 @@ from geomexact.trace.step import Step, StepArgument
 
 FORMAT_NAME = "geomexact-trace"
 FORMAT_VERSION = 1
+HEADER_DIGEST = "header_digest"
+"""The header field that holds :func:`header_digest` of the header's other fields."""
 
 
 def _argument_json(value: StepArgument) -> int | str:
@@ -38,6 +43,16 @@ def _argument_json(value: StepArgument) -> int | str:
 
 def _dumps(record: Mapping[str, Any]) -> str:
     return json.dumps(record, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+
+
+def header_digest(fields: Mapping[str, Any]) -> str:
+    """The BLAKE2b-128 digest (32 hex digits) of a trace header's ``fields`` (every field
+    but ``header_digest``) in their canonical JSON: an edit of the header shows, however
+    the line is then formatted.  It detects changes, it does not sign: anyone may
+    compute it."""
+    canonical = _dumps({k: v for k, v in fields.items() if k != HEADER_DIGEST})
+    return hashlib.blake2b(canonical.encode("ascii"), digest_size=16,
+                           person=b"trace-header").hexdigest()
 
 
 def trace_lines(trace: Trace) -> Iterator[str]:
@@ -52,6 +67,7 @@ def trace_lines(trace: Trace) -> Iterator[str]:
     }
     if trace.input_name:  # only when known: traces without it keep their old bytes
         header["input_name"] = trace.input_name
+    header[HEADER_DIGEST] = header_digest(header)
     yield _dumps(header)
     for index, (step, digest) in enumerate(zip(trace.steps, trace.digests, strict=True)):
         yield _dumps(
@@ -107,6 +123,7 @@ def _parse_lines(lines: Iterable[tuple[int, str]], path: str) -> Trace:
     version = header.get("geomexact", "")
     if not isinstance(version, str):
         raise FormatError(path, number, "geomexact (the version) must be a JSON string")
+    _check_header_digest(header, path, number)
     steps: list[Step] = []
     digests: list[int] = []
     last = number
@@ -125,6 +142,20 @@ def _parse_lines(lines: Iterable[tuple[int, str]], path: str) -> Trace:
         raise FormatError(path, last, f"truncated trace: the header announces "
                           f"{expected} steps, the file has {len(steps)}")
     return Trace(input_digest, steps, digests, parameters, version, input_name)
+
+
+def _check_header_digest(header: Mapping[str, Any], path: str, number: int) -> None:
+    """A :class:`FormatError` when the header's ``header_digest`` is not that of its other
+    fields (a header without one, written before it existed, is not checked)."""
+    if HEADER_DIGEST not in header:
+        return
+    recorded = header[HEADER_DIGEST]
+    if not isinstance(recorded, str) or not _HEX.fullmatch(recorded):
+        raise FormatError(path, number, f"header_digest must be 32 hexadecimal digits, got "
+                          f"{_shown(recorded)}")
+    if recorded.lower() != header_digest(header):
+        raise FormatError(path, number, "the header was changed after the trace was written "
+                          "(its header_digest does not match its fields)")
 
 
 def _shown(value: object) -> str:
@@ -183,6 +214,15 @@ def write_trace(path: str | Path, trace: Trace, *, overwrite: bool = False) -> N
     file name in it: the same trace gives the same bytes."""
     write_lines_atomic(path, trace_lines(trace), overwrite=overwrite,
                        compress=is_compressed_name(path))
+
+
+def read_trace_header(path: str | Path) -> dict[str, Any]:
+    """The header of the trace file ``path``: the JSON object of its first line, read
+    alone and not checked (:func:`read_trace` checks a whole trace)."""
+    for number, line in read_lines(path, decompress=True):
+        if line.strip():
+            return _json_line(line, str(path), number)
+    raise FormatError(str(path), None, "empty trace file")
 
 
 def read_trace(path: str | Path) -> Trace:

@@ -24,7 +24,8 @@ from geomexact.trace.record import Trace
 
 SQUARE_OFF = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"
 SHOW_KEYS = {"trace", "format", "format_version", "geomexact", "input_name", "input_digest",
-             "final_digest", "dimension", "parameters", "steps", "operations"}
+             "final_digest", "dimension", "parameters", "steps", "operations",
+             "header_checked", "checked_steps", "unchecked_steps", "check_note"}
 DIFF_KEYS = {"input", "a", "b", "input_digest", "steps_a", "steps_b", "identical",
              "first_difference", "common_steps", "prefix", "longer", "step_a", "step_b",
              "digest_a", "digest_b", "cells", "only_in_a", "only_in_b", "picture",
@@ -440,3 +441,99 @@ def test_a_trace_that_diverges_exits_1_naming_the_step(
     assert "Traceback" not in err
     code, report = run_json(capsys, "trace", "bisect", square, path, "--fails", "valid")
     assert code == 1 and report["diverged"] is True and report["step"] == 10
+
+
+# -- the header's digest, and the steps show checked ---------------------------------------
+@pytest.mark.parametrize(("field", "value"), [
+    ("command", ["geomexact", "refine", "other.off", "--max-area", "0.5"]),
+    ("options", {"max_area": "0.5"}),
+    ("engine", "python"),
+])
+def test_a_changed_header_is_refused(capsys: pytest.CaptureFixture[str], refined: Path,
+                                     field: str, value: Any) -> None:
+    header, rest = refined.read_text().split("\n", 1)
+    record = json.loads(header)
+    record["parameters"][field] = value
+    refined.write_text(json.dumps(record, sort_keys=True, separators=(",", ":")) + "\n" + rest)
+    for argv in (["trace", "show", refined],
+                 ["replay", refined.parent / "square.off", refined, "-o",
+                  refined.parent / "r.off"]):
+        code, out, err = run(capsys, *argv)
+        assert code == 2 and out == ""
+        assert one_error(err) == (f"geomexact: error: {refined}:1: the header was changed "
+                                  "after the trace was written (its header_digest does not "
+                                  "match its fields)")
+
+
+def test_the_header_digest_covers_the_input_name(capsys: pytest.CaptureFixture[str],
+                                                 refined: Path) -> None:
+    text = refined.read_text()
+    assert text.count('"input_name":"square.off"') == 1
+    refined.write_text(text.replace('"input_name":"square.off"', '"input_name":"other.off"'))
+    code, _, err = run(capsys, "trace", "show", refined)
+    assert code == 2
+    one_error(err, f"{refined}:1: the header was changed after the trace was written")
+
+
+def test_a_header_reformatted_but_unchanged_reads(capsys: pytest.CaptureFixture[str],
+                                                  refined: Path) -> None:
+    header, rest = refined.read_text().split("\n", 1)
+    refined.write_text(json.dumps(json.loads(header), indent=None) + "\n" + rest)  # spaces
+    code, report = run_json(capsys, "trace", "show", refined)
+    assert code == 0 and report["header_checked"] is True
+
+
+def test_an_old_header_without_its_digest_reads_unchecked(capsys: pytest.CaptureFixture[str],
+                                                          refined: Path) -> None:
+    header, rest = refined.read_text().split("\n", 1)
+    record = json.loads(header)
+    del record["header_digest"]
+    refined.write_text(json.dumps(record, sort_keys=True) + "\n" + rest)
+    code, report = run_json(capsys, "trace", "show", refined)
+    assert code == 0 and report["header_checked"] is False
+    code, out, _ = run(capsys, "trace", "show", refined)
+    assert "  header        not covered by a digest (a trace written before header_digest)" \
+        in out.splitlines()
+
+
+def _tampered_at(path: Path, k: int) -> None:
+    """Replace the digest recorded after step ``k`` by another."""
+    lines = path.read_text().splitlines()
+    record = json.loads(lines[k])
+    assert record["i"] == k
+    record["digest"] = "0" * 32
+    lines[k] = json.dumps(record, sort_keys=True, separators=(",", ":"))
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_show_steps_says_which_steps_it_did_not_check(capsys: pytest.CaptureFixture[str],
+                                                      refined: Path) -> None:
+    _tampered_at(refined, 40)
+    total = len(read_trace(refined))
+    code, report = run_json(capsys, "trace", "show", refined, "--steps", "1-3")
+    assert code == 0
+    assert (report["checked_steps"], report["unchecked_steps"]) == (3, total - 3)
+    hint = (f"steps 4-{total} not replayed, their digests not checked: geomexact trace show "
+            f"{refined} --check (or geomexact replay) checks them")
+    assert report["check_note"] == hint
+    code, out, _ = run(capsys, "trace", "show", refined, "--steps", "1-3")
+    assert code == 0
+    assert out.splitlines()[-1] == f"checked: steps 1-3 replay as recorded; {hint}"
+
+
+def test_show_check_replays_every_step(capsys: pytest.CaptureFixture[str], refined: Path,
+                                       square: Path) -> None:
+    total = len(read_trace(refined))
+    code, report = run_json(capsys, "trace", "show", refined, "--check")
+    assert code == 0 and report["checked_steps"] == total and report["check_note"] is None
+    _tampered_at(refined, 40)
+    for extra in ([], ["--steps", "1-3"], ["--input", square]):
+        code, out, err = run(capsys, "trace", "show", refined, "--check", *extra)
+        assert code == 1 and out == ""
+        assert err.startswith(f"geomexact: trace diverged: {refined}: step 40 (")
+    lone = refined.parent / "lone"
+    lone.mkdir()
+    (lone / refined.name).write_bytes(refined.read_bytes())
+    code, _, err = run(capsys, "trace", "show", lone / refined.name, "--check")
+    assert code == 2
+    one_error(err, "--check replays", "give --input INPUT")

@@ -116,7 +116,8 @@ def demo_result() -> dict[str, str]:
 
 def _without_provenance(path: Path) -> bytes:
     """The file's bytes; for a trace, without the header's ``command`` and ``options``
-    parameters, which name the output folder (a temporary one here)."""
+    parameters, which name the output folder (a temporary one here), nor its
+    ``header_digest``, which covers them."""
     data = path.read_bytes()
     if not path.name.endswith(".trace.jsonl"):
         return data
@@ -124,6 +125,7 @@ def _without_provenance(path: Path) -> bytes:
     record = json.loads(header)
     for key in ("command", "options"):
         record["parameters"].pop(key, None)
+    record.pop("header_digest", None)
     return json.dumps(record, sort_keys=True, separators=(",", ":")).encode() + b"\n" + rest
 
 
