@@ -110,6 +110,9 @@ def estimated_tetrahedra(args: argparse.Namespace, level: int) -> int:
     domain's sides, so any scale of box is measured alike; a refusal needs only the
     order of magnitude."""
     cells = args.grid[0] * args.grid[1] * args.grid[2]
+    if args.max_edge is not None:  # no deeper than where the box's longest side is short
+        longest = max((args.box[a + 3] - args.box[a]) / args.grid[a] for a in range(3))
+        level = min(level, max(0, math.ceil(math.log2(float(longest / args.max_edge)))))
     everywhere = cells * 8 ** level
     regions = [*(("sphere" if args.surface else "ball", values)
                  for values in args.refine_sphere or []),

@@ -57,7 +57,7 @@ def test_cli_md_names_only_real_commands() -> None:
     a general section)."""
     reference = docs_module("cli_reference")
     commands = {" ".join(words) for words, _ in reference.commands()}
-    general = {"Exit codes", "Files and formats", "JSON output", "--version"}
+    general = {"Exit codes", "Memory budget", "Files and formats", "JSON output", "--version"}
     sections = re.findall(r"^## (.+?)\s*$", (DOCS / "cli.md").read_text("utf-8"),
                           flags=re.MULTILINE)
     unknown = [s for s in sections if s not in commands and s not in general]
