@@ -15,6 +15,7 @@ import numpy.typing as npt
 
 from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.array_filters import orient2d_signs
+from geomexact.kernel.components import component_labels
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
@@ -414,18 +415,7 @@ def _component_count(arrays: MeshArrays) -> int:
     twin = arrays.twin
     pairs = np.flatnonzero(twin > np.arange(len(twin)))
     a, b = triangle[pairs], triangle[twin[pairs]]
-    parent = np.arange(int(first.sum()))
-    while True:
-        ra, rb = parent[a], parent[b]
-        differ = ra != rb
-        if not differ.any():
-            break
-        np.minimum.at(parent, np.maximum(ra, rb)[differ], np.minimum(ra, rb)[differ])
-        while True:
-            grand = parent[parent]
-            if np.array_equal(grand, parent):
-                break
-            parent = grand
+    parent = component_labels(int(first.sum()), a, b)
     return int(np.count_nonzero(parent == np.arange(len(parent))))
 
 

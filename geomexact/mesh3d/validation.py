@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from geomexact.errors import InvalidMeshError, Violation
+from geomexact.kernel.components import component_labels
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates3d import orient3d
@@ -139,13 +140,13 @@ def manifold_violations(tetrahedra: list[tuple[int, int, int, int]]) -> list[Vio
     in_first = _OPPOSITE[first % 4]  # (P x 3) positions of the shared face's corners in t1
     vertices = tets[t1[:, None], in_first]
     in_second = np.argmax(tets[t2][:, None, :] == vertices[:, :, None], axis=2)
-    corner_label = _components(
+    corner_label = component_labels(
         4 * count, (4 * t1[:, None] + in_first).ravel(), (4 * t2[:, None] + in_second).ravel()
     )
     edge_links = [(_EDGE_OF[in_first[:, i], in_first[:, j]], _EDGE_OF[in_second[:, i],
                                                                       in_second[:, j]])
                   for i, j in ((0, 1), (0, 2), (1, 2))]
-    edge_label = _components(
+    edge_label = component_labels(
         6 * count,
         np.concatenate([6 * t1 + e1 for e1, _ in edge_links]),
         np.concatenate([6 * t2 + e2 for _, e2 in edge_links]),
@@ -202,23 +203,6 @@ def _counted_rows(ordered: Any) -> tuple[Any, Any]:
 def _distinct_rows(rows: Any) -> tuple[Any, Any]:
     """:func:`_counted_rows` of ``rows`` in any order."""
     return _counted_rows(rows[np.lexsort(rows.T[::-1])])
-
-
-def _components(size: int, first: Any, second: Any) -> Any:
-    """The smallest node of each node's connected component, in the graph of ``size``
-    nodes with the edges ``first[k]``-``second[k]`` (hooking roots, then path doubling)."""
-    parent = np.arange(size)
-    while True:
-        a, b = parent[first], parent[second]
-        differ = a != b
-        if not differ.any():
-            return parent
-        np.minimum.at(parent, np.maximum(a, b)[differ], np.minimum(a, b)[differ])
-        while True:
-            grand = parent[parent]
-            if np.array_equal(grand, parent):
-                break
-            parent = grand
 
 
 def _groups(keys: Any, labels: Any) -> tuple[Any, Any]:
