@@ -13,11 +13,12 @@ from geomexact.cli.arguments import (
 from geomexact.cli.exit_codes import EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json
-from geomexact.cli.writing import write
+from geomexact.cli.writing import refuse_existing, write
 
 
 def command_convert(args: argparse.Namespace) -> int:
     """Read a file in one format and write it in another."""
+    refuse_existing([("OUT", args.output, args.target_format)], force=args.force)
     loaded = load(args.input, args.source_format, args.verbose)
     written = write(
         args.output, loaded.value, args.target_format, overwrite=args.force, numbers=args.numbers

@@ -17,7 +17,7 @@ from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
-from geomexact.cli.writing import distinct_outputs, write
+from geomexact.cli.writing import distinct_outputs, refuse_existing, write
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import make_delaunay
 from geomexact.mesh2d.pslg import PSLG
@@ -29,8 +29,10 @@ from geomexact.mesh2d.validation import validate
 def command_triangulate(args: argparse.Namespace) -> int:
     """(Constrained) Delaunay triangulation of a point set or PSLG, or Lawson flips of a
     triangle mesh into a Delaunay one; writes the mesh and optionally the trace."""
+    outputs = [("-o", args.output, args.to), ("--trace", args.trace, "file")]
+    refuse_existing(outputs, force=args.force)  # before the work, not after it
     loaded = load(args.input, args.format, args.verbose)
-    distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file")])
+    distinct_outputs(outputs)
     started = time.perf_counter()
     warnings: list[str] = []
     if isinstance(loaded.value, Mesh2):

@@ -124,6 +124,22 @@ def distinct_outputs(outputs: Sequence[tuple[str, str | None, str | None]]) -> N
             claimed.setdefault(resolved, option)
 
 
+def refuse_existing(outputs: Sequence[tuple[str, str | None, str | None]], *,
+                    force: bool) -> None:
+    """Without ``force``, refuse (:class:`~geomexact.errors.OverwriteError`) an output
+    that exists, companions included, before the input is even read: ``outputs`` are
+    (option, path or None, format) triples as for :func:`distinct_outputs`."""
+    if force:
+        return
+    for _, path, format in outputs:
+        if not path:
+            continue
+        files = io.output_paths(path, format) if format != "file" else (Path(path),)
+        for file in files:
+            if file.exists():
+                raise OverwriteError(str(file))
+
+
 def check_outputs(
     outputs: Sequence[tuple[str, str | None, str | None]], value_type: type, *, force: bool
 ) -> None:
