@@ -79,3 +79,17 @@ def test_superior_keeps_its_holes(capsys: pytest.CaptureFixture[str], folder: Pa
     assert len(io.read(folder / "superior.poly").holes) == 6
     assert main(["triangulate", str(folder / "superior.poly"), "-o",
                  str(folder / "superior.1.ele")]) == 0
+
+
+@pytest.mark.parametrize("argv", [["triangulate", "missing.node", "-o", "sq.ele"],
+                                  ["convert", "missing.off", "sq.off"]],
+                         ids=["triangulate", "convert"])
+def test_an_existing_output_is_refused_before_the_input_is_read(
+        capsys: pytest.CaptureFixture[str], tmp_path: Path, argv: list[str]) -> None:
+    """The refusal comes first: the input (here missing) is not even opened (it came
+    after 44 s and 2.8 GB of work for 10^6 points)."""
+    (tmp_path / "sq.off").write_text(SQUARE_OFF)
+    (tmp_path / "sq.node").write_text("0 2 0 0\n")
+    code = main([str(tmp_path / word) if "." in word else word for word in argv])
+    err = capsys.readouterr().err
+    assert code == 2 and "refusing to overwrite" in err and "missing" not in err
