@@ -145,6 +145,21 @@ def estimated_tetrahedra(args: argparse.Namespace, level: int) -> int:
     return int(TETRAHEDRA_PER_LEAF * min(everywhere, fine_leaves * 8 / 7 * 2 + cells))
 
 
+def _control_volumes(mesh: Mesh3) -> Any:
+    """The mesh's Voronoi control volumes; a mesh the exact check finds not Delaunay is
+    a usage problem (exit 2, nothing written)."""
+    from geomexact.errors import PreconditionError
+    from geomexact.mesh3d.voronoi import control_volumes
+
+    try:
+        return control_volumes(mesh)
+    except PreconditionError as error:
+        raise UsageProblem(
+            f"--voronoi: {error.problem}; nothing was written (an octree refined to one "
+            "level everywhere, without --refine-sphere or --refine-box, is Delaunay)"
+        ) from None
+
+
 def _json_number(value: Any) -> Any:
     """``value``, or None for a float beyond the doubles (a radius-edge ratio of a box
     thinner than 2^-1024 of its length along one axis), as JavaScript's JSON writes it."""
@@ -176,7 +191,8 @@ def _octree(args: argparse.Namespace) -> int:
     stages = _stages(args)
     output_format = _output_format(args.output, args.to)
     check_outputs([("-o", args.output, output_format), ("--start", args.start, None),
-                   ("--trace", args.trace, "file")], Mesh3, force=args.force)
+                   ("--trace", args.trace, "file"), ("--voronoi", args.voronoi, "file")],
+                  Mesh3, force=args.force)
     if args.start and not args.trace:
         raise UsageProblem("--start writes the input of the trace: give --trace too")
     level = stages["refinement"].max_level
@@ -195,6 +211,7 @@ def _octree(args: argparse.Namespace) -> int:
     if bar is not None:
         bar(len(STAGES), len(STAGES))
     quality = run.quality()
+    volumes = _control_volumes(run.mesh) if args.voronoi else None
     written: list[Path] = []
     if args.start and run.start is not None:
         written += write(args.start, run.start, None, overwrite=args.force, numbers="exact")
@@ -210,6 +227,11 @@ def _octree(args: argparse.Namespace) -> int:
         trace = with_provenance(trace, args, engine="reference", input_path=args.start)
         write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
+    if volumes is not None:
+        from geomexact.io.control_volumes import write_control_volumes
+
+        write_control_volumes(args.voronoi, run.mesh, volumes, overwrite=args.force)
+        written.append(Path(args.voronoi))
     report = {
         "box": [format_rational(v) for v in (*domain.low, *domain.high)],
         "grid": list(args.grid),
@@ -233,6 +255,10 @@ def _octree(args: argparse.Namespace) -> int:
         "seconds": round(time.perf_counter() - started, 4),
         "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         "written": [str(path) for path in written],
+        "voronoi": None if volumes is None else {
+            "vertices": len(volumes.volumes), "faces": len(volumes.faces),
+            "inadequate_faces": len(volumes.inadequate_edges()),
+            "total": format_rational(volumes.total)},
     }
     if args.json:
         print_json({key: _json_number(value) for key, value in report.items()})
@@ -283,5 +309,9 @@ def add_parser(commands: Subcommands) -> None:
         start="with --trace: write the trace's input (the vertices), exactly",
         trace="record the run by the reference steps (one insert_cuboid per leaf, then "
               "flips) and write the trace")
+    octree.add_argument("--voronoi", metavar="OUT.cv",
+                        help="write the Voronoi control volumes of the mesh (exact; "
+                             "specs/formats/control_volumes.md); the mesh must be "
+                             "Delaunay")
     add_progress_flags(octree)
 
