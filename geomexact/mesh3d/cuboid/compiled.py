@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import threading
 from collections.abc import Sequence
 from functools import lru_cache
 from typing import Any, Final
@@ -77,9 +78,17 @@ def unsupported(box: Box) -> str | None:
     return None
 
 
-@lru_cache(maxsize=32)
 def _setup(box: Box, order: str, template: int, improve: bool,
            allow_boundary_flips: bool) -> Any:
+    # a Setup owns the scratch mesh the kernel fills without the GIL: threads sharing one
+    # (a Dask worker's threads) would overwrite each other's partitions, so one per thread
+    return _thread_setup(box, order, template, improve, allow_boundary_flips,
+                         threading.get_ident())
+
+
+@lru_cache(maxsize=32)
+def _thread_setup(box: Box, order: str, template: int, improve: bool,
+                  allow_boundary_flips: bool, thread: int) -> Any:
     reason = unsupported(box)
     if reason is not None:
         raise PreconditionError("cuboid", reason)
