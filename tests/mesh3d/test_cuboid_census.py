@@ -5,7 +5,9 @@ row layout shared by the kernel and the reference; the summary."""
 from __future__ import annotations
 
 import importlib.util
+from concurrent.futures import ThreadPoolExecutor
 
+import numpy as np
 import pytest
 
 from geomexact.errors import MissingDependencyError, PreconditionError
@@ -21,6 +23,7 @@ from geomexact.mesh3d.cuboid.census import (
 from geomexact.mesh3d.cuboid.census_runs import (
     CensusJob,
     Chunk,
+    chunk_rows,
     chunks_of,
     parse_patterns,
     row_values,
@@ -64,6 +67,28 @@ def test_the_reference_and_the_kernel_and_the_pool_give_the_same_rows(improve: b
     assert [row.pattern for row in pool] == list(patterns)
 
 
+def test_a_chunk_comes_back_as_one_array_of_rows() -> None:
+    # an array crosses Dask as one buffer; a list went int by int
+    job = CensusJob(unit_cube(), improve=True)
+    for chunk in (Chunk(4090, 4110), Chunk(0, 0, (70688, 3, 4096))):
+        values = chunk_rows(job, chunk)
+        assert isinstance(values, np.ndarray)
+        assert values.dtype == np.int32 and values.shape == (len(chunk), 12)
+        rows = rows_of_values(job, chunk, values)
+        assert all(type(row.tetrahedra) is int for row in rows)
+        assert rows == [census_row(p, unit_cube(), improve=True) for p in chunk]
+
+
+def test_threads_of_one_process_give_the_same_rows() -> None:
+    # a Dask worker runs tasks on several threads of one process, the kernel without the GIL
+    job = CensusJob(box_of_extents(1, 2, 4), improve=True)
+    chunks = chunks_of(range(4000, 16000), 1000)
+    alone = [chunk_rows(job, chunk) for chunk in chunks]
+    with ThreadPoolExecutor(max_workers=4) as threads:
+        together = list(threads.map(lambda chunk: chunk_rows(job, chunk), chunks))
+    assert all(np.array_equal(a, b) for a, b in zip(alone, together, strict=True))
+
+
 def test_progress_is_reported_per_chunk() -> None:
     seen: list[tuple[int, int]] = []
     run_census(range(1, 41), CensusJob(unit_cube()), workers=1, chunk_size=16,
@@ -102,9 +127,15 @@ def test_a_real_local_dask_cluster_gives_the_same_rows() -> None:
     distributed = importlib.import_module("distributed")
     job = CensusJob(box_of_extents(1, 2, 4), order="index", improve=True)
     patterns = parse_patterns("4000-4600")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1",
+    listed = (70688, 5, 4096, 262143, 4100)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=2, host="127.0.0.1",
                                   processes=True, dashboard_address=None) as cluster:
         on_dask = run_census(patterns, job, dask_address=cluster.scheduler_address,
                              chunk_size=100)
+        sized = run_census(patterns, job, dask_address=cluster.scheduler_address)
+        listed_on_dask = run_census(listed, job, dask_address=cluster.scheduler_address,
+                                    chunk_size=2)
+    assert on_dask == sized == run_census(patterns, job, workers=2, chunk_size=64)
     assert on_dask == run_census(patterns, job, workers=1)
     assert [row.pattern for row in on_dask] == list(patterns)
+    assert listed_on_dask == run_census(listed, job, workers=1)
