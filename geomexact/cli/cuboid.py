@@ -118,6 +118,7 @@ def command_cuboid(args: argparse.Namespace) -> int:
                                                         "flip44")},
             "total": report.flip_count, "rounds": report.rounds},
         "failing_kinds": None if report is None else list(report.failing_kinds),
+        "cells": _cells(mesh),
         "configurations": _configurations(mesh),
         "configurations_partition": _configurations(run.partition),
         "faces": faces,
@@ -150,6 +151,18 @@ def command_cuboid(args: argparse.Namespace) -> int:
     return EXIT_FAILED if violations else EXIT_OK
 
 
+def _cells(mesh: Mesh3) -> list[int] | None:
+    """The vertex count of each polyhedral Delaunay cell (co-spherical tetrahedra grouped
+    exactly), or None when the mesh is not Delaunay (without --improve
+    --allow-boundary-flips it rarely is)."""
+    from geomexact.mesh3d.cospherical import polyhedral_cells
+    from geomexact.mesh3d.measures import is_delaunay3
+
+    if not is_delaunay3(mesh):
+        return None
+    return [len(cell.vertices) for cell in polyhedral_cells(mesh)]
+
+
 def _start_numbers(path: str | None, box: Box) -> NumberStyle:
     """How ``--start`` writes numbers: always losslessly (a rounded start would not be the
     trace's input): ``exact`` in a text format; in a format of doubles (VTK, …) only
@@ -178,6 +191,9 @@ def _print_text(report: dict[str, Any]) -> None:
         rows["flips"] = ", ".join(f"{k} {v}" for k, v in report["flips"].items())
         rows["failing_kinds"] = " ".join(report["failing_kinds"]) or "none"
     rows["configurations"] = ", ".join(f"{k} {v}" for k, v in configurations.items())
+    cells = report["cells"]
+    rows["polyhedral cells"] = ("not Delaunay" if cells is None else
+                                f"{len(cells)} (vertices: {' '.join(map(str, cells))})")
     print_table(title, rows)
     print("  box faces (triangles by point: cK corner, eI edge midpoint, fJ face centre):")
     for name, triangles in report["faces"].items():

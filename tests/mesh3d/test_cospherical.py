@@ -78,3 +78,16 @@ def test_a_cuboid_of_unequal_sides_keeps_fewer_symmetries() -> None:
     box = Box((0, 0, 0), (1, 1, Fraction(2)))
     census = polyhedral_census([1 << bit for bit in range(12)], box)
     assert census.cells_per_pattern and census.cells == sum(census.shapes.values())
+
+
+def test_cuboid_reports_its_cells(capsys: pytest.CaptureFixture[str]) -> None:
+    """geomexact cuboid 1 --improve --allow-boundary-flips --json: four cells of five
+    vertices; without the boundary flips the mesh is not Delaunay: null."""
+    import json
+
+    from geomexact.cli import main
+
+    assert main(["cuboid", "1", "--improve", "--allow-boundary-flips", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["cells"] == [5, 5, 5, 5]
+    assert main(["cuboid", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["cells"] is None
