@@ -99,12 +99,74 @@ def summary_lines(summary: CensusSummary, seconds: float) -> list[str]:
     return [line for line in lines if line]
 
 
+def _cells_chunk(patterns: Sequence[int], box: Any) -> Any:
+    from geomexact.mesh3d.cuboid.polyhedral_census import polyhedral_census
+
+    return polyhedral_census(patterns, box)
+
+
+def command_cells(args: argparse.Namespace, box: Any, patterns: Sequence[int]) -> int:
+    """``census --cells``: the polyhedral Delaunay cells of the patterns, counted by shape
+    up to the cuboid's symmetries (docs/polyhedral-cells.md); -o writes one CSV row per
+    shape."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    from geomexact.mesh3d.cuboid.polyhedral_census import merged
+
+    if args.output and Path(args.output).suffix.lower() != ".csv":
+        raise UsageProblem(f"{args.output}: census --cells -o writes CSV; give a name ending "
+                           "in .csv")
+    if args.output and Path(args.output).exists() and not args.force:
+        raise OverwriteError(args.output)
+    size = 2048
+    chunks = [list(patterns[start:start + size]) for start in range(0, len(patterns), size)]
+    bar = progress_bar(args, f"census --cells {box.describe()}")
+    started = time.perf_counter()
+    result = None
+    with ProcessPoolExecutor(args.workers) as pool:
+        for done, part in enumerate(pool.map(_cells_chunk, chunks, [box] * len(chunks)), 1):
+            result = part if result is None else merged(result, part)
+            if bar is not None:
+                bar(done, len(chunks))
+    seconds = time.perf_counter() - started
+    if result is None:
+        raise UsageProblem("census --cells: no pattern to count")
+    table = result.by_vertex_count()
+    cospherical = sum(shapes for size, (shapes, _) in table.items() if size > 4)
+    if args.output:
+        lines = ["vertices,count,shape"] + [
+            f"{len(shape)},{count},\"{' '.join('/'.join(map(str, p)) for p in shape)}\""
+            for shape, count in result.shapes.items()]
+        write_lines_atomic(args.output, lines, overwrite=args.force)
+    if args.json:
+        print_json({"patterns": result.patterns, "tetrahedra": result.tetrahedra,
+                    "cells": result.cells, "shapes": len(result.shapes),
+                    "cospherical_shapes": cospherical,
+                    "by_vertices": {str(k): {"shapes": v[0], "cells": v[1]}
+                                    for k, v in table.items()},
+                    "cells_per_pattern": {str(k): v
+                                          for k, v in result.cells_per_pattern.items()},
+                    "seconds": round(seconds, 3), "output": args.output})
+        return EXIT_OK
+    print(f"polyhedral cells of {result.patterns:,} patterns on {box.describe()}: "
+          f"{result.tetrahedra:,} tetrahedra grouped into {result.cells:,} cells, "
+          f"{len(result.shapes)} distinct shapes ({cospherical} of five or more vertices)")
+    print("  vertices  shapes       cells")
+    for size, (shapes, cells) in table.items():
+        print(f"  {size:8d}  {shapes:6d}  {cells:10,d}")
+    if args.output:
+        print(f"wrote {args.output}")
+    return EXIT_OK
+
+
 def command_census(args: argparse.Namespace) -> int:
     """Run the census of the chosen patterns, write the rows, print the summary."""
     from geomexact.mesh3d.cuboid.census_runs import CensusJob, parse_patterns, run_census
 
     box = shape_box(args)
     patterns = parse_patterns(args.patterns)
+    if args.cells:
+        return command_cells(args, box, list(patterns))
     outputs: list[Path] = []
     pyarrow = None
     if args.output:
@@ -172,6 +234,11 @@ def add_parser(commands: Subcommands) -> None:
     census.add_argument("-o", "--output", metavar="OUT.csv",
                         help="write one CSV row per pattern (and OUT.parquet when pyarrow "
                         "is installed)")
+    census.add_argument("--cells", action="store_true",
+                        help="count the polyhedral Delaunay cells instead (co-spherical "
+                        "tetrahedra of each pattern's Delaunay tessellation grouped, "
+                        "exactly), by shape up to the cuboid's symmetries; -o writes one "
+                        "CSV row per shape")
     census.add_argument("--no-parquet", action="store_true",
                         help="do not write the Parquet file beside the CSV")
     add_progress_flags(census)

@@ -7,6 +7,7 @@ to the cube's symmetries."""
 from __future__ import annotations
 
 from fractions import Fraction
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
@@ -91,3 +92,21 @@ def test_cuboid_reports_its_cells(capsys: pytest.CaptureFixture[str]) -> None:
     assert json.loads(capsys.readouterr().out)["cells"] == [5, 5, 5, 5]
     assert main(["cuboid", "1", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["cells"] is None
+
+
+def test_census_cells_counts_and_writes_the_shapes(capsys: pytest.CaptureFixture[str],
+                                                   tmp_path: Path) -> None:
+    """census --cells over the one-edge patterns: 48 cells, the CSV's counts add up."""
+    import json
+
+    from geomexact.cli import main
+
+    patterns = ",".join(str(1 << bit) for bit in range(12))
+    out = tmp_path / "cells.csv"
+    assert main(["census", "--cells", "--patterns", patterns, "--workers", "1",
+                 "-o", str(out), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["cells"] == 48 and report["cells_per_pattern"] == {"4": 12}
+    rows = out.read_text().splitlines()[1:]
+    assert sum(int(row.split(",")[1]) for row in rows) == 48
+    assert main(["census", "--cells", "--patterns", "1", "-o", str(tmp_path / "x.txt")]) == 2

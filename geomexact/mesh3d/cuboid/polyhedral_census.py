@@ -23,7 +23,7 @@ from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
 from geomexact.mesh3d.snapshot import Mesh3
 
-__all__ = ["CellShape", "PolyhedralCensus", "cell_shape", "pattern_cells",
+__all__ = ["CellShape", "PolyhedralCensus", "cell_shape", "merged", "pattern_cells",
            "polyhedral_census"]
 
 CellShape = tuple[tuple[int, int, int], ...]
@@ -96,6 +96,17 @@ def pattern_cells(pattern: int,
     polyhedral cells."""
     mesh = partition_cuboid(pattern, box, improve=True, allow_boundary_flips=True).mesh
     return mesh, polyhedral_cells(mesh)
+
+
+def merged(first: PolyhedralCensus, second: PolyhedralCensus) -> PolyhedralCensus:
+    """The census of both parts (of one box)."""
+    shapes: Counter[CellShape] = Counter(first.shapes)
+    shapes.update(second.shapes)
+    per_pattern: Counter[int] = Counter(first.cells_per_pattern)
+    per_pattern.update(second.cells_per_pattern)
+    return PolyhedralCensus(first.box, first.patterns + second.patterns,
+                            dict(sorted(shapes.items())), dict(sorted(per_pattern.items())),
+                            first.tetrahedra + second.tetrahedra, first.cells + second.cells)
 
 
 def polyhedral_census(patterns: Iterable[int], box: Box = UNIT_CUBE) -> PolyhedralCensus:
