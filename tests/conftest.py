@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Any
 
 import pytest
 from hypothesis import settings
@@ -51,3 +52,33 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     for item in items:
         if "slow" in item.keywords and not config.getoption("--runslow"):
             item.add_marker(skip_slow)
+
+
+_SKIP_KINDS = (
+    ("slow: run with --runslow", "slow (run with --runslow)"),
+    ("shared test data not found", "no ../shared/data"),
+    ("headless chromium", "no chromium"),
+    ("could not import", "a missing optional package"),
+)
+
+
+def skip_summary(reasons: list[str]) -> str:
+    """One line: how many tests were skipped and why, the commonest reason first."""
+    counts: dict[str, int] = {}
+    for reason in reasons:
+        kind = next((label for marker, label in _SKIP_KINDS if marker in reason), reason)
+        counts[kind] = counts.get(kind, 0) + 1
+    parts = [f"{count} {kind}" for kind, count in
+             sorted(counts.items(), key=lambda item: (-item[1], item[0]))]
+    return f"skipped {len(reasons)}: " + ", ".join(parts)
+
+
+def pytest_terminal_summary(terminalreporter: Any) -> None:
+    """After the run, one line that says what was skipped and why."""
+    reports = terminalreporter.stats.get("skipped", [])
+    reasons = []
+    for report in reports:
+        longrepr = getattr(report, "longrepr", None)
+        reasons.append(str(longrepr[2]) if isinstance(longrepr, tuple) else str(longrepr))
+    if reasons:
+        terminalreporter.write_line(skip_summary(reasons))
