@@ -66,6 +66,7 @@ def skip_summary(reasons: list[str]) -> str:
     """One line: how many tests were skipped and why, the commonest reason first."""
     counts: dict[str, int] = {}
     for reason in reasons:
+        reason = reason.removeprefix("Skipped: ")
         kind = next((label for marker, label in _SKIP_KINDS if marker in reason), reason)
         counts[kind] = counts.get(kind, 0) + 1
     parts = [f"{count} {kind}" for kind, count in
