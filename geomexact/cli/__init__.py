@@ -36,7 +36,7 @@ from geomexact.cli.exit_codes import (
     EXIT_OK,
     EXIT_TERMINATED,
 )
-from geomexact.cli.parser import build_parser
+from geomexact.cli.parser import build_parser, triangle_switch_hint
 
 __all__ = [
     "EXIT_BAD_INPUT",
@@ -75,7 +75,11 @@ def main(argv: Sequence[str] | None = None, *, cap_memory: bool = False) -> int:
         args = parser.parse_args(words)
         args.argv = ["geomexact", *words]
     except SystemExit as stop:  # --help, --version and usage errors
-        return stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
+        code = stop.code if isinstance(stop.code, int) else EXIT_BAD_INPUT
+        hint = triangle_switch_hint(words) if code == EXIT_BAD_INPUT else None
+        if hint is not None:
+            print(hint, file=sys.stderr)
+        return code
     from geomexact.cli.memory import budget_of, cap_address_space, command_budget, size_text
     from geomexact.errors import GeomexactError
     from geomexact.io.files import output_set

@@ -51,6 +51,33 @@ def command_adder(module: str) -> Callable[[Subcommands], None]:
     return adder
 
 
+_TRIANGLE_SWITCHES = {
+    "q": "--min-angle DEG (refine)", "a": "--max-area A (refine)",
+    "p": "none: a .poly or .pslg input is read as a PSLG (triangulate, refine)",
+    "c": "--keep-convex-hull (triangulate)", "j": "none: unused vertices are kept and noted",
+    "e": "none: geomexact writes edges as segments", "n": "none: the .neigh is always written",
+    "Q": "none: geomexact prints a summary, --json for one object",
+    "V": "-v (the reader's notes)", "z": "none: ids are read from the files as they are",
+}
+"""Triangle's one-letter switches, and what a geomexact command does instead."""
+
+
+def triangle_switch_hint(words: Sequence[str]) -> str | None:
+    """A line for users of Triangle (``-pq30a0.1``), when a word looks like its switches:
+    each letter's geomexact option; None otherwise."""
+    for word in words:
+        glued = (len(word) > 2 and word[0] == "-" and word[1].isalpha()
+                 and any(c.isdigit() or c == "." for c in word[2:]))  # -q30, -pq30a0.1
+        if glued or word in ("-pq", "-pc", "-pa", "-q", "-pqa"):
+            letters = [c for c in word[1:] if c.isalpha()]
+            known = [f"-{c}: {_TRIANGLE_SWITCHES[c]}" for c in dict.fromkeys(letters)
+                     if c in _TRIANGLE_SWITCHES]
+            if known:
+                return (f"geomexact: {word} looks like Triangle's switches; here: "
+                        + "; ".join(known) + " (see geomexact COMMAND --help)")
+    return None
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors name the program as ``geomexact: error:``."""
 

@@ -310,3 +310,24 @@ def test_a_seed_far_outside_is_always_a_warning_naming_its_line(
         return
     hole_line = 2 + len(pslg.vertices) + 1 + len(pslg.segments) + 1
     assert f"geomexact: warning: {path}:{hole_line}: hole 1 at ({10**6 * far + 7}, -999999)" in err
+
+
+@pytest.mark.parametrize(("argv", "expected"), [
+    (["refine", "x.off", "-q30"], "-q: --min-angle DEG"),
+    (["triangulate", "x.poly", "-pq30a0.1"], "-a: --max-area A"),
+])
+def test_triangle_switches_are_translated(capsys: pytest.CaptureFixture[str],
+                                          argv: list[str], expected: str) -> None:
+    """Triangle habit (-q30, -pq30a0.1) gets the usage error and a line naming the
+    geomexact options (issue 26, item 7)."""
+    from geomexact.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "looks like Triangle's switches" in err and expected in err
+
+
+def test_a_negative_number_is_not_taken_for_a_switch() -> None:
+    from geomexact.cli.parser import triangle_switch_hint
+
+    assert triangle_switch_hint(["octree", "--box", "-1", "-2.5", "0", "1", "1", "1"]) is None
