@@ -13,11 +13,12 @@ how the tetrahedralization cut the co-spherical groups."""
 from __future__ import annotations
 
 import attrs
+import numpy as np
 
 from geomexact.errors import PreconditionError
+from geomexact.kernel.components import component_labels
 from geomexact.kernel.predicate_results import SphereLocation
 from geomexact.kernel.predicates3d import insphere
-from geomexact.mesh3d.measures import is_delaunay3
 from geomexact.mesh3d.snapshot import (
     Mesh3,
     Tetrahedron,
@@ -45,35 +46,28 @@ def polyhedral_cells(mesh: Mesh3) -> tuple[PolyhedralCell, ...]:
     """The polyhedral Delaunay cells of ``mesh`` (module docstring), sorted by their
     first tetrahedron; :class:`PreconditionError` when the exact check finds the mesh
     not Delaunay (its co-spherical groups would not be cells)."""
-    if not is_delaunay3(mesh):
-        raise PreconditionError("polyhedral_cells", "the mesh is not Delaunay: group "
-                                "its co-spherical tetrahedra after making it Delaunay")
     tetrahedra = sorted(mesh.iter_tetrahedra())
     index = {tetrahedron: n for n, tetrahedron in enumerate(tetrahedra)}
-    parent = list(range(len(tetrahedra)))
-
-    def root(n: int) -> int:
-        while parent[n] != n:
-            parent[n] = parent[parent[n]]
-            n = parent[n]
-        return n
-
+    first: list[int] = []
+    second: list[int] = []
     faces = mesh.faces
-    for face, apex in faces.items():
+    for face, apex in faces.items():  # one insphere per interior face: Delaunay and groups
         other = faces.get(opposite_face(face))
         if other is None or face > opposite_face(face):
             continue
         a, b, c = face
-        if insphere(*(mesh.point(v) for v in (a, b, c, apex, other))) \
-                != SphereLocation.COSPHERICAL:
-            continue
-        one = index[canonical_tetrahedron(a, b, c, apex)]
-        two = index[canonical_tetrahedron(a, c, b, other)]
-        low, high = sorted((root(one), root(two)))
-        parent[high] = low
+        location = insphere(*(mesh.point(v) for v in (a, b, c, apex, other)))
+        if location == SphereLocation.INSIDE:
+            raise PreconditionError("polyhedral_cells", "the mesh is not Delaunay: group "
+                                    "its co-spherical tetrahedra after making it Delaunay")
+        if location == SphereLocation.COSPHERICAL:
+            first.append(index[canonical_tetrahedron(a, b, c, apex)])
+            second.append(index[canonical_tetrahedron(a, c, b, other)])
+    labels = component_labels(len(tetrahedra), np.array(first, dtype=np.int64),
+                              np.array(second, dtype=np.int64)).tolist()
     groups: dict[int, list[Tetrahedron]] = {}
-    for n, tetrahedron in enumerate(tetrahedra):
-        groups.setdefault(root(n), []).append(tetrahedron)
+    for label, tetrahedron in zip(labels, tetrahedra, strict=True):
+        groups.setdefault(label, []).append(tetrahedron)
     return tuple(
         PolyhedralCell(tuple(sorted({v for t in members for v in t})), tuple(members))
         for _, members in sorted(groups.items()))
