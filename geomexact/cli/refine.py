@@ -262,11 +262,12 @@ def command_refine(args: argparse.Namespace) -> int:
         existing = sorted(Path(args.print_iter).glob("step-*.off"))
         if existing:
             raise OverwriteError(str(existing[0]))
-    from geomexact.mesh2d.refinement.budget import default_budget
+    from geomexact.mesh2d.refinement.budget import budget_of, estimated_triangles
 
     max_steps: int | Literal["auto"] | None = args.max_steps
-    limit = default_budget(mesh, criterion) if max_steps == "auto" else max_steps
-    memory_steps = _memory_steps(mesh, criterion)
+    estimate = estimated_triangles(mesh, criterion)  # O(T) exact: once for both budgets
+    limit = budget_of(mesh.triangle_count, estimate) if max_steps == "auto" else max_steps
+    memory_steps = _memory_steps(mesh, estimate)
     if limit is None or memory_steps < limit:
         limit = memory_steps  # the run stops there with its partial result: exit 3
     show = args.progress if args.progress is not None else sys.stderr.isatty()
@@ -389,14 +390,11 @@ def command_refine(args: argparse.Namespace) -> int:
     return EXIT_BUDGET if stats.status == "budget" or memory_stop else EXIT_OK
 
 
-def _memory_steps(mesh: Mesh2, criterion: Any) -> int:
-    """Refuse (exit 2) a refinement whose criterion asks for more triangles than the
-    memory budget holds; else the steps the budget allows (each adds at most two
-    triangles)."""
-    from geomexact.mesh2d.refinement.budget import estimated_triangles
-
+def _memory_steps(mesh: Mesh2, estimate: int) -> int:
+    """Refuse (exit 2) a refinement whose criterion asks for more triangles (its
+    ``estimate``) than the memory budget holds; else the steps the budget allows (each
+    adds at most two triangles)."""
     budget = active_budget()
-    estimate = estimated_triangles(mesh, criterion)
     budget.refuse_beyond(
         f"refining to about {estimate + mesh.triangle_count:,} triangles",
         (estimate + mesh.triangle_count) * BYTES_PER_TRIANGLE,

@@ -151,11 +151,7 @@ def check_outputs(
     (:class:`~geomexact.errors.OverwriteError`, companions included)."""
     distinct_outputs(outputs)
     for option, path, format in outputs:
-        if not path:
-            continue
-        if format == "file":
-            if not force and Path(path).exists():
-                raise OverwriteError(str(path))
+        if not path or format == "file":
             continue
         name = format or io.detect_format(path)
         kinds = io.FORMATS[name].kinds
@@ -164,7 +160,4 @@ def check_outputs(
             kind = kind_name(value_type).replace("_", " ")
             raise UsageProblem(f"{path} ({option}): the {name} format holds a {held}, not a "
                                f"{kind}")
-        if not force:
-            for file in io.output_paths(path, name):
-                if file.exists():
-                    raise OverwriteError(str(file))
+    refuse_existing(outputs, force=force)

@@ -39,7 +39,7 @@ from geomexact.mesh2d.refinement.criteria import (
 )
 from geomexact.mesh2d.snapshot import Mesh2
 
-__all__ = ["BUDGET_BASE", "BUDGET_FACTOR", "default_budget", "estimated_triangles"]
+__all__ = ["BUDGET_BASE", "BUDGET_FACTOR", "budget_of", "default_budget", "estimated_triangles"]
 
 BUDGET_FACTOR = 100
 """Steps allowed per triangle of the input and of the criterion's estimate."""
@@ -67,8 +67,13 @@ def estimated_triangles(mesh: Mesh2, criterion: Criterion) -> int:
     return _ceiling(2 * area2 / (criterion.length * criterion.length))  # 4·|Ω| / L²
 
 
+def budget_of(triangles: int, estimate: int) -> int:
+    """``100 × (T + E) + 10,000`` for ``triangles`` T and the criterion's ``estimate`` E
+    (:func:`estimated_triangles`), for a caller that has E already."""
+    return BUDGET_FACTOR * (triangles + estimate) + BUDGET_BASE
+
+
 def default_budget(mesh: Mesh2, criterion: Criterion) -> int:
     """``100 × (T + E) + 10,000``: the steps a run may take unless ``max_steps`` says
     otherwise.  O(T) exact additions (for an area or length criterion)."""
-    return BUDGET_FACTOR * (mesh.triangle_count + estimated_triangles(mesh, criterion)) \
-        + BUDGET_BASE
+    return budget_of(mesh.triangle_count, estimated_triangles(mesh, criterion))
