@@ -169,3 +169,14 @@ class MissingDependencyError(GeomexactError, ImportError):
         )
         self.package = package
         self.extra = extra
+
+
+_NULL_WITHOUT_EXCEPTION = "returned NULL without setting an exception"
+
+
+def is_allocation_failure(error: BaseException) -> bool:
+    """True for a MemoryError, and for the SystemError a C extension (GMP's allocator in
+    gmpy2, for one) raises when an allocation fails under an address-space cap without
+    setting MemoryError."""
+    return isinstance(error, MemoryError) or (
+        isinstance(error, SystemError) and _NULL_WITHOUT_EXCEPTION in str(error))

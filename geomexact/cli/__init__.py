@@ -81,7 +81,7 @@ def main(argv: Sequence[str] | None = None, *, cap_memory: bool = False) -> int:
             print(hint, file=sys.stderr)
         return code
     from geomexact.cli.memory import budget_of, cap_address_space, command_budget, size_text
-    from geomexact.errors import GeomexactError
+    from geomexact.errors import GeomexactError, is_allocation_failure
     from geomexact.io.files import output_set
 
     budget = budget_of(getattr(args, "max_memory", None))
@@ -97,7 +97,7 @@ def main(argv: Sequence[str] | None = None, *, cap_memory: bool = False) -> int:
                     f"{size_text(budget.limit)} it may use ({budget.source}); nothing was "
                     f"written: ask for less, or {budget.more()}")
     except SystemError as error:  # an allocation failed in a C extension (GMP under a cap)
-        if "without setting an exception" not in str(error):
+        if not is_allocation_failure(error):
             raise
         print_error(f"out of memory in a compiled routine ({size_text(budget.limit)} "
                     f"allowed, {budget.source}); nothing was written")

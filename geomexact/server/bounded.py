@@ -19,6 +19,8 @@ from collections.abc import Callable
 from http import HTTPStatus
 from typing import Any
 
+from geomexact.errors import is_allocation_failure
+
 RETRY_AFTER_SECONDS = 2
 """What a "busy" answer (503) tells the client to wait before trying again."""
 
@@ -49,9 +51,6 @@ def out_of_memory_message(memory_limit: int | None) -> str:
         return "the job ran out of memory"
     return (f"the job ran out of memory: it may use at most {_megabytes(memory_limit)} "
             "(ask for less work, or start the server with a larger --memory-limit-mb)")
-
-
-_NULL_WITHOUT_EXCEPTION = "returned NULL without setting an exception"
 
 
 def limit_memory(memory_limit: int) -> None:
@@ -103,7 +102,7 @@ def _child(connection: multiprocessing.connection.Connection, job: Callable[...,
         connection.send(("failed", HTTPStatus.INSUFFICIENT_STORAGE,
                          out_of_memory_message(memory_limit)))
     except SystemError as error:
-        if memory_limit is not None and _NULL_WITHOUT_EXCEPTION in str(error):
+        if memory_limit is not None and is_allocation_failure(error):
             # under the cap, a C extension (GMP's allocator in gmpy2, for one) can fail
             # an allocation without raising MemoryError: it is the cap all the same
             connection.send(("failed", HTTPStatus.INSUFFICIENT_STORAGE,
