@@ -1,13 +1,15 @@
-"""Pictures of tetrahedral meshes with matplotlib: PNG, SVG or PDF.
+"""Pictures of 3D meshes with matplotlib: PNG, SVG or PDF.
 
-:func:`plot_mesh3` draws a :class:`~geomexact.mesh3d.snapshot.Mesh3` as its boundary
-surface, shaded by a fixed light, seen from a chosen elevation and azimuth (orthographic).
-A clip plane (:class:`~geomexact.viz.scene3d.Clip`) removes the tetrahedra whose centroid
-lies beyond it (decided exactly) and shows the faces it cuts open; faces can be coloured by
-their tetrahedron's radius ratio.  Only the faces that can be seen are drawn: the boundary
-faces of the kept tetrahedra, and of those only the ones facing the viewer, painted from
-back to front.  So the cost grows with the surface, not the volume: the numpy work on all
-tetrahedra is O(m log m) and matplotlib draws O(m^(2/3)) faces on a regular mesh.
+:func:`plot_mesh3` draws a :class:`~geomexact.mesh3d.snapshot.Mesh3` or a mixed-cell
+:class:`~geomexact.mesh3d.mixed.snapshot.MixedMesh3` as its boundary surface, each face as
+its polygon, shaded by a fixed light, seen from a chosen elevation and azimuth
+(orthographic).  A clip plane (:class:`~geomexact.viz.scene3d.Clip`) removes the cells
+whose centroid lies beyond it, whole (decided exactly), and shows the faces it cuts open;
+faces can be coloured by their tetrahedron's radius ratio, or by their cell's kind.  Only
+the faces that can be seen are drawn: the boundary faces of the kept cells, and of those
+only the ones facing the viewer, painted from back to front.  So the cost grows with the
+surface, not the volume: the numpy work on all cells is O(m log m) and matplotlib draws
+O(m^(2/3)) faces on a regular mesh.
 
 Coordinates are float copies of the exact ones (display only); the mesh is never changed.
 Figures are made without pyplot, ``size`` inches at ``dpi`` exactly, as in
@@ -32,21 +34,38 @@ try:
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import Normalize, to_rgb
     from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
 except ImportError as error:  # the "pictures" extra
     raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
 
 from geomexact.io.files import write_bytes_atomic
+from geomexact.mesh3d.mixed.cells import CellKind
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.viz.pictures import DEFAULT_DPI, DEFAULT_SIZE, figure_bytes, picture_format
-from geomexact.viz.scene3d import Clip, kept_by_clip, radius_ratios, tetrahedron_arrays
+from geomexact.viz.scene3d import (
+    KIND_ORDER,
+    KIND_PLURALS,
+    CellFaces,
+    Clip,
+    Mesh3D,
+    cell_faces,
+    faces_of_tetrahedra,
+    kept_by_clip,
+    kind_counts,
+    mesh_xyz,
+    radius_ratios,
+)
 
-Colour3 = Literal["plain", "quality"]
-COLOURS3: tuple[str, ...] = ("plain", "quality")
-"""How :func:`draw_mesh3` colours faces: one colour (cut faces another), or radius ratio."""
+Colour3 = Literal["plain", "quality", "kind"]
+COLOURS3: tuple[str, ...] = ("plain", "quality", "kind")
+"""How :func:`draw_mesh3` colours faces: one colour (cut faces another), radius ratio
+(tetrahedral meshes), or the cell's kind (with a legend)."""
 
-FACE_CORNERS = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.int64)
-"""The face opposite corner i of a positive tetrahedron, oriented outward (its normal
-by the right-hand rule points away from corner i)."""
+KIND_FILLS = {CellKind.TETRA: "#e07a5f", CellKind.PYRAMID: "#f2cc8f",
+              CellKind.WEDGE: "#81b29a", CellKind.HEXAHEDRON: "#9fbfe0",
+              CellKind.POLYHEDRON: "#b48ad8"}
+"""The fill of each cell kind (the page uses the same colours)."""
 
 LIGHT = np.array([0.25, -0.5, 1.0]) / math.sqrt(0.25**2 + 0.5**2 + 1.0)
 """The direction the light comes from, fixed in the mesh's coordinates."""
@@ -61,56 +80,66 @@ DEFAULT_AZIMUTH = -60.0
 
 @attrs.frozen(eq=False)
 class FaceNeighbours:
-    """For the 4 m faces of ``cells`` (face f of cell c at row 4 c + f, as
-    :data:`FACE_CORNERS`), the cell on its other side, or -1 on the mesh's boundary."""
+    """For each face of :class:`~geomexact.viz.scene3d.CellFaces`, its cell (``owners``)
+    and the cell on its other side (``neighbours``), or -1 on the mesh's boundary."""
 
-    cells: np.ndarray
+    owners: np.ndarray
     neighbours: np.ndarray
 
 
-def face_neighbours(cells: np.ndarray) -> FaceNeighbours:
-    """The :class:`FaceNeighbours` of ``cells`` (m × 4 vertex ids), by sorting the 4 m
-    faces: O(m log m)."""
-    faces = np.sort(cells[:, FACE_CORNERS].reshape(-1, 3), axis=1)
-    neighbours = np.full(len(faces), -1, dtype=np.int64)
-    if len(faces):
-        order = np.lexsort((faces[:, 2], faces[:, 1], faces[:, 0]))
-        ordered = faces[order]
+def face_neighbours(cells: np.ndarray | CellFaces) -> FaceNeighbours:
+    """The :class:`FaceNeighbours` of ``cells`` (:class:`CellFaces`, or tetrahedra as rows
+    of 4 vertex ids: face f of cell c is then row 4 c + f), by sorting the faces' vertex
+    sets: O(F log F) for F faces.  Two faces with one vertex set are one polygon."""
+    faces = cells if isinstance(cells, CellFaces) else faces_of_tetrahedra(cells)
+    sizes = faces.face_sizes()
+    owners = faces.owners()
+    neighbours = np.full(faces.face_count, -1, dtype=np.int64)
+    if faces.face_count:
+        keys = np.full((faces.face_count, int(sizes.max())), -1, dtype=np.int64)
+        rows = np.repeat(np.arange(faces.face_count), sizes)
+        columns = np.arange(len(faces.corners)) - faces.corner_offsets[rows]
+        keys[rows, columns] = faces.corners
+        keys = np.sort(keys, axis=1)
+        order = np.lexsort(keys.T[::-1])
+        ordered = keys[order]
         same = np.nonzero((ordered[1:] == ordered[:-1]).all(axis=1))[0]
-        neighbours[order[same]] = order[same + 1] // 4
-        neighbours[order[same + 1]] = order[same] // 4
-    return FaceNeighbours(cells, neighbours)
+        neighbours[order[same]] = owners[order[same + 1]]
+        neighbours[order[same + 1]] = owners[order[same]]
+    return FaceNeighbours(owners, neighbours)
 
 
 @attrs.frozen(eq=False)
 class VisibleFaces:
-    """The faces of the kept tetrahedra with no kept tetrahedron behind them: ``slots``
-    (rows 4 c + f into :class:`FaceNeighbours`), ``cut`` (True for a face the clip opened:
-    its neighbour exists but was removed), and the counts of tetrahedra."""
+    """The faces of the kept cells with no kept cell behind them: ``slots`` (face indices
+    into :class:`FaceNeighbours`), ``cut`` (True for a face the clip opened: its
+    neighbour exists but was removed), and the counts of cells."""
 
     slots: np.ndarray
     cut: np.ndarray
-    tetrahedra: int
+    cells: int
     kept: int
 
 
 def visible_faces(adjacency: FaceNeighbours, kept: np.ndarray) -> VisibleFaces:
-    """The boundary faces of the set of cells ``kept`` (a boolean mask): O(m)."""
-    cells = len(adjacency.cells)
-    owner_kept = np.repeat(kept, 4)
+    """The boundary faces of the set of cells ``kept`` (a boolean mask): O(F)."""
+    owner_kept = kept[adjacency.owners]
     other = adjacency.neighbours
     other_kept = np.zeros(len(other), dtype=bool)
     inside = other >= 0
     other_kept[inside] = kept[other[inside]]
     slots = np.nonzero(owner_kept & ~other_kept)[0]
-    return VisibleFaces(slots, inside[slots], cells, int(np.count_nonzero(kept)))
+    return VisibleFaces(slots, inside[slots], len(kept), int(np.count_nonzero(kept)))
 
 
 @attrs.frozen
 class Drawing3:
-    """What :func:`draw_mesh3` drew: the mesh's tetrahedra, those the clip kept, the
-    boundary faces of the kept set (``surface`` on the mesh's boundary, ``cut`` opened by
-    the clip) and the faces painted (those facing the viewer, or every shrunk face)."""
+    """What :func:`draw_mesh3` drew: the mesh's cells (``tetrahedra`` of them
+    tetrahedra; ``kinds`` the counts by kind's plural name, in
+    :data:`~geomexact.viz.scene3d.KIND_ORDER`), those the clip kept, the boundary faces of
+    the kept set (``surface`` on the mesh's boundary, ``cut`` opened by the clip) and the
+    faces painted (those facing the viewer, or every shrunk face), ``sizes`` the painted
+    faces' corner counts, ``{corners: faces}``."""
 
     vertices: int
     tetrahedra: int
@@ -119,6 +148,10 @@ class Drawing3:
     cut: int
     painted: int
     clip: Clip | None
+    cells: int = 0
+    kinds: dict[str, int] = attrs.field(factory=dict)
+    sizes: dict[int, int] = attrs.field(factory=dict)
+    mixed: bool = False
 
 
 def _view_axes(elevation: float, azimuth: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -133,75 +166,91 @@ def _view_axes(elevation: float, azimuth: float) -> tuple[np.ndarray, np.ndarray
 
 def draw_mesh3(
     ax: Any,
-    mesh: Mesh3,
+    mesh: Mesh3D,
     *,
     clip: Clip | None = None,
-    colour: Colour3 = "plain",
+    colour: Colour3 | None = None,
     elevation: float = DEFAULT_ELEVATION,
     azimuth: float = DEFAULT_AZIMUTH,
     shrink: float = 0.0,
     colorbar: bool = True,
 ) -> Drawing3:
-    """Draw ``mesh`` into the matplotlib axes ``ax`` (a plain 2D axes: the projection is
-    done here); return what was drawn (:class:`Drawing3`).
+    """Draw ``mesh`` (a ``Mesh3`` or a ``MixedMesh3``) into the matplotlib axes ``ax`` (a
+    plain 2D axes: the projection is done here); return what was drawn
+    (:class:`Drawing3`).
 
-    The boundary surface of the kept tetrahedra is drawn, lit by :data:`LIGHT`; with
-    ``clip``, the tetrahedra whose centroid is beyond the plane are removed (exactly) and
-    the faces that opens are filled in orange.  ``colour="quality"`` fills every face by
-    its tetrahedron's radius ratio (0 flat … 1 regular, with a colour bar).  ``shrink``
-    (0 ≤ shrink < 1) moves each kept tetrahedron's corners toward its centroid and draws
-    all its faces (O(kept) faces: for small meshes).  An empty mesh, or a clip that keeps
-    nothing, gives an empty drawing.
+    The boundary surface of the kept cells is drawn, each face as its polygon (outlined
+    without diagonals), lit by :data:`LIGHT`; with ``clip``, the cells whose centroid is
+    beyond the plane are removed whole (exactly) and the faces that opens are drawn, in
+    orange when plain.  ``colour``: ``"plain"`` (a ``Mesh3``'s default), ``"quality"``
+    (each tetrahedron's radius ratio, 0 flat … 1 regular, with a colour bar; a
+    ``Mesh3`` only) or ``"kind"`` (each cell's kind, with a legend; a ``MixedMesh3``'s
+    default).  ``shrink`` (0 ≤ shrink < 1) moves each kept cell's corners toward its
+    centroid and draws all its faces (O(kept) faces: for small meshes).  An empty mesh,
+    or a clip that keeps nothing, gives an empty drawing.
     """
+    if not isinstance(mesh, Mesh3 | MixedMesh3):
+        raise TypeError(f"draw_mesh3 draws a Mesh3 or a MixedMesh3, not "
+                        f"{type(mesh).__name__}")
+    mixed = isinstance(mesh, MixedMesh3)
+    colour = colour or ("kind" if mixed else "plain")
     if colour not in COLOURS3:
         raise ValueError(f"colour must be one of {', '.join(COLOURS3)}, not {colour!r}")
+    if colour == "quality" and mixed:
+        raise ValueError("colour 'quality' (radius ratio) is for tetrahedral meshes: a "
+                         "mixed mesh is coloured by 'kind' or 'plain'")
     if not 0.0 <= shrink < 1.0:
         raise ValueError(f"shrink must be in [0, 1), not {shrink!r}")
-    if not isinstance(mesh, Mesh3):
-        raise TypeError(f"draw_mesh3 draws a Mesh3, not {type(mesh).__name__}")
-    arrays = tetrahedron_arrays(mesh)
-    xyz, cells = arrays.xyz, arrays.cells
+    xyz = mesh_xyz(mesh)
     if not np.isfinite(xyz).all():
         raise ValueError("a coordinate is beyond the range of doubles: cannot draw it")
-    kept = kept_by_clip(mesh, cells, clip)
-    adjacency = face_neighbours(cells)
+    faces = cell_faces(mesh)
+    kept = kept_by_clip(mesh, faces, clip)
+    adjacency = face_neighbours(faces)
     found = visible_faces(adjacency, kept)
     slots, cut = found.slots, found.cut
     if shrink:
-        slots = np.nonzero(np.repeat(kept, 4))[0]
+        slots = np.nonzero(kept[adjacency.owners])[0]
         cut = np.zeros(len(slots), dtype=bool)
-    owners = slots // 4
-    corners = cells[owners[:, None], FACE_CORNERS[slots % 4]]
-    points = xyz[corners]  # (faces, 3 corners, xyz)
+    owners = adjacency.owners[slots]
+    polygons = _polygons(faces, slots)
+    points = xyz[polygons.corners]  # (corners, xyz)
     if shrink and len(points):
-        centroids = xyz[cells[owners]].mean(axis=1)
-        points = points + (centroids[:, None, :] - points) * shrink
+        centroids = np.add.reduceat(xyz[faces.vertices], faces.vertex_offsets[:-1]) / \
+            np.diff(faces.vertex_offsets)[:, None]
+        owner_of_corner = np.repeat(owners, polygons.sizes)
+        points = points + (centroids[owner_of_corner] - points) * shrink
     right, up, eye = _view_axes(elevation, azimuth)
-    normals = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
+    normals = polygons.normals(points)
     lengths = np.linalg.norm(normals, axis=1)
     facing = normals @ eye > 0
-    points, normals, lengths = points[facing], normals[facing], lengths[facing]
-    owners, cut = owners[facing], cut[facing]
-    depth = points @ eye
-    order = np.argsort(depth.mean(axis=1), kind="stable")  # far first
-    points, normals, lengths = points[order], normals[order], lengths[order]
-    owners, cut = owners[order], cut[order]
+    depth = polygons.means(points @ eye)
+    order = np.nonzero(facing)[0]
+    order = order[np.argsort(depth[order], kind="stable")]  # far first
+    normals, lengths, owners, cut = normals[order], lengths[order], owners[order], cut[order]
     shade = 0.4 + 0.6 * np.clip((normals @ LIGHT) / np.where(lengths > 0, lengths, 1.0),
                                 0.0, 1.0)
     mappable = None
     if colour == "quality":
         norm = Normalize(0.0, 1.0)
         cmap = colormaps[QUALITY_MAP]
-        base = cmap(norm(radius_ratios(xyz, cells[owners])))[:, :3]
+        tetrahedra = faces.vertices.reshape(-1, 4)
+        base = cmap(norm(radius_ratios(xyz, tetrahedra[owners])))[:, :3]
         mappable = ScalarMappable(norm=norm, cmap=cmap)
+    elif colour == "kind":
+        palette = np.zeros((256, 3))
+        for kind, fill in KIND_FILLS.items():
+            palette[int(kind)] = to_rgb(fill)
+        base = palette[faces.kinds[owners]]
     else:
         base = np.where(cut[:, None], np.array(to_rgb(CUT_FILL)),
                         np.array(to_rgb(SURFACE_FILL)))
     fills = np.clip(base * shade[:, None], 0.0, 1.0)
-    screen = np.stack((points @ right, points @ up), axis=-1)
+    flat_points = np.stack((points @ right, points @ up), axis=-1)
+    screen = [flat_points[polygons.offsets[i]:polygons.offsets[i + 1]] for i in order]
     painted = len(screen)
     width = 0.5 if painted < 2_000 else 0.25 if painted < 20_000 else 0.1
-    ax.add_collection(PolyCollection(list(screen), facecolors=fills, edgecolors=EDGE_COLOUR,
+    ax.add_collection(PolyCollection(screen, facecolors=fills, edgecolors=EDGE_COLOUR,
                                      linewidths=width))
     ax.set_aspect("equal")
     ax.set_axis_off()
@@ -214,14 +263,68 @@ def draw_mesh3(
         ax.set_ylim(y0 - pad, y1 + pad)
     if mappable is not None and colorbar:
         ax.figure.colorbar(mappable, ax=ax, shrink=0.7, label="radius ratio (3r/R)")
-    return Drawing3(vertices=mesh.vertex_count, tetrahedra=found.tetrahedra, kept=found.kept,
+    counts = kind_counts(faces.kinds)
+    if colour == "kind" and counts:
+        ax.legend(handles=[Patch(facecolor=KIND_FILLS[kind], edgecolor=EDGE_COLOUR,
+                                 label=KIND_PLURALS[kind]) for kind in KIND_ORDER
+                           if KIND_PLURALS[kind] in counts],
+                  loc="upper left", fontsize=8, frameon=False)
+    sizes, numbers = np.unique(polygons.sizes[order], return_counts=True)
+    return Drawing3(vertices=mesh.vertex_count,
+                    tetrahedra=counts.get(KIND_PLURALS[CellKind.TETRA], 0), kept=found.kept,
                     surface=int(np.count_nonzero(~found.cut)),
-                    cut=int(np.count_nonzero(found.cut)), painted=painted, clip=clip)
+                    cut=int(np.count_nonzero(found.cut)), painted=painted, clip=clip,
+                    cells=found.cells, kinds=counts,
+                    sizes={int(k): int(n) for k, n in zip(sizes, numbers, strict=True)},
+                    mixed=mixed)
+
+
+@attrs.frozen(eq=False)
+class _Polygons:
+    """Chosen faces as one corner array: face i has the vertex ids
+    ``corners[offsets[i]:offsets[i + 1]]``, ``sizes[i]`` of them."""
+
+    corners: np.ndarray
+    offsets: np.ndarray
+    sizes: np.ndarray
+
+    def means(self, values: np.ndarray) -> np.ndarray:
+        """The mean over each face's corners of per-corner ``values``."""
+        if not len(self.sizes):
+            return np.zeros(0)
+        means: np.ndarray = np.add.reduceat(values, self.offsets[:-1]) / self.sizes
+        return means
+
+    def normals(self, points: np.ndarray) -> np.ndarray:
+        """Each face's Newell normal (twice its vector area; for a triangle the cross
+        product of its sides) from per-corner ``points``."""
+        if not len(self.sizes):
+            return np.zeros((0, 3))
+        following = np.arange(len(points)) + 1
+        following[self.offsets[1:] - 1] = self.offsets[:-1]
+        normals: np.ndarray = np.add.reduceat(np.cross(points, points[following]),
+                                              self.offsets[:-1])
+        return normals
+
+
+def _polygons(faces: CellFaces, slots: np.ndarray) -> _Polygons:
+    """The faces ``slots`` of ``faces`` as :class:`_Polygons`."""
+    starts = faces.corner_offsets[slots]
+    sizes = faces.corner_offsets[slots + 1] - starts
+    offsets = np.zeros(len(slots) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    positions = np.arange(offsets[-1]) - np.repeat(offsets[:-1] - starts, sizes)
+    return _Polygons(faces.corners[positions], offsets, sizes)
 
 
 def default_title3(drawing: Drawing3) -> str:
-    """``"V vertices, T tetrahedra"``, with the clip and what it kept when there is one."""
+    """``"V vertices, T tetrahedra"`` (a mixed mesh: ``"V vertices, C cells: 20
+    hexahedra, 2 wedges"``), with the clip and what it kept when there is one."""
     title = f"{drawing.vertices:,} vertices, {drawing.tetrahedra:,} tetrahedra"
+    if drawing.mixed:
+        title = f"{drawing.vertices:,} vertices, {drawing.cells:,} cells"
+        if drawing.kinds:
+            title += ": " + ", ".join(f"{n:,} {name}" for name, n in drawing.kinds.items())
     if drawing.clip is not None:
         title += f" — clip {drawing.clip.text()}: {drawing.kept:,} kept"
     return title
@@ -236,8 +339,8 @@ def figure_mesh3(
     **options: Any,
 ) -> Figure:
     """A new matplotlib :class:`Figure` (not registered with pyplot) showing ``mesh``;
-    ``options`` go to :func:`draw_mesh3`.  The default title counts vertices and
-    tetrahedra (and what a clip kept)."""
+    ``options`` go to :func:`draw_mesh3`.  The default title counts vertices and cells
+    (and what a clip kept)."""
     fig = Figure(figsize=size, dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_axes((0.02, 0.02, 0.96, 0.9))
@@ -256,12 +359,13 @@ def plot_mesh3(
     dpi: int = DEFAULT_DPI,
     **options: Any,
 ) -> Figure:
-    """A picture of a tetrahedral mesh; written to ``path`` (``.png``, ``.svg`` or
-    ``.pdf``, atomically, refusing to replace a file unless ``overwrite``) when given.
+    """A picture of a 3D mesh (``Mesh3`` or ``MixedMesh3``); written to ``path``
+    (``.png``, ``.svg`` or ``.pdf``, atomically, refusing to replace a file unless
+    ``overwrite``) when given.
 
     ``options``: ``clip`` (a :class:`~geomexact.viz.scene3d.Clip`, see
-    :func:`~geomexact.viz.scene3d.clip_plane`), ``colour`` (``"plain"`` or
-    ``"quality"``), ``elevation`` and ``azimuth`` (degrees, default 30 and -60),
+    :func:`~geomexact.viz.scene3d.clip_plane`), ``colour`` (``"plain"``, ``"quality"``
+    or ``"kind"``), ``elevation`` and ``azimuth`` (degrees, default 30 and -60),
     ``shrink``, ``colorbar`` (see :func:`draw_mesh3`).  ``size`` inches at ``dpi``
     (default 800 × 600 pixels); the same bytes for the same mesh and options.
 
@@ -279,6 +383,7 @@ def plot_mesh3(
 
 __all__ = [
     "COLOURS3",
+    "KIND_FILLS",
     "Drawing3",
     "FaceNeighbours",
     "VisibleFaces",

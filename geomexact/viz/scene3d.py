@@ -1,8 +1,10 @@
 """The 3D viewer page: one self-contained HTML file showing a tetrahedral mesh
-(:class:`~geomexact.mesh3d.snapshot.Mesh3`) with rotation, zoom, shrunk tetrahedra, a clip
-plane, colour by quality or by creating step, and a step slider over a trace; and the
-arrays both the page and the pictures (:mod:`geomexact.viz.pictures3d`) draw from:
-:func:`tetrahedron_arrays`, :func:`radius_ratios`, :class:`Clip` and :func:`kept_by_clip`.
+(:class:`~geomexact.mesh3d.snapshot.Mesh3`) or a mixed-cell mesh
+(:class:`~geomexact.mesh3d.mixed.snapshot.MixedMesh3`) with rotation, zoom, shrunk cells, a
+clip plane, colour by quality, cell kind or creating step, and a step slider over a trace;
+and the arrays both the page and the pictures (:mod:`geomexact.viz.pictures3d`) draw from:
+:func:`tetrahedron_arrays`, :func:`cell_faces` (every cell as its polygon faces),
+:func:`radius_ratios`, :class:`Clip` and :func:`kept_by_clip`.
 
 Payload (``"format": "geomexact-view3d"``, version 2): the final vertices as base64
 little-endian ``Float64Array`` xyz (vertex ids are insertion order, so every earlier step
@@ -10,7 +12,8 @@ uses a prefix), and every tetrahedron that ever existed during the trace once
 (``Uint32Array`` of 4 ids each) with its ``birth`` and ``death`` step (``Int32Array``:
 alive at step s when ``birth <= s < death``), its radius ratio in 1/255ths (``Uint8Array``,
 display only) and the operation that created it (an index into ``ops``: ``"input"`` first,
-then the sorted operation names).  Exact statistics (volume as a rational's text, digests,
+then the sorted operation names).  A mixed mesh's payload adds every cell's kind and its
+faces as outward polygons (CSR arrays).  Exact statistics (volume as a rational's text, digests,
 the clip position) travel as strings.  Specification: ``specs/viewer.md``.
 """
 
@@ -33,7 +36,9 @@ from geomexact.io.files import write_text_atomic
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational, format_rational, to_rational
 from geomexact.kernel.points import Point3
-from geomexact.mesh3d.snapshot import Mesh3, Tetrahedron, signed_volume6
+from geomexact.mesh3d.mixed.cells import Cell, CellKind
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3, mixed_volume
+from geomexact.mesh3d.snapshot import Mesh3, signed_volume6
 from geomexact.trace.playback import check_start, replay_iter
 from geomexact.trace.record import Trace
 from geomexact.viz.scene import little_endian
@@ -42,7 +47,19 @@ from geomexact.viz.viewer import VIEWER_CSP, _check_inline, fill_page, page_asse
 PAYLOAD3_FORMAT = "geomexact-view3d"
 PAYLOAD3_VERSION = 2
 COLOUR_MODES = ("quality", "step", "plain")
-"""How the page colours tetrahedra: radius ratio, creating operation, one colour."""
+"""How the page colours a tetrahedral mesh: radius ratio, creating operation, one colour."""
+MIXED_COLOUR_MODES = ("kind", "step", "plain")
+"""How the page colours a mixed mesh: cell kind, creating operation, one colour."""
+
+Mesh3D = Mesh3 | MixedMesh3
+"""What the 3D page and pictures draw."""
+
+KIND_ORDER = (CellKind.TETRA, CellKind.PYRAMID, CellKind.WEDGE, CellKind.HEXAHEDRON,
+              CellKind.POLYHEDRON)
+"""The order in which cell kinds are counted, listed and coloured."""
+KIND_PLURALS = {CellKind.TETRA: "tetrahedra", CellKind.PYRAMID: "pyramids",
+                CellKind.WEDGE: "wedges", CellKind.HEXAHEDRON: "hexahedra",
+                CellKind.POLYHEDRON: "polyhedra"}
 
 
 def _b64(values: array[Any]) -> str:
@@ -63,6 +80,11 @@ class TetrahedronArrays:
 def tetrahedron_arrays(mesh: Mesh3) -> TetrahedronArrays:
     """The arrays of ``mesh`` (:class:`TetrahedronArrays`), in O(m log m) numpy work after
     one pass over the face table."""
+    return TetrahedronArrays(mesh_xyz(mesh), _tetrahedron_rows(mesh))
+
+
+def _tetrahedron_rows(mesh: Mesh3) -> np.ndarray:
+    """``mesh.tetrahedra()`` as an m × 4 array, read from the face table."""
     count = len(mesh.faces)
     faces = np.fromiter(chain.from_iterable(mesh.faces.keys()), dtype=np.int64,
                         count=3 * count).reshape(-1, 3)
@@ -72,11 +94,106 @@ def tetrahedron_arrays(mesh: Mesh3) -> TetrahedronArrays:
     # canonical_tetrahedron: d first, then the face (c, b, a) rotated to start at a)
     chosen = apices < faces[:, 0]
     cells = np.column_stack((apices[chosen], faces[chosen][:, [0, 2, 1]]))
-    cells = cells[np.lexsort(cells.T[::-1])] if len(cells) else cells.reshape(0, 4)
-    xyz = np.array([(p.fx, p.fy, p.fz) for p in (mesh.point(v)
-                                                 for v in range(mesh.vertex_count))],
-                   dtype=np.float64).reshape(-1, 3)
-    return TetrahedronArrays(xyz, cells)
+    rows: np.ndarray = (cells[np.lexsort(cells.T[::-1])] if len(cells)
+                        else cells.reshape(0, 4))
+    return rows
+
+
+TETRAHEDRON_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]], dtype=np.int64)
+"""The face opposite corner i of a positive tetrahedron, oriented outward (its normal by
+the right-hand rule points away from corner i)."""
+
+
+@attrs.frozen(eq=False)
+class CellFaces:
+    """Cells as their polygon faces, in CSR arrays (int64): cell c has the vertices
+    ``vertices[vertex_offsets[c]:vertex_offsets[c + 1]]`` (each once) and the faces
+    ``face_offsets[c]`` … ``face_offsets[c + 1] - 1``; face f is the outward cycle
+    ``corners[corner_offsets[f]:corner_offsets[f + 1]]`` (counter-clockwise seen from
+    outside).  ``kinds``: each cell's VTK type (:class:`CellKind`)."""
+
+    kinds: np.ndarray
+    vertices: np.ndarray
+    vertex_offsets: np.ndarray
+    corners: np.ndarray
+    corner_offsets: np.ndarray
+    face_offsets: np.ndarray
+
+    @property
+    def cell_count(self) -> int:
+        return len(self.kinds)
+
+    @property
+    def face_count(self) -> int:
+        return len(self.corner_offsets) - 1
+
+    def owners(self) -> np.ndarray:
+        """The cell of each face."""
+        owners: np.ndarray = np.repeat(np.arange(self.cell_count),
+                                       np.diff(self.face_offsets))
+        return owners
+
+    def face_sizes(self) -> np.ndarray:
+        """The number of corners of each face."""
+        sizes: np.ndarray = np.diff(self.corner_offsets)
+        return sizes
+
+
+def _offsets(sizes: list[int] | np.ndarray) -> np.ndarray:
+    offsets = np.zeros(len(sizes) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    return offsets
+
+
+def faces_of_tetrahedra(cells: np.ndarray) -> CellFaces:
+    """The :class:`CellFaces` of tetrahedra (rows of 4 ids, positive): face f of cell c is
+    row 4 c + f, opposite corner f (:data:`TETRAHEDRON_FACES`)."""
+    count = len(cells)
+    cells = np.asarray(cells, dtype=np.int64).reshape(-1, 4)
+    return CellFaces(np.full(count, int(CellKind.TETRA), dtype=np.uint8), cells.reshape(-1),
+                     np.arange(0, 4 * count + 1, 4, dtype=np.int64),
+                     cells[:, TETRAHEDRON_FACES].reshape(-1),
+                     np.arange(0, 12 * count + 1, 3, dtype=np.int64),
+                     np.arange(0, 4 * count + 1, 4, dtype=np.int64))
+
+
+def faces_of_cells(cells: list[Cell]) -> CellFaces:
+    """The :class:`CellFaces` of mixed cells, in the given order, each cell's faces in its
+    canonical (sorted) order."""
+    faces = [face for cell in cells for face in cell.faces]
+    return CellFaces(
+        np.array([int(cell.kind) for cell in cells], dtype=np.uint8),
+        np.fromiter(chain.from_iterable(cell.vertices for cell in cells), dtype=np.int64),
+        _offsets([len(cell.vertices) for cell in cells]),
+        np.fromiter(chain.from_iterable(faces), dtype=np.int64),
+        _offsets([len(face) for face in faces]),
+        _offsets([len(cell.faces) for cell in cells]))
+
+
+def cell_faces(mesh: Mesh3D) -> CellFaces:
+    """The cells of ``mesh`` as :class:`CellFaces`: a ``Mesh3``'s tetrahedra in
+    ``mesh.tetrahedra()`` order, a ``MixedMesh3``'s cells in ``cell_list()`` order."""
+    if isinstance(mesh, MixedMesh3):
+        return faces_of_cells(mesh.cell_list())
+    return faces_of_tetrahedra(_tetrahedron_rows(mesh))
+
+
+def mesh_xyz(mesh: Mesh3D) -> np.ndarray:
+    """The vertices as an n × 3 array of doubles (``Point3.fx/fy/fz``; ids as rows)."""
+    return np.array([(p.fx, p.fy, p.fz) for p in (mesh.point(v)
+                                                  for v in range(mesh.vertex_count))],
+                    dtype=np.float64).reshape(-1, 3)
+
+
+def kind_counts(kinds: np.ndarray) -> dict[str, int]:
+    """How many of ``kinds`` (VTK types) are of each kind present, in :data:`KIND_ORDER`,
+    by the kind's plural name (``{"hexahedra": 20, "wedges": 2}``)."""
+    counts = {}
+    for kind in KIND_ORDER:
+        count = int(np.count_nonzero(kinds == int(kind)))
+        if count:
+            counts[KIND_PLURALS[kind]] = count
+    return counts
 
 
 def radius_ratios(xyz: np.ndarray, cells: np.ndarray) -> np.ndarray:
@@ -116,8 +233,8 @@ CLIP_AXES = ("x", "y", "z")
 @attrs.frozen
 class Clip:
     """A clip plane: ``axis`` (``"x"``, ``"y"`` or ``"z"``) = ``position`` (exact).  The
-    tetrahedra whose centroid lies beyond it (coordinate > position) are removed from the
-    drawing; those on the plane stay."""
+    cells whose centroid (the mean of their vertices) lies beyond it (coordinate >
+    position) are removed from the drawing, whole; those on the plane stay."""
 
     axis: str
     position: Rational
@@ -138,50 +255,67 @@ def clip_plane(axis: str, position: object) -> Clip:
     return Clip(axis, to_rational(position))
 
 
-def kept_by_clip(mesh: Mesh3, cells: np.ndarray, clip: Clip | None) -> np.ndarray:
-    """Which of ``cells`` (rows of vertex ids of ``mesh``) the clip keeps (all without
-    one): the centroid's coordinate is at most the position, compared exactly (the sum of
-    the four exact coordinates against four times the position)."""
-    if clip is None or not len(cells):
-        return np.ones(len(cells), dtype=bool)
+def kept_by_clip(mesh: Mesh3D, cells: np.ndarray | CellFaces, clip: Clip | None
+                 ) -> np.ndarray:
+    """Which ``cells`` (rows of vertex ids of ``mesh``, or :class:`CellFaces`) the clip
+    keeps (all without one): the centroid of the cell's vertices has its coordinate at
+    most the position, compared exactly (the sum of the k exact coordinates against k
+    times the position)."""
+    if isinstance(cells, CellFaces):
+        ids, offsets = cells.vertices, cells.vertex_offsets
+    else:
+        ids = np.asarray(cells, dtype=np.int64).reshape(-1)
+        offsets = np.arange(0, len(ids) + 1, max(1, np.shape(cells)[-1]), dtype=np.int64)
+    count = len(offsets) - 1
+    if clip is None or not count:
+        return np.ones(count, dtype=bool)
     index = clip.index
     exact = np.empty(mesh.vertex_count, dtype=object)
     exact[:] = [mesh.point(v)[index] for v in range(mesh.vertex_count)]
-    sums = exact[cells].sum(axis=1)
-    kept: np.ndarray = (sums <= 4 * clip.position).astype(bool)
+    sums = np.add.reduceat(exact[ids], offsets[:-1])
+    kept: np.ndarray = (sums <= np.diff(offsets) * clip.position).astype(bool)
     return kept
 
 
-def exact_volume(mesh: Mesh3) -> Fraction:
-    """The mesh's volume, exactly (the sum of its tetrahedra's signed volumes)."""
-    total = mpq(0)
+def exact_volume(mesh: Mesh3D) -> Fraction:
+    """The mesh's volume, exactly (the sum of its cells' signed volumes)."""
+    if isinstance(mesh, MixedMesh3):
+        total = mpq(mixed_volume(mesh))
+        return Fraction(int(total.numerator), int(total.denominator))
+    volume6 = mpq(0)
     for a, b, c, d in mesh.iter_tetrahedra():
-        total += signed_volume6(mesh.point(a), mesh.point(b), mesh.point(c), mesh.point(d))
-    return Fraction(int(total.numerator), int(total.denominator)) / 6
+        volume6 += signed_volume6(mesh.point(a), mesh.point(b), mesh.point(c), mesh.point(d))
+    return Fraction(int(volume6.numerator), int(volume6.denominator)) / 6
 
 
-def _cells_of(meshes: list[Mesh3]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Every tetrahedron that exists at some step, once, in order of birth (sorted within
-    a step), with its birth and death steps."""
+def _cells_alive(mesh: Mesh3D) -> list[Any]:
+    """The cells of one snapshot, sorted: tetrahedra (id tuples) or cells (:class:`Cell`)."""
+    if isinstance(mesh, MixedMesh3):
+        return mesh.cell_list()
+    return mesh.tetrahedra()
+
+
+def _cells_of(meshes: list[Any]) -> tuple[list[Any], np.ndarray, np.ndarray]:
+    """Every cell that exists at some step, once, in order of birth (sorted within a
+    step), with its birth and death steps."""
     steps = len(meshes) - 1
     if steps == 0:
-        cells = tetrahedron_arrays(meshes[0]).cells
+        cells = _cells_alive(meshes[0])
         return (cells, np.zeros(len(cells), dtype=np.int32),
                 np.ones(len(cells), dtype=np.int32))
-    born: dict[Tetrahedron, int] = {}
-    order: list[Tetrahedron] = []
-    death: dict[Tetrahedron, int] = {}
-    alive: set[Tetrahedron] = set()
+    born: dict[Any, int] = {}
+    order: list[Any] = []
+    death: dict[Any, int] = {}
+    alive: set[Any] = set()
     for index, current in enumerate(meshes):
-        now = set(current.iter_tetrahedra())
+        now = set(_cells_alive(current))
         for gone in alive - now:
             death[gone] = index
         for new in sorted(now - alive):
             born[new] = index
             order.append(new)
         alive = now
-    return (np.array(order, dtype=np.int64).reshape(-1, 4),
-            np.array([born[t] for t in order], dtype=np.int32),
+    return (order, np.array([born[t] for t in order], dtype=np.int32),
             np.array([death.get(t, steps + 1) for t in order], dtype=np.int32))
 
 
@@ -190,22 +324,28 @@ def _b64_array(values: np.ndarray, dtype: str) -> str:
         "ascii")
 
 
-def payload3(mesh: Mesh3, trace: Trace | None = None, *, title: str = "",
-             colour: str = "quality", step: int | None = None,
+def payload3(mesh: Mesh3D, trace: Trace | None = None, *, title: str = "",
+             colour: str | None = None, step: int | None = None,
              clip: Clip | None = None) -> dict[str, Any]:
     """The JSON payload of the 3D page.  With ``trace``, ``mesh`` is the trace's input: it
     is replayed once (every digest checked, :class:`~geomexact.errors.TraceError`
     otherwise) and the payload holds every step; the shown mesh is the last one.
-    ``clip``: the clip plane the page starts with (None: none)."""
+    ``colour``: one of :data:`COLOUR_MODES` for a ``Mesh3`` (default ``"quality"``), of
+    :data:`MIXED_COLOUR_MODES` for a ``MixedMesh3`` (default ``"kind"``).  ``clip``: the
+    clip plane the page starts with (None: none)."""
     from geomexact._version import __version__
 
-    if not isinstance(mesh, Mesh3):
-        raise TypeError(f"the 3D viewer shows a Mesh3, not {type(mesh).__name__}")
-    if colour not in COLOUR_MODES:
-        raise ValueError(f"colour must be one of {', '.join(COLOUR_MODES)}, not {colour!r}")
+    if not isinstance(mesh, Mesh3 | MixedMesh3):
+        raise TypeError(f"the 3D viewer shows a Mesh3 or a MixedMesh3, not "
+                        f"{type(mesh).__name__}")
+    mixed = isinstance(mesh, MixedMesh3)
+    modes = MIXED_COLOUR_MODES if mixed else COLOUR_MODES
+    colour = modes[0] if colour is None else colour
+    if colour not in modes:
+        raise ValueError(f"colour must be one of {', '.join(modes)}, not {colour!r}")
     if clip is not None and not isinstance(clip, Clip):
         raise TypeError(f"clip must be a Clip, not {type(clip).__name__}")
-    meshes = [mesh]
+    meshes: list[Any] = [mesh]
     labels = ["input"]
     if trace is not None:
         check_start(mesh, trace)
@@ -223,17 +363,24 @@ def payload3(mesh: Mesh3, trace: Trace | None = None, *, title: str = "",
         p = final.point(vertex)
         xyz.extend((p.fx, p.fy, p.fz))
     points = np.frombuffer(xyz.tobytes(), dtype=np.float64).reshape(-1, 3)
-    quality = np.rint(np.clip(radius_ratios(points, cells), 0.0, 1.0) * 255)
+    faces = faces_of_cells(cells) if mixed else faces_of_tetrahedra(
+        np.array(cells, dtype=np.int64).reshape(-1, 4))
+    tetrahedra = faces.kinds == int(CellKind.TETRA)
+    ratios = np.zeros(faces.cell_count)
+    corners_of_tetrahedra = np.repeat(tetrahedra, np.diff(faces.vertex_offsets))
+    ratios[tetrahedra] = radius_ratios(points,
+                                       faces.vertices[corners_of_tetrahedra].reshape(-1, 4))
+    quality = np.rint(np.clip(ratios, 0.0, 1.0) * 255)
     creator_of_step = np.array([op_names.index(op) for op in ops], dtype=np.uint8)
     volume = exact_volume(final)
-    return {
+    data = {
         "format": PAYLOAD3_FORMAT,
         "version": PAYLOAD3_VERSION,
         "generator": f"geomexact {__version__}",
         "title": title,
         "vertex_count": final.vertex_count,
         "xyz": _b64(xyz),
-        "cells": _b64_array(cells, "<u4"),
+        "cells": _b64_array(faces.vertices, "<u4"),
         "birth": _b64_array(births, "<i4"),
         "death": _b64_array(deaths, "<i4"),
         "quality": _b64_array(quality, "u1"),
@@ -252,19 +399,32 @@ def payload3(mesh: Mesh3, trace: Trace | None = None, *, title: str = "",
                 "value": float(clip.position)},
         },
     }
+    if mixed:
+        final_kinds = np.array([int(c.kind) for c in final.cell_list()], dtype=np.uint8)
+        data.update({
+            "kinds": _b64_array(faces.kinds, "u1"),
+            "cell_offsets": _b64_array(faces.vertex_offsets, "<u4"),
+            "faces": _b64_array(faces.corners, "<u4"),
+            "face_offsets": _b64_array(faces.corner_offsets, "<u4"),
+            "cell_face_offsets": _b64_array(faces.face_offsets, "<u4"),
+            "kind_counts": kind_counts(final_kinds),
+        })
+    return data
 
 
-def viewer_html_3d(mesh: Mesh3, trace: Trace | None = None, *, title: str = "mesh",
-                   colour: str = "quality", step: int | None = None,
+def viewer_html_3d(mesh: Mesh3D, trace: Trace | None = None, *, title: str = "mesh",
+                   colour: str | None = None, step: int | None = None,
                    clip: Clip | None = None) -> str:
-    """The self-contained 3D viewer page of ``mesh`` (with ``trace``: ``mesh`` is its input
-    and the page has a step slider over every intermediate mesh, ``step`` first shown,
-    default the last).  ``colour``: ``"quality"`` (radius ratio), ``"step"`` (the
-    operation that created each tetrahedron) or ``"plain"``.  ``clip``: the clip plane
-    the page starts with (the page moves it; it decides in doubles).  No network request
-    at any time; byte-identical for equal inputs.  Time O(the sum over steps of the
-    tetrahedra then alive): every step's snapshot is compared with the previous one; the
-    page holds each tetrahedron once.  ``TypeError`` for anything but a ``Mesh3``."""
+    """The self-contained 3D viewer page of ``mesh``, a ``Mesh3`` or a ``MixedMesh3``
+    (with ``trace``: ``mesh`` is its input and the page has a step slider over every
+    intermediate mesh, ``step`` first shown, default the last).  ``colour``: for a
+    ``Mesh3`` ``"quality"`` (radius ratio, the default), ``"step"`` (the operation that
+    created each tetrahedron) or ``"plain"``; for a ``MixedMesh3`` ``"kind"`` (the
+    default), ``"step"`` or ``"plain"``.  Faces are drawn as their polygons.  ``clip``:
+    the clip plane the page starts with (the page moves it; it decides in doubles).  No
+    network request at any time; byte-identical for equal inputs.  Time O(the sum over
+    steps of the cells then alive): every step's snapshot is compared with the previous
+    one; the page holds each cell once.  ``TypeError`` for any other value."""
     data = payload3(mesh, trace, title=title, colour=colour, step=step, clip=clip)
     text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
     text = text.replace("<", "\\u003c")
@@ -279,7 +439,7 @@ def viewer_html_3d(mesh: Mesh3, trace: Trace | None = None, *, title: str = "mes
     return fill_page("viewer3d.html", values)
 
 
-def write_viewer_3d(path: str | Path, mesh: Mesh3, trace: Trace | None = None, *,
+def write_viewer_3d(path: str | Path, mesh: Mesh3D, trace: Trace | None = None, *,
                     overwrite: bool = False, **options: Any) -> Path:
     """Write :func:`viewer_html_3d` to ``path`` atomically (refusing to replace a file
     unless ``overwrite``); return the path."""
@@ -290,11 +450,22 @@ def write_viewer_3d(path: str | Path, mesh: Mesh3, trace: Trace | None = None, *
 
 __all__ = [
     "CLIP_AXES",
+    "KIND_ORDER",
+    "KIND_PLURALS",
+    "MIXED_COLOUR_MODES",
+    "TETRAHEDRON_FACES",
+    "CellFaces",
     "Clip",
+    "Mesh3D",
     "TetrahedronArrays",
+    "cell_faces",
     "clip_plane",
     "exact_volume",
+    "faces_of_cells",
+    "faces_of_tetrahedra",
     "kept_by_clip",
+    "kind_counts",
+    "mesh_xyz",
     "payload3",
     "radius_ratio",
     "radius_ratios",

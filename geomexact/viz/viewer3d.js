@@ -1,7 +1,9 @@
-// geomexact 3D viewer: a tetrahedral mesh drawn on a 2D canvas with an orthographic
-// projection and the painter's algorithm (faces sorted by depth).  No network access.
-// Only the faces that can be seen are drawn: the boundary faces of the tetrahedra alive
-// at the step and kept by the clip plane (cached per step and clip), facing the viewer.
+// geomexact 3D viewer: a tetrahedral or mixed-cell mesh drawn on a 2D canvas with an
+// orthographic projection and the painter's algorithm (faces sorted by depth).  No network
+// access.  Every cell is a list of polygon faces (a tetrahedron's four triangles, a
+// hexahedron's six quads, a polyhedron's polygons); each face is filled and outlined as
+// its polygon.  Only the faces that can be seen are drawn: the boundary faces of the cells
+// alive at the step and kept by the clip plane (cached per step and clip), facing the viewer.
 "use strict";
 (function () {
   const data = JSON.parse(document.getElementById("geomexact-data").textContent);
@@ -21,6 +23,36 @@
   const creator = decode(data.creator, Uint8Array);
   const cellCount = birth.length;
   const vertexCount = xyz.length / 3;
+  // a mixed mesh's payload has its cells' kinds and faces; a tetrahedral one has 4 ids per
+  // cell, whose faces are made here: the face opposite corner i, oriented outward
+  const mixed = typeof data.faces === "string";
+  const FACES = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+  let kinds, cellStart, faceStart, corners, cornerStart;
+  if (mixed) {
+    kinds = decode(data.kinds, Uint8Array);
+    cellStart = decode(data.cell_offsets, Uint32Array);
+    faceStart = decode(data.cell_face_offsets, Uint32Array);
+    corners = decode(data.faces, Uint32Array);
+    cornerStart = decode(data.face_offsets, Uint32Array);
+  } else {
+    kinds = new Uint8Array(cellCount).fill(10);
+    cellStart = new Uint32Array(cellCount + 1);
+    faceStart = new Uint32Array(cellCount + 1);
+    corners = new Uint32Array(12 * cellCount);
+    cornerStart = new Uint32Array(4 * cellCount + 1);
+    for (let c = 0; c < cellCount; c++) {
+      cellStart[c + 1] = 4 * (c + 1); faceStart[c + 1] = 4 * (c + 1);
+      for (let f = 0; f < 4; f++) {
+        cornerStart[4 * c + f + 1] = 3 * (4 * c + f + 1);
+        for (let k = 0; k < 3; k++) corners[12 * c + 3 * f + k] = cells[4 * c + FACES[f][k]];
+      }
+    }
+  }
+  const slotCount = faceStart[cellCount];  // every face of every cell: its slot
+  const owner = new Uint32Array(slotCount);
+  for (let c = 0; c < cellCount; c++) {
+    for (let f = faceStart[c]; f < faceStart[c + 1]; f++) owner[f] = c;
+  }
   timings.decode = performance.now() - started;
   const canvas = document.getElementById("view");
   const context = canvas.getContext("2d");
@@ -40,42 +72,55 @@
   const radius = Math.max(1e-300, Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 2);
   const OP_COLOURS = ["#9aa5b1", "#e07a5f", "#3d85c6", "#81b29a", "#f2cc8f", "#a06cd5", "#5fb3b3"];
   const PLAIN = [150, 170, 200], CUT = [240, 170, 110];
+  // cell kinds by VTK type, in the order they are listed (the pictures' colours)
+  const KINDS = [[10, "tetrahedra", "#e07a5f"], [14, "pyramids", "#f2cc8f"],
+                 [13, "wedges", "#81b29a"], [12, "hexahedra", "#9fbfe0"],
+                 [42, "polyhedra", "#b48ad8"]];
 
-  // the face opposite corner i of a positive tetrahedron, oriented outward
-  const FACES = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
-  // every tetrahedron's centroid, and the id of each of its faces among all the distinct
-  // faces of every tetrahedron of the trace (an open-addressing hash of sorted triples)
+  // every cell's centroid (the mean of its vertices), and the id of each face slot among
+  // the distinct faces of every cell of the trace (an open-addressing hash of each face's
+  // sorted vertex ids: one polygon, one id)
   started = performance.now();
   const centroid = new Float64Array(3 * cellCount);
   for (let c = 0; c < cellCount; c++) {
-    for (let k = 0; k < 4; k++) {
-      const v = cells[4 * c + k];
-      for (let j = 0; j < 3; j++) centroid[3 * c + j] += xyz[3 * v + j] / 4;
+    const n = cellStart[c + 1] - cellStart[c];
+    for (let i = cellStart[c]; i < cellStart[c + 1]; i++) {
+      const v = cells[i];
+      for (let j = 0; j < 3; j++) centroid[3 * c + j] += xyz[3 * v + j] / n;
     }
   }
-  const faceOf = new Uint32Array(4 * cellCount);
+  const faceOf = new Uint32Array(slotCount);
   let faceCount = 0;
   (function () {
-    let size = 2;
-    while (size < 8 * cellCount) size *= 2;
-    const mask = size - 1;
-    const keys = new Uint32Array(3 * size), used = new Uint8Array(size), ids = new Uint32Array(size);
-    for (let c = 0; c < cellCount; c++) {
-      for (let f = 0; f < 4; f++) {
-        let a = cells[4 * c + FACES[f][0]], b = cells[4 * c + FACES[f][1]], d = cells[4 * c + FACES[f][2]], t;
-        if (a > b) { t = a; a = b; b = t; }
-        if (b > d) { t = b; b = d; d = t; }
-        if (a > b) { t = a; a = b; b = t; }
-        let slot = (Math.imul(a, 73856093) ^ Math.imul(b, 19349663) ^ Math.imul(d, 83492791)) & mask;
-        while (used[slot] && !(keys[3 * slot] === a && keys[3 * slot + 1] === b && keys[3 * slot + 2] === d)) {
-          slot = (slot + 1) & mask;
-        }
-        if (!used[slot]) {
-          used[slot] = 1; keys[3 * slot] = a; keys[3 * slot + 1] = b; keys[3 * slot + 2] = d;
-          ids[slot] = faceCount++;
-        }
-        faceOf[4 * c + f] = ids[slot];
+    const sorted = corners.slice();
+    for (let f = 0; f < slotCount; f++) {
+      const s = cornerStart[f], e = cornerStart[f + 1];
+      for (let i = s + 1; i < e; i++) {
+        const x = sorted[i];
+        let j = i - 1;
+        while (j >= s && sorted[j] > x) { sorted[j + 1] = sorted[j]; j--; }
+        sorted[j + 1] = x;
       }
+    }
+    let size = 2;
+    while (size < 2 * slotCount) size *= 2;
+    const mask = size - 1;
+    const first = new Int32Array(size).fill(-1), ids = new Uint32Array(size);
+    for (let f = 0; f < slotCount; f++) {
+      const s = cornerStart[f], e = cornerStart[f + 1], n = e - s;
+      let h = n;
+      for (let i = s; i < e; i++) h = Math.imul(h ^ sorted[i], 0x9e3779b1) ^ (h >>> 15);
+      let slot = (h ^ (h >>> 16)) & mask;
+      for (;;) {
+        const g = first[slot];
+        if (g < 0) { first[slot] = f; ids[slot] = faceCount++; break; }
+        const t = cornerStart[g];
+        let same = cornerStart[g + 1] - t === n;
+        for (let i = 0; same && i < n; i++) same = sorted[t + i] === sorted[s + i];
+        if (same) break;
+        slot = (slot + 1) & mask;
+      }
+      faceOf[f] = ids[slot];
     }
   })();
   timings.faces = performance.now() - started;
@@ -92,13 +137,24 @@
   }
   const QUALITY_COLOURS = Array.from({ length: 256 }, (_, i) => qualityColour(i / 255));
   const OP_RGB = OP_COLOURS.map(hexColour);
+  const KIND_RGB = new Map(KINDS.map(([type, , colour]) => [type, hexColour(colour)]));
   function faceColour(c, cut) {
     if (state.colour === "quality") return QUALITY_COLOURS[quality[c]];
     if (state.colour === "step") return OP_RGB[creator[c] % OP_RGB.length];
+    if (state.colour === "kind") return KIND_RGB.get(kinds[c]) || PLAIN;
     return cut ? CUT : PLAIN;
   }
+  function countKinds(flags) {
+    const counts = {};
+    for (let c = 0; c < cellCount; c++) {
+      if (flags[c]) counts[kinds[c]] = (counts[kinds[c]] || 0) + 1;
+    }
+    const named = {};
+    for (const [type, name] of KINDS) if (counts[type]) named[name] = counts[type];
+    return named;
+  }
 
-  // the faces to draw at (step, all, clip): slots 4 c + f, and whether the clip opened each
+  // the faces to draw at (step, all, clip): face slots, and whether the clip opened each
   const visibleCache = new Map();
   const counts = new Uint8Array(faceCount), keptCounts = new Uint8Array(faceCount);
   function visible() {
@@ -108,15 +164,15 @@
     const begun = performance.now();
     const step = state.step, axis = state.clipAxis, limit = state.clipValue;
     counts.fill(0); keptCounts.fill(0);
-    const keptCells = new Uint8Array(cellCount);
+    const aliveCells = new Uint8Array(cellCount), keptCells = new Uint8Array(cellCount);
     let alive = 0, kept = 0;
     for (let c = 0; c < cellCount; c++) {
       if (!(birth[c] <= step && step < death[c])) continue;
-      alive++;
+      alive++; aliveCells[c] = 1;
       const keep = axis < 0 || centroid[3 * c + axis] <= limit;
       if (keep) { keptCells[c] = 1; kept++; }
-      for (let f = 0; f < 4; f++) {
-        const id = faceOf[4 * c + f];
+      for (let f = faceStart[c]; f < faceStart[c + 1]; f++) {
+        const id = faceOf[f];
         counts[id]++;
         if (keep) keptCounts[id]++;
       }
@@ -125,16 +181,17 @@
     let cutCount = 0;
     for (let c = 0; c < cellCount; c++) {
       if (!keptCells[c]) continue;
-      for (let f = 0; f < 4; f++) {
-        const id = faceOf[4 * c + f];
+      for (let f = faceStart[c]; f < faceStart[c + 1]; f++) {
+        const id = faceOf[f];
         const boundary = keptCounts[id] === 1;
         if (!boundary && !state.all) continue;
         const opened = boundary && counts[id] === 2;
         if (opened) cutCount++;
-        slots.push(4 * c + f); cut.push(opened ? 1 : 0);
+        slots.push(f); cut.push(opened ? 1 : 0);
       }
     }
-    const result = { alive, kept, cutCount, slots: Uint32Array.from(slots), cut: Uint8Array.from(cut) };
+    const result = { alive, kept, cutCount, slots: Uint32Array.from(slots), cut: Uint8Array.from(cut),
+                     aliveKinds: countKinds(aliveCells), keptKinds: countKinds(keptCells) };
     visibleCache.set(key, result);
     if (visibleCache.size > 8) visibleCache.delete(visibleCache.keys().next().value);
     timings.visible = performance.now() - begun;
@@ -150,6 +207,8 @@
     canvas.style.height = height + "px";
   }
   const sx = new Float64Array(vertexCount), sy = new Float64Array(vertexCount), sz = new Float64Array(vertexCount);
+  // what the last frame painted: the faces and how many had each number of corners
+  const frame = { painted: 0, sizes: {} };
   function draw() {
     const begun = performance.now();
     const shown = visible();
@@ -170,16 +229,22 @@
     const screen = [sx, sy, sz];
     for (let v = 0; v < vertexCount; v++) project(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2], screen, v);
     const count = slots.length;
-    const fx = new Float64Array(3 * count), fy = new Float64Array(3 * count);
+    let total = 0;
+    for (let i = 0; i < count; i++) total += cornerStart[slots[i] + 1] - cornerStart[slots[i]];
+    const start = new Uint32Array(count + 1);
+    const fx = new Float64Array(total), fy = new Float64Array(total);
     const depth = new Float64Array(count), shade = new Float32Array(count);
     const keep = [];
-    const corner = [new Float64Array(3), new Float64Array(3), new Float64Array(3)];
+    let largest = 3;
+    for (let i = 0; i < count; i++) largest = Math.max(largest, cornerStart[slots[i] + 1] - cornerStart[slots[i]]);
+    const corner = [new Float64Array(largest), new Float64Array(largest), new Float64Array(largest)];
     const light = [0.3, 0.5, 0.8];
     const lightLength = Math.hypot(light[0], light[1], light[2]);
+    let at = 0;
     for (let i = 0; i < count; i++) {
-      const c = slots[i] >> 2, f = slots[i] & 3;
-      for (let k = 0; k < 3; k++) {
-        const v = cells[4 * c + FACES[f][k]];
+      const f = slots[i], c = owner[f], s = cornerStart[f], n = cornerStart[f + 1] - s;
+      for (let k = 0; k < n; k++) {
+        const v = corners[s + k];
         if (state.shrink) {
           const t = state.shrink;
           project(xyz[3 * v] + (centroid[3 * c] - xyz[3 * v]) * t,
@@ -189,15 +254,23 @@
           corner[0][k] = sx[v]; corner[1][k] = sy[v]; corner[2][k] = sz[v];
         }
       }
-      const ux = corner[0][1] - corner[0][0], uy = corner[1][1] - corner[1][0], uz = corner[2][1] - corner[2][0];
-      const vx = corner[0][2] - corner[0][0], vy = corner[1][2] - corner[1][0], vz = corner[2][2] - corner[2][0];
-      const area2 = ux * vy - uy * vx;  // counter-clockwise on screen: the face looks at us
-      if (!(area2 > 0)) continue;
-      const nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = area2;
+      // Newell's normal; its depth component is twice the signed area on screen, positive
+      // when the outward face turns counter-clockwise: it looks at us
+      let nx = 0, ny = 0, nz = 0, d = 0;
+      for (let k = 0; k < n; k++) {
+        const j = k + 1 === n ? 0 : k + 1;
+        const x0 = corner[0][k], y0 = corner[1][k], z0 = corner[2][k];
+        const x1 = corner[0][j], y1 = corner[1][j], z1 = corner[2][j];
+        nx += (y0 - y1) * (z0 + z1); ny += (z0 - z1) * (x0 + x1); nz += (x0 - x1) * (y0 + y1);
+        d += z0;
+      }
+      if (!(nz > 0)) continue;
       const length = Math.hypot(nx, ny, nz) || 1;
       shade[i] = 0.45 + 0.55 * Math.abs(nx * light[0] + ny * light[1] + nz * light[2]) / (length * lightLength);
-      depth[i] = corner[2][0] + corner[2][1] + corner[2][2];
-      for (let k = 0; k < 3; k++) { fx[3 * i + k] = w / 2 + corner[0][k] * scale; fy[3 * i + k] = h / 2 - corner[1][k] * scale; }
+      depth[i] = d / n;
+      start[i] = at;
+      for (let k = 0; k < n; k++, at++) { fx[at] = w / 2 + corner[0][k] * scale; fy[at] = h / 2 - corner[1][k] * scale; }
+      start[i + 1] = at;
       keep.push(i);
     }
     const order = Uint32Array.from(keep);
@@ -207,19 +280,21 @@
     context.lineWidth = painted > 20000 ? 0.5 : 1;
     context.lineJoin = "round";
     context.strokeStyle = "rgba(30, 40, 60, 0.8)";
+    const sizes = {};
     for (let j = 0; j < painted; j++) {
-      const i = order[j];
+      const i = order[j], s = start[i], e = s + cornerStart[slots[i] + 1] - cornerStart[slots[i]];
+      sizes[e - s] = (sizes[e - s] || 0) + 1;
       context.beginPath();
-      context.moveTo(fx[3 * i], fy[3 * i]);
-      context.lineTo(fx[3 * i + 1], fy[3 * i + 1]);
-      context.lineTo(fx[3 * i + 2], fy[3 * i + 2]);
+      context.moveTo(fx[s], fy[s]);
+      for (let k = s + 1; k < e; k++) context.lineTo(fx[k], fy[k]);
       context.closePath();
-      const colour = faceColour(slots[i] >> 2, cutFlags[i]);
-      const s = shade[i];
-      context.fillStyle = `rgb(${Math.round(colour[0] * s)}, ${Math.round(colour[1] * s)}, ${Math.round(colour[2] * s)})`;
+      const colour = faceColour(owner[slots[i]], cutFlags[i]);
+      const t = shade[i];
+      context.fillStyle = `rgb(${Math.round(colour[0] * t)}, ${Math.round(colour[1] * t)}, ${Math.round(colour[2] * t)})`;
       context.fill();
       if (stroke) context.stroke();
     }
+    frame.painted = painted; frame.sizes = sizes;
     timings.draw = performance.now() - begun;
     showStats(shown, painted);
   }
@@ -233,14 +308,31 @@
     const table = document.getElementById("stats-table");
     table.replaceChildren();
     row(table, "vertices", String(data.vertex_counts[state.step]));
-    row(table, "tetrahedra", String(shown.alive));
-    if (state.clipAxis >= 0) row(table, "kept by the clip", String(shown.kept));
+    if (mixed) {
+      row(table, "cells", String(shown.alive));
+      for (const [name, n] of Object.entries(shown.aliveKinds)) row(table, name, String(n));
+    } else {
+      row(table, "tetrahedra", String(shown.alive));
+    }
+    if (state.clipAxis >= 0) {
+      row(table, "kept by the clip", String(shown.kept));
+      if (mixed) {
+        const kept = Object.entries(shown.keptKinds).map(([name, n]) => `${n} ${name}`);
+        row(table, "kept, by kind", kept.join(", ") || "none");
+      }
+    }
     row(table, state.all ? "faces" : "boundary faces", String(shown.slots.length));
     if (state.clipAxis >= 0) row(table, "faces cut open", String(shown.cutCount));
     row(table, "faces drawn", String(painted));
     row(table, "volume (exact, final)", data.volume);
     row(table, "digest", data.digests[state.step]);
-    table.dataset.tetrahedra = String(shown.kept);
+    if (mixed) {
+      table.dataset.cells = String(shown.kept);
+      table.dataset.kinds = JSON.stringify(shown.aliveKinds);
+      table.dataset.keptKinds = JSON.stringify(shown.keptKinds);
+    } else {
+      table.dataset.tetrahedra = String(shown.kept);
+    }
     table.dataset.faces = String(painted);
     if (data.steps > 0) {
       document.getElementById("step-number").textContent = `step ${state.step} of ${data.steps}`;
@@ -263,13 +355,18 @@
       item(qualityColour(1), "radius ratio 1 (regular)");
     } else if (state.colour === "step") {
       data.ops.forEach((op, i) => item(OP_RGB[i % OP_RGB.length], `created by ${op}`));
+    } else if (state.colour === "kind") {
+      const present = new Set(kinds);
+      for (const [type, name] of KINDS) if (present.has(type)) item(KIND_RGB.get(type), name);
     } else {
       item(PLAIN, "boundary face");
       item(CUT, "face cut open by the clip");
     }
   }
-  // controls
+  // controls: a tetrahedral mesh is coloured by quality, a mixed one by kind
   const colourSelect = document.getElementById("colour");
+  colourSelect.querySelector(`option[value="${mixed ? "quality" : "kind"}"]`).remove();
+  if (mixed) document.getElementById("all-label").textContent = "all cells";
   colourSelect.value = state.colour;
   colourSelect.addEventListener("change", () => { state.colour = colourSelect.value; showLegend(); draw(); });
   const allBox = document.getElementById("all-tets");
@@ -340,5 +437,5 @@
   resize();
   showLegend();
   draw();
-  window.geomexactView3d = { state, draw, timings, steps };
+  window.geomexactView3d = { state, draw, timings, steps, frame };
 })();
