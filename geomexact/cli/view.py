@@ -23,6 +23,7 @@ from geomexact.cli.reporting import print_json
 from geomexact.errors import GeomexactError
 from geomexact.io.files import staged_path
 from geomexact.io.trace_file import read_trace
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.record import Trace
 
@@ -34,7 +35,8 @@ VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
 
 def command_view(args: argparse.Namespace) -> int:
     """Write the HTML viewer (``.html``) or a picture (``.png``, ``.svg``, ``.pdf``) of a
-    mesh, PSLG or polygon mesh; with ``--trace``, of the trace replayed on it."""
+    mesh, PSLG, polygon mesh, tetrahedral or mixed-cell mesh; with ``--trace``, of the
+    trace replayed on it."""
     from geomexact.io.files import write_text_atomic
     from geomexact.viz import pictures, viewer
     from geomexact.viz.scene import DEFAULT_EXACT_BUDGET
@@ -47,12 +49,13 @@ def command_view(args: argparse.Namespace) -> int:
         raise UsageProblem("--step needs --trace")
     loaded = load(args.input, args.format, args.verbose)
     value = loaded.value
-    if args.clip is not None and not isinstance(value, Mesh3):
-        raise UsageProblem(f"{args.input}: --clip needs a tetrahedral mesh")
+    if args.clip is not None and not isinstance(value, Mesh3 | MixedMesh3):
+        raise UsageProblem(f"{args.input}: --clip needs a tetrahedral mesh or a mixed-cell "
+                           "mesh (3D)")
     trace = read_trace(args.trace) if args.trace else None
     fill = args.color_by.replace("-", "_")
     try:
-        if isinstance(value, Mesh3):
+        if isinstance(value, Mesh3 | MixedMesh3):
             _view_mesh3(args, value, trace, output, fill)
         elif suffix in (".html", ".htm"):
             text = viewer.viewer_html(
@@ -104,19 +107,22 @@ def _clip_of(args: argparse.Namespace) -> Clip | None:
         raise UsageProblem(f"--clip: {error}") from None
 
 
-def _view_mesh3(args: argparse.Namespace, mesh: Mesh3, trace: Trace | None, output: Path,
-                fill: str) -> None:
-    """The page or the picture of a tetrahedral mesh (with a trace: the page steps through
-    it; the picture draws the mesh after step ``--step``, default the last)."""
+def _view_mesh3(args: argparse.Namespace, mesh: Mesh3 | MixedMesh3, trace: Trace | None,
+                output: Path, fill: str) -> None:
+    """The page or the picture of a tetrahedral or mixed-cell mesh (with a trace: the page
+    steps through it; the picture draws the mesh after step ``--step``, default the
+    last).  A tetrahedral mesh is coloured by radius ratio (``min-angle``) or plain, a
+    mixed one by cell kind."""
     from geomexact.io.files import write_text_atomic
 
     clip = _clip_of(args)
     title = args.title or Path(args.input).name
+    mixed = isinstance(mesh, MixedMesh3)
     if output.suffix.lower() in (".html", ".htm"):
         from geomexact.viz.scene3d import viewer_html_3d
 
-        # the 2D fills name triangle measures; in 3D, quality (radius ratio) or plain
-        colour = "plain" if fill in ("area", "region") else "quality"
+        # the 2D fills name triangle measures; in 3D, quality (radius ratio), kind or plain
+        colour = "plain" if fill in ("area", "region") else "kind" if mixed else "quality"
         text = viewer_html_3d(mesh, trace, title=title, colour=colour, step=args.step,
                               clip=clip)
         write_text_atomic(output, text, overwrite=args.force)
@@ -124,6 +130,9 @@ def _view_mesh3(args: argparse.Namespace, mesh: Mesh3, trace: Trace | None, outp
     from geomexact.trace.playback import replay
     from geomexact.viz.pictures3d import plot_mesh3
 
+    if mixed and fill != "none":
+        raise UsageProblem(f"--color-by {args.color_by} has no meaning for a mixed-cell "
+                           "mesh's picture: its faces are coloured by cell kind")
     if fill in ("area", "region"):
         raise UsageProblem(f"--color-by {args.color_by} has no meaning for a tetrahedral "
                            "mesh's picture: none (plain) or min-angle (radius ratio)")
@@ -132,7 +141,7 @@ def _view_mesh3(args: argparse.Namespace, mesh: Mesh3, trace: Trace | None, outp
             raise UsageProblem(f"--step {args.step} is beyond the trace's {len(trace)} steps")
         mesh = replay(mesh, trace, until=args.step)
     plot_mesh3(mesh, output, overwrite=args.force, title=args.title, clip=clip,
-               colour="quality" if fill == "min_angle" else "plain")
+               colour="kind" if mixed else "quality" if fill == "min_angle" else "plain")
 
 
 def add_parser(commands: Subcommands) -> None:
@@ -153,9 +162,10 @@ def add_parser(commands: Subcommands) -> None:
                       help="fill triangles by smallest angle, area or region attribute; "
                            "tetrahedra: min-angle colours by radius ratio")
     view.add_argument("--clip", nargs=2, metavar=("AXIS", "POSITION"),
-                      help="tetrahedral meshes: remove the tetrahedra whose centroid is "
-                           "beyond the plane AXIS (x, y or z) = POSITION (exact: 1/2, 0.25) "
-                           "and show the faces it opens; the page starts with it")
+                      help="3D meshes: remove the cells whose centroid (mean of their "
+                           "vertices) is beyond the plane AXIS (x, y or z) = POSITION "
+                           "(exact: 1/2, 0.25) and show the faces it opens; the page starts "
+                           "with it")
     view.add_argument("--title", help="title of the page or picture")
     view.add_argument("--no-exact", action="store_true",
                       help="leave the exact coordinates out of the page (smaller file)")

@@ -331,7 +331,7 @@ def default_title3(drawing: Drawing3) -> str:
 
 
 def figure_mesh3(
-    mesh: Mesh3,
+    mesh: Mesh3D,
     *,
     title: str | None = None,
     size: tuple[float, float] = DEFAULT_SIZE,
@@ -350,7 +350,7 @@ def figure_mesh3(
 
 
 def plot_mesh3(
-    mesh: Mesh3,
+    mesh: Mesh3D,
     path: str | Path | None = None,
     *,
     overwrite: bool = False,
