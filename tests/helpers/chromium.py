@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import shutil
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -64,3 +65,26 @@ def canvas_image(tab: Any, canvas: str = "view") -> str:
     """The canvas ``canvas`` as a data URL (to compare two drawings)."""
     url: str = tab.evaluate("(id) => document.getElementById(id).toDataURL()", canvas)
     return url
+
+
+def open_offline_page(browser: Any, path: Path,
+                      ready: str = "#stats-table tr") -> Iterator[tuple[Any, list[str], list[str]]]:
+    """Open the page file ``path`` in a new 1000 × 700 context that aborts every request
+    not for a ``file:`` URL; yield the tab, the errors it logs (console errors and
+    uncaught exceptions) and the URLs it requests, once ``ready`` is in the page; close
+    the context afterwards.  For ``yield from`` in a fixture."""
+    errors: list[str] = []
+    requests: list[str] = []
+    context = browser.new_context(viewport={"width": 1000, "height": 700})
+    context.route("**/*", lambda route: route.continue_()
+                  if route.request.url.startswith("file://") else route.abort())
+    tab = context.new_page()
+    tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    tab.on("pageerror", lambda e: errors.append(str(e)))
+    tab.on("request", lambda r: requests.append(r.url))
+    tab.goto(path.as_uri())
+    tab.wait_for_selector(ready, state="attached")
+    try:
+        yield tab, errors, requests
+    finally:
+        context.close()

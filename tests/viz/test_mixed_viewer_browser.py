@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers.chromium import canvas_image, canvas_inked
+from helpers.chromium import canvas_image, canvas_inked, open_offline_page
 from helpers.mixed_view_cases import every_kind_mesh
 
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
@@ -34,21 +34,7 @@ def page(browser: Any, mesh: MixedMesh3, tmp_path_factory: pytest.TempPathFactor
          ) -> Iterator[tuple[Any, list[str], list[str]]]:
     path: Path = tmp_path_factory.mktemp("mixed") / "mixed.html"
     path.write_text(viewer_html_3d(mesh, title="every kind"), encoding="utf-8")
-    errors: list[str] = []
-    requests: list[str] = []
-    context = browser.new_context(viewport={"width": 1000, "height": 700})
-    context.route("**/*", lambda route: route.continue_()
-                  if route.request.url.startswith("file://") else route.abort())
-    tab = context.new_page()
-    tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    tab.on("pageerror", lambda e: errors.append(str(e)))
-    tab.on("request", lambda r: requests.append(r.url))
-    tab.goto(path.as_uri())
-    tab.wait_for_selector("#stats-table tr", state="attached")
-    try:
-        yield tab, errors, requests
-    finally:
-        context.close()
+    yield from open_offline_page(browser, path)
 
 
 def _dataset(tab: Any, name: str) -> str:

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers.chromium import canvas_image, canvas_inked
+from helpers.chromium import canvas_image, canvas_inked, open_offline_page
 
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
 from geomexact.trace.playback import replay
@@ -21,31 +21,13 @@ pytestmark = pytest.mark.browser
 ARTIFACTS = Path(__file__).resolve().parents[2] / "artifacts" / "browser"
 
 
-def _open(browser: Any, path: Path) -> Iterator[tuple[Any, list[str], list[str]]]:
-    errors: list[str] = []
-    requests: list[str] = []
-    context = browser.new_context(viewport={"width": 1000, "height": 700})
-    context.route("**/*", lambda route: route.continue_()
-                  if route.request.url.startswith("file://") else route.abort())
-    tab = context.new_page()
-    tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    tab.on("pageerror", lambda e: errors.append(str(e)))
-    tab.on("request", lambda r: requests.append(r.url))
-    tab.goto(path.as_uri())
-    tab.wait_for_selector("#stats-table tr", state="attached")
-    try:
-        yield tab, errors, requests
-    finally:
-        context.close()
-
-
 @pytest.fixture(scope="module")
 def page(browser: Any, tmp_path_factory: pytest.TempPathFactory
          ) -> Iterator[tuple[Any, list[str], list[str]]]:
     run = partition_cuboid(0b101101, improve=True)
     path: Path = tmp_path_factory.mktemp("view3d") / "cuboid.html"
     path.write_text(viewer_html_3d(run.start, run.trace, title="cuboid"), encoding="utf-8")
-    yield from _open(browser, path)
+    yield from open_offline_page(browser, path)
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +38,7 @@ def octree_page(browser: Any, tmp_path_factory: pytest.TempPathFactory
     path: Path = tmp_path_factory.mktemp("view3d") / "full.html"
     path.write_text(viewer_html_3d(run.mesh, title="full", colour="plain",
                                    clip=clip_plane("x", "1/2")), encoding="utf-8")
-    yield from _open(browser, path)
+    yield from open_offline_page(browser, path)
 
 
 def _artifact(name: str) -> Path:
