@@ -7,10 +7,12 @@
   CSS inline, no network request at any time) with pan and zoom, statistics, hover
   details, a file-open control and, for a trace, a step slider;
 - :func:`viewer_html_3d` / :func:`write_viewer_3d`: the same for a tetrahedral mesh
-  (``Mesh3``): rotate, zoom, shrink tetrahedra, a clip plane, colour by radius ratio or
-  creating step, boundary faces or all, a step slider over a trace;
-- :func:`plot_mesh3` / :func:`figure_mesh3`: pictures of a tetrahedral mesh (its visible
-  surface, optionally cut open by a :func:`clip_plane`, coloured by radius ratio).
+  (``Mesh3``) or a mixed-cell mesh (``MixedMesh3``, faces drawn as their polygons):
+  rotate, zoom, shrink cells, a clip plane, colour by radius ratio, cell kind or creating
+  step, boundary faces or all, a step slider over a trace;
+- :func:`plot_mesh3` / :func:`figure_mesh3`: pictures of a tetrahedral or mixed-cell mesh
+  (its visible surface, optionally cut open by a :func:`clip_plane`, coloured by radius
+  ratio or cell kind).
 
 The local server that shows a directory in the viewer is :mod:`geomexact.server`.  Names
 load on first use (matplotlib only with the pictures).  Guide: ``docs/viewer.md``; payload
