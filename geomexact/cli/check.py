@@ -1,5 +1,5 @@
-"""``geomexact check``: validate a triangle, tetrahedral or polygon mesh, or a PSLG (exit 1
-on violations)."""
+"""``geomexact check``: validate a triangle, tetrahedral, mixed-cell or polygon mesh, or a
+PSLG (exit 1 on violations)."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ from geomexact.cli.errors import UsageProblem, cli_wording, print_warning
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import Loaded, load, seed_warnings, triangulation_problems
 from geomexact.cli.reporting import print_json, violation_reports
+from geomexact.cli.summaries import cells_by_kind
 from geomexact.errors import PreconditionError, Violation
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import (
@@ -26,6 +27,8 @@ from geomexact.mesh2d.polygonal.polygon_mesh import (
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.validation import validate
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+from geomexact.mesh3d.mixed.validation import validate_mixed
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.mesh3d.validation import isolated_vertices3, validate3
 
@@ -34,12 +37,14 @@ _LISTED = 10
 
 
 def command_check(args: argparse.Namespace) -> int:
-    """Validate a triangle mesh (:func:`geomexact.mesh2d.validation`), a polygon mesh
+    """Validate a triangle mesh (:func:`geomexact.mesh2d.validation`), a tetrahedral or
+    mixed-cell mesh (``validate3``, ``validate_mixed``), a polygon mesh
     (:func:`geomexact.mesh2d.polygonal.polygon_mesh.validate_polygon_mesh`, with its geometric
     checks) or a PSLG (:func:`pslg_violations`); exit 1 listing every violation."""
     loaded = load(args.file, args.format, args.verbose)
     value = loaded.value
     warnings: list[str] = []
+    counts: dict[str, int | dict[str, int]]
     if isinstance(value, Mesh2):
         violations = validate(value, allow_isolated=not args.strict)
         counts = {"vertices": value.vertex_count, "triangles": value.triangle_count}
@@ -53,6 +58,19 @@ def command_check(args: argparse.Namespace) -> int:
             warnings.append(isolated_note([v.elements[0] for v in isolated], "tetrahedron"))
             print_warning(f"{args.file}: {warnings[-1]}")
         counts = {"vertices": value.vertex_count, "tetrahedra": value.tetrahedron_count}
+        digest = f", digest {value.digest_text}"
+    elif isinstance(value, MixedMesh3):
+        violations = validate_mixed(value)
+        used = {vertex for cell in value.cell_list() for vertex in cell.vertices}
+        unused = [v for v in range(value.vertex_count) if v not in used]
+        if args.strict:
+            violations.extend(Violation("isolated-vertex", f"vertex {v} is in no cell", (v,))
+                              for v in unused)
+        elif unused:  # legal, but worth a word
+            warnings.append(isolated_note(unused, "cell"))
+            print_warning(f"{args.file}: {warnings[-1]}")
+        counts = {"vertices": value.vertex_count, "cells": value.cell_count,
+                  "cells_by_kind": cells_by_kind(value)}
         digest = f", digest {value.digest_text}"
     elif isinstance(value, PolygonMesh):
         violations = validate_polygon_mesh(value, geometric=True)
@@ -88,7 +106,10 @@ def command_check(args: argparse.Namespace) -> int:
         for violation in violations:
             print(f"  {violation}")
     else:
-        listed = ", ".join(f"{count} {name}" for name, count in counts.items())
+        listed = ", ".join(
+            f"{count} {name}" if not isinstance(count, dict) else
+            f"{', '.join(f'{number} {kind}' for kind, number in count.items())}"
+            for name, count in counts.items())
         print(f"{args.file}: valid ({listed}{digest})")
     return EXIT_FAILED if violations else EXIT_OK
 
@@ -135,16 +156,16 @@ def pslg_violations(loaded: Loaded, *, strict: bool) -> tuple[list[Violation], l
 def add_parser(commands: Subcommands) -> None:
     """Add the ``check`` command."""
     check = add_command(commands, "check", command_check,
-                        "validate a triangle or polygon mesh, or a PSLG (exit 1 on "
-                        "violations)")
+                        "validate a triangle, tetrahedral, mixed-cell or polygon mesh, or a "
+                        "PSLG (exit 1 on violations)")
     check.add_argument("file", metavar="FILE",
-                       help="triangle, tetrahedral or polygon mesh or PSLG file")
+                       help="triangle, tetrahedral, mixed-cell or polygon mesh or PSLG file")
     add_format_option(check)
     check.add_argument(
         "--strict",
         action="store_true",
-        help="also report vertices in no triangle, tetrahedron or polygon "
-             "(isolated-vertex; for a tetrahedral mesh, a warning without it), and a "
+        help="also report vertices in no triangle, tetrahedron, cell or polygon "
+             "(isolated-vertex; for a 3D mesh, a warning without it), and a "
              "PSLG's hole or region seeds that lie in no triangle (ignored-seed)",
     )
     add_json_flag(check)

@@ -20,6 +20,7 @@ from geomexact.mesh2d.delaunay.triangulation import Construction, triangulate
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.segments import crossing_point
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.mixed.cell_data import MixedMeshData
 
 SHOWN = 10
 """The most offending items a message lists one by one."""
@@ -53,6 +54,7 @@ def load(path: str, format: str | None, verbose: bool) -> Loaded:
             ) from None
     refuse_large_file(path)
     reading = io.read_with_sources(path, format=format)
+    assert not isinstance(reading.value, MixedMeshData), "readers return a bare mesh"
     if verbose:
         for note in reading.notes:
             print(f"geomexact: {path}: {note}", file=sys.stderr)

@@ -24,6 +24,10 @@ def _show(value: object) -> str:
         return f"{value:.6g}"
     if isinstance(value, dict) and set(value) == {"x_min", "x_max", "y_min", "y_max"}:
         return f"x {value['x_min']} .. {value['x_max']}, y {value['y_min']} .. {value['y_max']}"
+    if isinstance(value, dict):  # counts by name, e.g. cells by kind
+        return ", ".join(f"{key} {count}" for key, count in value.items()) or "-"
+    if isinstance(value, list):
+        return ", ".join(map(str, value)) or "-"
     return str(value)
 
 

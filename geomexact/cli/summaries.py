@@ -4,14 +4,19 @@ from __future__ import annotations
 
 from typing import Any
 
-from geomexact.cli.kinds import Value
+import numpy as np
+
+from geomexact.cli.kinds import Writable
 from geomexact.kernel.numbers import format_rational
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh, mesh_stats
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
 from geomexact.mesh3d.measures import is_delaunay3, total_volume
+from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3, mixed_volume
 from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.viz.scene3d import kind_counts
 
 
 def mesh3_summary(mesh: Mesh3) -> dict[str, Any]:
@@ -23,6 +28,25 @@ def mesh3_summary(mesh: Mesh3) -> dict[str, Any]:
         "boundary_faces": len(mesh.boundary_faces()),
         "volume": format_rational(total_volume(mesh)),
         "is_delaunay": is_delaunay3(mesh),
+        "digest": mesh.digest_text,
+    }
+
+
+def cells_by_kind(mesh: MixedMesh3) -> dict[str, int]:
+    """How many cells of each kind present, by the kind's plural name, in the viewer's
+    order (``{"pyramids": 2, "hexahedra": 6}``)."""
+    return kind_counts(np.array([int(cell.kind) for cell in mesh.cell_list()], dtype=np.int64))
+
+
+def mixed_summary(mesh: MixedMesh3) -> dict[str, Any]:
+    """Counts (cells also by kind, VTK type order), the exact volume (text) and the digest
+    of a mixed-cell mesh."""
+    return {
+        "vertices": mesh.vertex_count,
+        "cells": mesh.cell_count,
+        "cells_by_kind": cells_by_kind(mesh),
+        "boundary_faces": len(mesh.boundary_faces()),
+        "volume": format_rational(mixed_volume(mesh)),
         "digest": mesh.digest_text,
     }
 
@@ -58,13 +82,17 @@ def polygon_mesh_summary(mesh: PolygonMesh) -> dict[str, Any]:
     return {"vertices": len(mesh.vertices), "used_vertices": stats.pop("vertices"), **stats}
 
 
-def summary_of(value: Value) -> dict[str, Any]:
-    """The ``info`` statistics of a mesh (2D or tetrahedral), PSLG or polygon mesh
-    (JSON-ready)."""
+def summary_of(value: Writable) -> dict[str, Any]:
+    """The ``info`` statistics of a mesh (2D, tetrahedral or mixed-cell), PSLG or polygon
+    mesh (JSON-ready)."""
     if isinstance(value, Mesh2):
         return mesh_summary(value)
     if isinstance(value, PSLG):
         return pslg_summary(value)
     if isinstance(value, Mesh3):
         return mesh3_summary(value)
+    if isinstance(value, MixedMesh3):
+        return mixed_summary(value)
+    if isinstance(value, MixedMeshData):
+        return {**mixed_summary(value.mesh), "cell_data": sorted(value.cell_data)}
     return polygon_mesh_summary(value)

@@ -9,14 +9,14 @@ from pathlib import Path
 
 from geomexact import io
 from geomexact.cli.errors import UsageProblem
-from geomexact.cli.kinds import Value, kind_name
+from geomexact.cli.kinds import Writable, held_kinds, kind_name
 from geomexact.cli.summaries import summary_of
 from geomexact.errors import FormatError, OverwriteError
 from geomexact.io.files import refuse_inputs, staged_path
 from geomexact.io.registry import NumberStyle, WriteReport
 
 # the exact properties a command reports that rounding can break
-_RECHECKED = ("vertices", "triangles", "is_delaunay", "polygons", "nonconvex")
+_RECHECKED = ("vertices", "triangles", "is_delaunay", "polygons", "nonconvex", "cells")
 
 
 def warn(message: str) -> None:
@@ -26,21 +26,22 @@ def warn(message: str) -> None:
 
 def write(
     path: str | Path,
-    value: Value,
+    value: Writable,
     format: str | None,
     *,
     overwrite: bool,
     numbers: NumberStyle = "decimal",
 ) -> list[Path]:
-    """:func:`io.write`, refusing first (exit 2) a format that cannot hold ``value``; then
+    """:func:`io.write` (``value`` any kind a format holds, a :class:`MixedMesh3` or a
+    :class:`MixedMeshData` too), refusing first (exit 2) a format that cannot hold it; then
     a warning on stderr for what the format dropped, for every rounded number, and for
     each reported property that no longer holds on the file as written."""
     name = format or io.detect_format(path)
     kinds = io.FORMATS[name].kinds
     if not isinstance(value, kinds):
-        held = " or ".join(kind_name(kind).replace("_", " ") for kind in kinds)
         kind = kind_name(type(value)).replace("_", " ")
-        raise UsageProblem(f"{path}: the {name} format holds a {held}, not a {kind}")
+        raise UsageProblem(f"{path}: the {name} format holds a {held_kinds(kinds)}, not a "
+                           f"{kind}")
     report = io.write_with_report(path, value, format=name, overwrite=overwrite,
                                   numbers=numbers)
     if report.dropped:
@@ -62,7 +63,7 @@ def write(
 
 
 _BROKEN = ("the rounded file does not read back", "vertices is", "triangles is",
-           "polygons is")
+           "polygons is", "cells is")
 """How :func:`recheck` begins a sentence about a rounding that changed the mesh itself
 (vertices merged, cells lost): a refusal, not a warning."""
 
@@ -81,7 +82,7 @@ def _rounding(report: WriteReport, name: str, numbers: NumberStyle) -> str:
             "(--exact writes them exactly as p/q)")
 
 
-def recheck(value: Value, report: WriteReport, name: str) -> list[str]:
+def recheck(value: Writable, report: WriteReport, name: str) -> list[str]:
     """The reported properties of ``value`` that the file as written (rounded) no longer
     has, one sentence each; the file is read back to find out."""
     try:  # inside the command's output set: the staged file, not yet in place
@@ -156,8 +157,7 @@ def check_outputs(
         name = format or io.detect_format(path)
         kinds = io.FORMATS[name].kinds
         if not issubclass(value_type, kinds):
-            held = " or ".join(kind_name(kind).replace("_", " ") for kind in kinds)
             kind = kind_name(value_type).replace("_", " ")
-            raise UsageProblem(f"{path} ({option}): the {name} format holds a {held}, not a "
-                               f"{kind}")
+            raise UsageProblem(f"{path} ({option}): the {name} format holds a "
+                               f"{held_kinds(kinds)}, not a {kind}")
     refuse_existing(outputs, force=force)

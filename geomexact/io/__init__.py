@@ -1,5 +1,5 @@
-"""Reading and writing meshes (2D and tetrahedral), PSLGs and polygon meshes, one module
-per format behind one registry.  Spec: ``specs/formats/registry.md`` (and one spec per
+"""Reading and writing meshes (2D, tetrahedral and mixed-cell), PSLGs and polygon meshes,
+one module per format behind one registry.  Spec: ``specs/formats/registry.md`` (and one spec per
 format beside it).
 
 >>> from geomexact import io
@@ -61,6 +61,8 @@ from geomexact.kernel.collector import collector_paused
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 
 
@@ -161,11 +163,11 @@ _FORMATS: tuple[Format, ...] = (
     Format(
         "meshio",
         MESHIO_EXTENSIONS,
-        "2D triangle and tetrahedral meshes through meshio (VTK, VTU, XDMF, Gmsh, …), "
-        "doubles",
+        "2D triangle, tetrahedral and mixed-cell meshes through meshio (VTK, VTU, XDMF, "
+        "Gmsh, …), doubles; mixed cells to .vtu, .vtk (polyhedra too) and .msh",
         read_meshio,
         write_meshio,
-        (Mesh2, Mesh3),
+        (Mesh2, Mesh3, MixedMesh3, MixedMeshData),
     ),
 )
 
@@ -273,8 +275,8 @@ def read_with_sources(path: str | Path, *, format: str | None = None) -> Reading
 
 
 def read(path: str | Path, *, format: str | None = None) -> Value:
-    """Read ``path`` as a :class:`Mesh2`, :class:`PSLG`, :class:`PolygonMesh` or
-    :class:`Mesh3` (see :func:`read_with_notes`)."""
+    """Read ``path`` as a :class:`Mesh2`, :class:`PSLG`, :class:`PolygonMesh`,
+    :class:`Mesh3` or :class:`MixedMesh3` (see :func:`read_with_notes`)."""
     value, _ = read_with_notes(path, format=format)
     return value
 

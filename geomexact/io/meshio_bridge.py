@@ -1,12 +1,15 @@
-"""The bridge to meshio (VTK, VTU, XDMF, Gmsh, Medit, …) for 2D triangle meshes and
-tetrahedral meshes.  Spec: ``specs/formats/meshio.md``.
+"""The bridge to meshio (VTK, VTU, XDMF, Gmsh, Medit, …) for 2D triangle meshes,
+tetrahedral meshes and mixed-cell meshes.  Spec: ``specs/formats/meshio.md``.
 
 A file with ``tetra`` cells is read as a :class:`Mesh3` (exact binary values of its 3D
 points; its boundary's cells (triangles, quads, lines, vertices) ignored with a note,
-other solid cells (hexahedra, prisms, pyramids, …) refused; all negative tetrahedra
-reversed with a note, a mix or a flat one refused, as in
-:mod:`geomexact.io.tetrahedron_orientation`); a :class:`Mesh3` is written as its points
-(doubles, rounding counted) and ``tetra`` cells.
+higher-order solids refused; all negative tetrahedra reversed with a note, a mix or a
+flat one refused, as in :mod:`geomexact.io.tetrahedron_orientation`); a :class:`Mesh3` is
+written as its points (doubles, rounding counted) and ``tetra`` cells.  A file whose solids
+include hexahedra, wedges, pyramids or polyhedra is read as a :class:`MixedMesh3`, checked
+exactly (:mod:`geomexact.io.mixed_meshio`); a :class:`MixedMesh3` (or
+:class:`MixedMeshData`, with integer cell arrays) is written to ``.vtu``, ``.vtk`` or
+``.msh`` (polyhedra to VTK files only, by :mod:`geomexact.io.vtk_polyhedra`).
 
 Reading takes the ``triangle`` cells (``line`` and ``vertex`` cells are ignored, with a
 note; any other cell type is an error), requires z = 0, and converts each float to its
@@ -21,7 +24,7 @@ import contextlib
 import importlib
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from io import StringIO
 from pathlib import Path
 from typing import Any
@@ -37,6 +40,14 @@ from geomexact.errors import (
     UnsupportedValueError,
 )
 from geomexact.io.files import check_regular, write_bytes_atomic
+from geomexact.io.mixed_meshio import (
+    cell_arrays,
+    cell_entries,
+    is_mixed_file,
+    meshio_blocks,
+    mixed_of_meshio,
+    parts_of,
+)
 from geomexact.io.registry import (
     NumberStyle,
     TriangleTable,
@@ -47,9 +58,13 @@ from geomexact.io.registry import (
     dropped_parts,
 )
 from geomexact.io.tetrahedron_orientation import orient_tetrahedra
+from geomexact.io.vtk_polyhedra import legacy_vtk_text, polyhedra_readable, vtu_text
 from geomexact.kernel.numbers import to_float, to_rational
 from geomexact.kernel.points import Point2, Point3, point2, point3
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+from geomexact.mesh3d.mixed.cells import CellKind
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3, tetrahedron_faces
 from geomexact.mesh3d.transient import mesh3_from_positive_arrays, mesh3_from_tetrahedra
 
@@ -174,7 +189,8 @@ def _meshio_read(path: Path, notes: list[str]) -> Any:
     messages: list[str] = []
     try:
         readers = [importlib.import_module(f"meshio.{module}") for module in modules or ()]
-        with _meshio_messages(messages), _memory_budget(path.stat().st_size):
+        with _meshio_messages(messages), _memory_budget(path.stat().st_size), \
+                polyhedra_readable():
             if not readers:
                 return meshio.read(path)
             for reader in readers[:-1]:
@@ -203,6 +219,9 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     check_regular(path)  # before meshio opens it: a FIFO would block, /dev/zero not end
     notes: list[str] = []
     data = _meshio_read(path, notes)
+    if is_mixed_file(data.cells):
+        return mixed_of_meshio(name, _points3(name, data), data.cells, _BOUNDARY_CELLS,
+                               notes), notes
     if any(block.type == "tetra" for block in data.cells):
         return _tetrahedral(name, data, notes), notes
     raw_points = data.points
@@ -256,10 +275,8 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     return mesh, notes
 
 
-def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
-    """The ``tetra`` cells of a meshio mesh as a :class:`Mesh3` (exact 3D points), oriented
-    by :func:`~geomexact.io.tetrahedron_orientation.orient_tetrahedra`; FormatErrors name
-    the tetrahedron and its cell (its index among all the file's cells, from 0)."""
+def _points3(name: str, data: Any) -> list[Point3]:
+    """The ``n x 3`` points of a meshio mesh, each double as its exact binary value."""
     raw_points = data.points
     if raw_points.ndim != 2 or raw_points.shape[1] != 3:
         raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 3")
@@ -269,6 +286,14 @@ def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
             points.append(point3(*(to_rational(value) for value in row)))
         except RationalParseError as error:
             raise FormatError(name, None, f"point {index}: {error}") from error
+    return points
+
+
+def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
+    """The ``tetra`` cells of a meshio mesh as a :class:`Mesh3` (exact 3D points), oriented
+    by :func:`~geomexact.io.tetrahedron_orientation.orient_tetrahedra`; FormatErrors name
+    the tetrahedron and its cell (its index among all the file's cells, from 0)."""
+    points = _points3(name, data)
     tetrahedra: list[tuple[int, int, int, int]] = []
     cells: list[int] = []  # the cell of each tetrahedron
     first_cell = 0
@@ -325,11 +350,11 @@ def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
         raise FormatError(name, None, str(error)) from error
 
 
-def _doubles3(path: Path, mesh: Mesh3) -> tuple[list[tuple[float, float, float]], int]:
-    """The vertices of a :class:`Mesh3` as doubles and how many coordinates that rounds."""
+def _doubles3(path: Path, points: list[Point3]) -> tuple[list[tuple[float, float, float]], int]:
+    """3D ``points`` as doubles and how many coordinates that rounds."""
     rows: list[tuple[float, float, float]] = []
     rounded = 0
-    for index, point in enumerate(mesh.point_list()):
+    for index, point in enumerate(points):
         try:
             x, y, z = to_float(point.x), to_float(point.y), to_float(point.z)
         except OverflowError:
@@ -365,15 +390,24 @@ def _doubles(path: Path, mesh: Mesh2) -> tuple[list[tuple[float, float, float]],
     return rows, rounded
 
 
+_MIXED_EXTENSIONS = (".vtu", ".vtk", ".msh")
+"""Where a mixed-cell mesh is written."""
+_GMSH_DOUBLE_INTEGERS = 1 << 53
+"""Gmsh stores cell data as doubles: integers below this in magnitude are exact."""
+
+
 def write_meshio(
     path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
 ) -> WriteReport:
-    """A Mesh2 through meshio as doubles (the format is chosen by the extension); every
-    coordinate that is not a double is rounded and counted, markers, attributes and
-    segments are dropped and reported; numbers ``"exact"`` is refused (FormatError)."""
-    if not isinstance(value, (Mesh2, Mesh3)):
+    """A Mesh2, Mesh3 or mixed-cell mesh through meshio as doubles (the format is chosen by
+    the extension); every coordinate that is not a double is rounded and counted,
+    markers, attributes and segments are dropped and reported; numbers ``"exact"`` is
+    refused (FormatError).  A mixed mesh (:func:`_write_mixed`) goes to .vtu, .vtk or
+    .msh only."""
+    if not isinstance(value, (Mesh2, Mesh3, MixedMesh3, MixedMeshData)):
         raise UnsupportedValueError(
-            f"the meshio format writes a Mesh2 or Mesh3, not a {type(value).__name__}"
+            f"the meshio format writes a Mesh2, Mesh3 or MixedMesh3, not a "
+            f"{type(value).__name__}"
         )
     if numbers == "exact":
         raise FormatError(
@@ -381,6 +415,8 @@ def write_meshio(
             "the meshio formats store doubles and cannot hold exact numbers; write an exact "
             "text format (.off, .ele, .pslg) for exact output",
         )
+    if isinstance(value, (MixedMesh3, MixedMeshData)):
+        return _write_mixed(path, value, overwrite=overwrite)
     meshio = _meshio()
     import numpy
 
@@ -389,7 +425,7 @@ def write_meshio(
     # 32-bit indices where they fit: some writers (PLY) warn on 64-bit ones
     index_type = numpy.int32 if value.vertex_count < 2**31 else numpy.int64
     if isinstance(value, Mesh3):
-        rows, rounded = _doubles3(path, value)
+        rows, rounded = _doubles3(path, value.point_list())
         cells = ("tetra", numpy.array(value.tetrahedra(), dtype=index_type).reshape(-1, 4))
         dropped: tuple[str, ...] = ()
     else:
@@ -397,10 +433,21 @@ def write_meshio(
         cells = ("triangle", numpy.array(value.triangles(), dtype=index_type).reshape(-1, 3))
         dropped = dropped_parts(value, ())
     points = numpy.array(rows, dtype=float).reshape(-1, 3)
-    mesh = meshio.Mesh(points, [cells])
+    _write_through_meshio(path, meshio.Mesh(points, [cells]), overwrite=overwrite)
+    return WriteReport((path,), rounded, dropped)
+
+
+def _write_through_meshio(path: Path, mesh: Any, *, overwrite: bool,
+                          file_format: str | None = None) -> None:
+    """meshio writes ``mesh`` into a scratch directory beside ``path`` (in
+    ``file_format``, else the one the extension names), then the bytes are moved into
+    place atomically; any meshio failure is a FormatError naming ``path``."""
+    meshio = _meshio()
     suffix = path.suffix.lower()
     options = dict(_WRITE_OPTIONS.get(suffix, {}))
-    if suffix in _MESHIO_FORMATS:
+    if file_format is not None:
+        options["file_format"] = file_format
+    elif suffix in _MESHIO_FORMATS:
         options["file_format"] = _MESHIO_FORMATS[suffix][0]
     directory = path.parent if str(path.parent) else Path(".")
     with tempfile.TemporaryDirectory(prefix=".geomexact-", dir=directory) as scratch:
@@ -414,4 +461,61 @@ def write_meshio(
             raise FormatError(str(path), None, f"meshio cannot write it: {error}") from error
         data = temporary.read_bytes()
     write_bytes_atomic(path, data, overwrite=overwrite)
-    return WriteReport((path,), rounded, dropped)
+
+
+def _write_mixed(path: Path, value: MixedMesh3 | MixedMeshData, *,
+                 overwrite: bool) -> WriteReport:
+    """A mixed-cell mesh as .vtu, .vtk (meshio's writers; with polyhedra, geomexact's VTK
+    text, :mod:`geomexact.io.vtk_polyhedra`) or Gmsh 2.2 text .msh (standard kinds only;
+    Gmsh 4.1 through meshio takes one cell type per file).  Cells in ``cell_list()``
+    order, cell data ``kind`` (VTK type) and the caller's arrays; points as doubles,
+    rounding counted.  Everything is refused before anything is written."""
+    mesh, extra = parts_of(value)
+    name = str(path)
+    suffix = path.suffix.lower()
+    if suffix not in _MIXED_EXTENSIONS:
+        raise FormatError(name, None, f"a mixed-cell mesh is written as "
+                          f"{', '.join(_MIXED_EXTENSIONS)} only, not {suffix or 'no extension'}")
+    polyhedra = [cell for cell in mesh.cell_list() if cell.kind == CellKind.POLYHEDRON]
+    if polyhedra and suffix == ".msh":
+        raise FormatError(name, None, f"Gmsh .msh has no polyhedron cells and the mesh has "
+                          f"{len(polyhedra)} (the first {clipped(str(polyhedra[0]), 120)}); "
+                          "nothing was written: write .vtu or .vtk")
+
+    def gmsh_exact(array: str, values: Sequence[int]) -> None:
+        big = [v for v in values if abs(v) >= _GMSH_DOUBLE_INTEGERS]
+        if big and suffix == ".msh":
+            raise FormatError(name, None, f"cell data {array!r} holds {big[0]}, which Gmsh's "
+                              "double values cannot hold exactly; nothing was written")
+
+    arrays = cell_arrays(mesh, extra, gmsh_exact)
+    if path.exists() and not overwrite:
+        raise OverwriteError(name)
+    rows, rounded = _doubles3(path, [mesh.point(v) for v in range(mesh.vertex_count)])
+    if polyhedra:
+        types, entries = cell_entries(mesh)
+        writer = vtu_text if suffix == ".vtu" else legacy_vtk_text
+        text = writer(rows, types, entries, arrays)
+        write_bytes_atomic(path, text.encode("utf-8"), overwrite=overwrite)
+        return WriteReport((path,), rounded, ())
+    meshio = _meshio()
+    import numpy
+
+    blocks = meshio_blocks(mesh)
+    index_type = numpy.int32 if mesh.vertex_count < 2**31 else numpy.int64
+    cells = [(kind, numpy.array(rows_of_kind, dtype=index_type)) for kind, rows_of_kind in
+             blocks]
+    cell_data: dict[str, list[Any]] = {}
+    start = 0
+    for _, members in blocks:
+        for array, values in arrays.items():
+            # Python ints: meshio's Gmsh text writer prints each value's repr
+            chunk = values[start:start + len(members)]
+            cell_data.setdefault(array, []).append(
+                numpy.array(chunk, dtype=object if suffix == ".msh" else numpy.int64))
+        start += len(members)
+    points = numpy.array(rows, dtype=float).reshape(-1, 3)
+    _write_through_meshio(path, meshio.Mesh(points, cells, cell_data=cell_data),
+                          overwrite=overwrite,
+                          file_format="gmsh22" if suffix == ".msh" else None)
+    return WriteReport((path,), rounded, ())

@@ -51,10 +51,13 @@ from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Attributes, Mesh2, empty_mesh
 from geomexact.mesh2d.transient import Transient2
+from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 
-Value: TypeAlias = Mesh2 | PSLG | PolygonMesh | Mesh3
-"""What a reader returns and a writer accepts."""
+Value: TypeAlias = Mesh2 | PSLG | PolygonMesh | Mesh3 | MixedMesh3 | MixedMeshData
+"""What a reader returns (never a :class:`MixedMeshData`: a reader returns the mesh) and
+a writer accepts."""
 
 Tokens: TypeAlias = list[str]
 NumberedLine: TypeAlias = tuple[int, Tokens]

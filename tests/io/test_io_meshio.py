@@ -124,5 +124,6 @@ def test_overwrite_and_kinds(tmp_path: Path) -> None:
         io.write(tmp_path / "o.vtk", mesh)
     io.write(tmp_path / "o.vtk", mesh, overwrite=True)
     assert sorted(path.name for path in tmp_path.iterdir()) == ["o.vtk"]
-    with pytest.raises(TypeError, match="writes a Mesh2 or Mesh3, not a PSLG"):
+    with pytest.raises(TypeError,
+                       match="writes a Mesh2 or Mesh3 or MixedMesh3 or MixedMeshData, not a PSLG"):
         io.write(tmp_path / "p.vtk", PSLG(vertices=[]))

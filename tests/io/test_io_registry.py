@@ -13,6 +13,8 @@ from geomexact.errors import FormatError, OverwriteError
 from geomexact.io.registry import Format
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
+from geomexact.mesh3d.mixed import MixedMesh3
+from geomexact.mesh3d.mixed.cell_data import MixedMeshData
 from geomexact.mesh3d.snapshot import Mesh3
 
 MESH = mesh_from_triangles([(0, 0), (1, 0), (0, 1)], [(0, 1, 2)])
@@ -25,7 +27,8 @@ def test_registry_lists_every_format() -> None:
                                   "vect"]
     for name, fmt in io.FORMATS.items():
         assert isinstance(fmt, Format) and fmt.name == name and fmt.description
-        assert fmt.kinds and all(kind in (Mesh2, PSLG, PolygonMesh, Mesh3) for kind in fmt.kinds)
+        assert fmt.kinds and all(kind in (Mesh2, PSLG, PolygonMesh, Mesh3, MixedMesh3,
+                                          MixedMeshData) for kind in fmt.kinds)
         for extension in fmt.extensions:
             assert extension.startswith(".") and extension == extension.lower()
             assert io.detect_format(f"some/dir/file.1{extension.upper()}") == name

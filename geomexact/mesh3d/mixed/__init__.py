@@ -2,8 +2,10 @@
 convex polyhedra in one exact value, :class:`MixedMesh3`; its transient, its steps
 (``ops``: add_vertex, add_cell, remove_cell, merge_cells, split_cell), the exact checker
 (``validation``) and the converters (``conversion``: from a tetrahedral mesh, a box grid
-of hexahedra).  Specification: ``specs/mixed.md``."""
+of hexahedra) and :class:`MixedMeshData` (a mesh with integer cell arrays, for the
+writers).  Specification: ``specs/mixed.md``."""
 
+from geomexact.mesh3d.mixed.cell_data import MixedMeshData
 from geomexact.mesh3d.mixed.cells import (
     Cell,
     CellKind,
@@ -19,6 +21,7 @@ __all__ = [
     "Cell",
     "CellKind",
     "MixedMesh3",
+    "MixedMeshData",
     "MixedTransient3",
     "box_grid_mesh",
     "cell_of_faces",
