@@ -141,6 +141,32 @@ def _meshio_messages(messages: list[str]) -> Iterator[None]:
             setattr(module, attribute, value)
 
 
+def _gmsh22_cell_data(cells: Any, cell_data_raw: Any) -> dict[str, Any]:
+    """meshio's ``cell_data_from_raw`` for the Gmsh 2.2 reader, split by each block's
+    length (meshio 5.3 takes ``len`` of its (type, cells) pairs: 2, so a file of two or
+    more blocks with ElementData does not read)."""
+    import numpy
+
+    ends = numpy.cumsum([len(block[1]) for block in cells])[:-1]
+    return {name: numpy.split(values, ends) for name, values in cell_data_raw.items()}
+
+
+@contextlib.contextmanager
+def meshio_fixed() -> Iterator[None]:
+    """While active, meshio's readers read polyhedra beside other cells
+    (:func:`~geomexact.io.vtk_polyhedra.polyhedra_readable`) and Gmsh 2.2 ElementData of
+    several blocks (:func:`_gmsh22_cell_data`); restored afterwards."""
+    import meshio.gmsh._gmsh22 as gmsh22
+
+    original = gmsh22.cell_data_from_raw
+    gmsh22.cell_data_from_raw = _gmsh22_cell_data
+    try:
+        with polyhedra_readable():
+            yield
+    finally:
+        gmsh22.cell_data_from_raw = original
+
+
 MEMORY_MARGIN = 2 << 30
 """The address space a meshio read may add beyond :data:`MEMORY_PER_BYTE` times the
 file's size (bytes)."""
@@ -190,7 +216,7 @@ def _meshio_read(path: Path, notes: list[str]) -> Any:
     try:
         readers = [importlib.import_module(f"meshio.{module}") for module in modules or ()]
         with _meshio_messages(messages), _memory_budget(path.stat().st_size), \
-                polyhedra_readable():
+                meshio_fixed():
             if not readers:
                 return meshio.read(path)
             for reader in readers[:-1]:
