@@ -8,9 +8,9 @@ import os
 from pathlib import Path
 
 import pytest
+from helpers.command import run
 
 from geomexact import io
-from geomexact.cli import main
 from geomexact.cli.writing import write
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.mixed import MixedMesh3, MixedMeshData, box_grid_mesh
@@ -19,13 +19,6 @@ meshio = pytest.importorskip("meshio")
 np = pytest.importorskip("numpy")
 
 from helpers.mixed_files import bad_files, every_kind_mesh  # noqa: E402
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    code = main([str(word) for word in argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
 
 GRID = box_grid_mesh(Box((0, 0, 0), (2, 1, 1)), 2, 1, 1)
 

@@ -8,17 +8,10 @@ import os
 from pathlib import Path
 
 import pytest
-
-from geomexact.cli import main
+from helpers.command import run
 
 meshio = pytest.importorskip("meshio")
 np = pytest.importorskip("numpy")
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    code = main([str(word) for word in argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def _hex_and_tetrahedra(path: Path) -> None:
@@ -51,7 +44,7 @@ def test_boundary_triangles_of_a_tetrahedral_file_are_still_ignored(
     points = np.array([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], dtype=float)
     meshio.Mesh(points, [("tetra", np.array([[0, 1, 2, 3]])),
                          ("triangle", np.array([[0, 2, 1]]))]).write(tmp_path / "t.vtu")
-    code, out, _ = run(capsys, "convert", tmp_path / "t.vtu", tmp_path / "t.ele")
+    code, _, _ = run(capsys, "convert", tmp_path / "t.vtu", tmp_path / "t.ele")
     assert code == 0 and (tmp_path / "t.ele").exists()
 
 
