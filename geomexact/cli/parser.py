@@ -16,8 +16,8 @@ if TYPE_CHECKING:
 
 COMMAND_TABLE: tuple[tuple[str, str, str], ...] = (
     ("info", "info", "print statistics of meshes, PSLGs and polygon meshes"),
-    ("check", "check", "validate a triangle or polygon mesh, or a PSLG (exit 1 on "
-                       "violations)"),
+    ("check", "check", "validate a triangle, tetrahedral, mixed-cell or polygon mesh, or a "
+                       "PSLG (exit 1 on violations)"),
     ("convert", "convert", "convert a file to another format"),
     ("replay", "replay", "replay a trace on its input mesh, checking digests"),
     ("trace", "trace_tools",

@@ -170,5 +170,5 @@ def test_2d_commands_name_a_tetrahedral_mesh(tmp_path: Path, capsys: pytest.Capt
     assert captured.err == (
         f"geomexact: error: {path}: is a tetrahedral mesh (3D): {command} works on "
         f"{_NEEDS[command]}; see geomexact octree for 3D meshing (check, info, convert and "
-        "view also read tetrahedral meshes)\n")
+        "view also read tetrahedral and mixed-cell meshes)\n")
     assert not (tmp_path / "out.off").exists()
