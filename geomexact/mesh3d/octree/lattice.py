@@ -65,12 +65,17 @@ class OctreeLattice:
         return self.octree.domain.extents[axis] / self.size[axis]  # type: ignore[no-any-return]
 
     def exact_points(self) -> list[Point3]:
-        """The vertices' exact coordinates, by id (each distinct lattice coordinate is
-        converted once: a lattice has few of them per axis)."""
+        """The vertices' exact coordinates, by id."""
+        return self.exact_points_of(self.vertices)
+
+    def exact_points_of(self, lattice_points: Any) -> list[Point3]:
+        """The exact coordinates of ``lattice_points`` ((n, 3) integers; each distinct
+        lattice coordinate is converted once: a lattice has few of them per axis)."""
         low = self.octree.domain.low
         extents = self.octree.domain.extents
         columns = []
-        for lo, e, n, column in zip(low, extents, self.size, self.vertices.T.tolist(),
+        for lo, e, n, column in zip(low, extents, self.size,
+                                    np.asarray(lattice_points).reshape(-1, 3).T.tolist(),
                                     strict=True):
             exact = {value: lo + e * mpq(value, n) for value in set(column)}
             doubles = {value: nearest_double(q) for value, q in exact.items()}

@@ -1,0 +1,177 @@
+"""The octree's ``mixed`` and ``polyhedral`` finals: every leaf becomes the cells of its
+pattern's template (:mod:`geomexact.mesh3d.cuboid.cell_templates`) in one
+:class:`~geomexact.mesh3d.mixed.snapshot.MixedMesh3`.
+
+Vertex ids: the lattice's (the leaf corners, lexicographic), then the body centres of the
+leaves whose template uses one, in leaf order.  Two constructions, proven equal by
+``tests/mesh3d/test_octree_cells.py``:
+
+* the reference, with a trace: from the start (the lattice's vertices, no cell), for each
+  leaf in leaf order an ``add_vertex`` for its centre if it has one, then one ``add_cell``
+  per cell of its template (sorted);
+* without a trace, the same cells handed to the bulk builder
+  (:func:`~geomexact.mesh3d.mixed.transient.mixed_mesh_from_cells`), no step checks.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from itertools import islice
+from typing import Any, Final, Literal
+
+import attrs
+import numpy as np
+
+from geomexact._version import __version__
+from geomexact.errors import PreconditionError
+from geomexact.kernel.numbers import Rational
+from geomexact.kernel.points import Point3, point3
+from geomexact.mesh3d.cuboid.boxes import box_of_extents
+from geomexact.mesh3d.cuboid.cell_templates import (
+    CellTemplate,
+    mixed_template,
+    polyhedral_template,
+    relabelled,
+)
+from geomexact.mesh3d.mixed.cells import Cell, CellKind
+from geomexact.mesh3d.mixed.ops import add_cell_in, add_vertex_in
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+from geomexact.mesh3d.mixed.transient import MixedTransient3, mixed_mesh_from_cells
+from geomexact.mesh3d.mixed.validation import validate_mixed
+from geomexact.mesh3d.octree.balance import balance_two_to_one
+from geomexact.mesh3d.octree.lattice import OctreeLattice, octree_lattice
+from geomexact.mesh3d.octree.tree import Octree
+from geomexact.trace.record import Trace
+
+__all__ = [
+    "CELL_FINAL_KINDS",
+    "CellConformity",
+    "CellFinalKind",
+    "CellLeafMesh",
+    "cell_conformity",
+    "cell_final",
+]
+
+CellFinalKind = Literal["mixed", "polyhedral"]
+CELL_FINAL_KINDS: Final[tuple[CellFinalKind, ...]] = ("mixed", "polyhedral")
+
+
+@attrs.frozen(slots=True, eq=False)
+class CellLeafMesh:
+    """What a cell final makes: the balanced ``octree``, its ``lattice``, the ``mesh``,
+    each cell's leaf level (``levels``, aligned with ``mesh.cell_list()``), the points
+    the templates added inside leaves (``added``), the ``templates`` used (name ->
+    leaves), the forced splits; with a trace, its ``start`` and ``trace``."""
+
+    octree: Octree
+    lattice: OctreeLattice
+    mesh: MixedMesh3
+    levels: Any
+    added: int
+    templates: dict[str, int]
+    forced_splits: int
+    start: MixedMesh3 | None = None
+    trace: Trace | None = None
+
+    def kinds(self) -> dict[str, int]:
+        """Cell kind name (lower case) -> count, in VTK type order."""
+        counts = Counter(cell.kind for cell in self.mesh.cell_list())
+        return {kind.name.lower(): counts[kind] for kind in sorted(CellKind) if counts[kind]}
+
+
+@attrs.frozen(slots=True)
+class CellConformity:
+    """The exact check of a cell final (:func:`cell_conformity`)."""
+
+    cells: int
+    interior_faces: int
+    boundary_faces: int
+    problems: tuple[str, ...]
+
+    @property
+    def conforming(self) -> bool:
+        return not self.problems
+
+
+def _templates(lattice: OctreeLattice, kind: str) -> list[CellTemplate]:
+    """Each leaf's template, by row (each distinct pattern computed once)."""
+    if kind not in CELL_FINAL_KINDS:
+        raise PreconditionError("octree", f"a cell final is one of {CELL_FINAL_KINDS}, "
+                                f"not {kind!r}")
+    shape = box_of_extents(*lattice.octree.cell_extents(0))
+    found: dict[int, CellTemplate] = {}
+    for pattern in np.unique(lattice.patterns).tolist():
+        found[pattern] = (mixed_template(pattern, shape) if kind == "mixed"
+                          else polyhedral_template(pattern, shape))
+    return [found[pattern] for pattern in lattice.patterns.tolist()]
+
+
+def _added_points(lattice: OctreeLattice, templates: list[CellTemplate]) -> list[Point3]:
+    """The exact points the leaves' templates add, in leaf order (a template's in its
+    order): half-lattice position p of a leaf of level L is the lattice point
+    low + p * 2**(depth - L - 1)."""
+    rows = [row for row, template in enumerate(templates) if template.points]
+    if not rows:
+        return []
+    cells = np.array(lattice.octree.leaves, dtype=np.int64).reshape(-1, 4)[rows].tolist()
+    size = lattice.size
+    low, extents = lattice.octree.domain.low, lattice.octree.domain.extents
+    found = []
+    for (level, *corner), row in zip(cells, rows, strict=True):
+        half = 1 << (lattice.depth - level - 1)
+        for position in templates[row].points:
+            exact = [low[axis] + extents[axis] * (2 * half * corner[axis] + half
+                                                  * position[axis]) / size[axis]
+                     for axis in range(3)]
+            found.append(point3(*exact))
+    return found
+
+
+def cell_final(octree: Octree, kind: CellFinalKind, trace: bool = False) -> CellLeafMesh:
+    """The ``kind`` final of ``octree`` (balanced 2:1 first; the splits that took are
+    reported), by the reference steps with ``trace``, else by the bulk builder."""
+    balanced = balance_two_to_one(octree)
+    lattice = octree_lattice(balanced)
+    templates = _templates(lattice, kind)
+    points = lattice.exact_points()
+    added = _added_points(lattice, templates)
+    next_id = iter(range(len(points), len(points) + len(added)))
+    leaves: list[tuple[int, tuple[Cell, ...]]] = []
+    for codes, template in zip(lattice.codes.tolist(), templates, strict=True):
+        ids = [*codes, *(next(next_id) for _ in template.points)]
+        leaves.append((len(template.points),
+                       tuple(sorted(relabelled(cell, ids) for cell in template.cells))))
+    forced = (balanced.leaf_count - octree.leaf_count) // 7
+    start = recorded = None
+    if trace:
+        start = mixed_mesh_from_cells(points, ())
+        t = MixedTransient3(start)
+        new_points = iter(added)
+        for count, cells in leaves:
+            for point in islice(new_points, count):
+                add_vertex_in(t, point.x, point.y, point.z)
+            for cell in cells:
+                add_cell_in(t, cell)
+        recorded = Trace(start.digest, t.steps, t.step_digests,
+                         {"algorithm": "octree", "final": kind}, __version__)
+        mesh = t.seal()
+    else:
+        mesh = mixed_mesh_from_cells([*points, *added],
+                                     (cell for _, cells in leaves for cell in cells))
+    level_of = {cell: leaf[0] for leaf, (_, cells) in zip(balanced.leaves, leaves, strict=True)
+                for cell in cells}
+    levels = np.array([level_of[cell] for cell in mesh.cell_list()], dtype=np.int64)
+    levels.setflags(write=False)
+    used = Counter(template.name for template in templates)
+    return CellLeafMesh(balanced, lattice, mesh, levels, len(added), dict(sorted(used.items())),
+                        forced, start, recorded)
+
+
+def cell_conformity(mesh: MixedMesh3, volume: Rational) -> CellConformity:
+    """The exact validation of ``mesh`` (:func:`~geomexact.mesh3d.mixed.validation.
+    validate_mixed`, the volume ``volume``)."""
+    problems = validate_mixed(mesh, volume=volume, check_digest=False)
+    return CellConformity(mesh.cell_count, len(mesh.interior_faces()),
+                          len(mesh.boundary_faces()),
+                          tuple(map(str, problems)))
+
