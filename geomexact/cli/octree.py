@@ -27,11 +27,13 @@ from geomexact.cli.memory import BYTES_PER_TETRAHEDRON, active_budget
 from geomexact.cli.progress import add_progress_flags, progress_bar
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
-from geomexact.cli.writing import check_outputs, write
+from geomexact.cli.writing import check_outputs, distinct_outputs, write
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import format_rational, parse_rational
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 
+CELL_FINALS = ("mixed", "polyhedral")
 STAGES = ("initial", "refinement", "improvement", "final", "conformity")
 
 
@@ -63,7 +65,9 @@ def _stages(args: argparse.Namespace) -> dict[str, Any]:
     from geomexact.mesh3d.octree.stages import (
         BoxGrid,
         DelaunayPartition,
+        MixedPartition,
         PatternPartition,
+        PolyhedralPartition,
         RefineWhere,
     )
 
@@ -91,7 +95,8 @@ def _stages(args: argparse.Namespace) -> dict[str, Any]:
         level = 3 if args.level is None else args.level
     if level > MAX_LEVEL:
         raise UsageProblem(f"--level is at most {MAX_LEVEL}, not {level}")
-    final = DelaunayPartition() if args.final == "delaunay" else PatternPartition()
+    final = {"patterns": PatternPartition, "delaunay": DelaunayPartition,
+             "mixed": MixedPartition, "polyhedral": PolyhedralPartition}[args.final]()
     return {"initial": BoxGrid(*args.grid),
             "refinement": RefineWhere(level, criterion=criterion, region=region),
             "final": final}
@@ -145,7 +150,7 @@ def estimated_tetrahedra(args: argparse.Namespace, level: int) -> int:
     return int(TETRAHEDRA_PER_LEAF * min(everywhere, fine_leaves * 8 / 7 * 2 + cells))
 
 
-def _control_volumes(mesh: Mesh3) -> Any:
+def _control_volumes(mesh: Mesh3 | MixedMesh3) -> Any:
     """The mesh's Voronoi control volumes; a mesh the exact check finds not Delaunay is
     a usage problem (exit 2, nothing written)."""
     from geomexact.errors import PreconditionError
@@ -155,8 +160,9 @@ def _control_volumes(mesh: Mesh3) -> Any:
         return control_volumes(mesh)
     except PreconditionError as error:
         raise UsageProblem(
-            f"--voronoi: {error.problem}; nothing was written (an octree refined to one "
-            "level everywhere, without --refine-sphere or --refine-box, is Delaunay)"
+            f"--voronoi: {error.problem}; nothing was written (--final polyhedral is "
+            "Delaunay, and so is any final of an octree refined to one level everywhere, "
+            "without --refine-sphere or --refine-box)"
         ) from None
 
 
@@ -184,15 +190,18 @@ def command_octree(args: argparse.Namespace) -> int:
 
 def _octree(args: argparse.Namespace) -> int:
     from geomexact.io.trace_file import write_trace
-    from geomexact.mesh3d.octree.pipeline import generate
+    from geomexact.mesh3d.octree.pipeline import generate, generate_cells
 
     started = time.perf_counter()
     domain = _box(args)
     stages = _stages(args)
+    cell_final = args.final in CELL_FINALS
     output_format = _output_format(args.output, args.to)
-    check_outputs([("-o", args.output, output_format), ("--start", args.start, None),
-                   ("--trace", args.trace, "file"), ("--voronoi", args.voronoi, "file")],
-                  Mesh3, force=args.force)
+    outputs = [("-o", args.output, output_format), ("--start", args.start, None),
+               ("--trace", args.trace, "file"), ("--voronoi", args.voronoi, "file")]
+    distinct_outputs(outputs)
+    check_outputs(outputs[:1], MixedMesh3 if cell_final else Mesh3, force=args.force)
+    check_outputs(outputs[1:], Mesh3, force=args.force)  # --start: vertices only
     if args.start and not args.trace:
         raise UsageProblem("--start writes the input of the trace: give --trace too")
     level = stages["refinement"].max_level
@@ -207,16 +216,27 @@ def _octree(args: argparse.Namespace) -> int:
         if bar is not None:
             bar(STAGES.index(name), len(STAGES))
 
-    run = generate(domain, trace=bool(args.trace), on_stage=on_stage, **stages)
+    run: Any
+    if cell_final:
+        final = stages.pop("final")
+        run = generate_cells(domain, final, trace=bool(args.trace), on_stage=on_stage,
+                             **stages)
+    else:
+        run = generate(domain, trace=bool(args.trace), on_stage=on_stage, **stages)
     if bar is not None:
         bar(len(STAGES), len(STAGES))
-    quality = run.quality()
     volumes = _control_volumes(run.mesh) if args.voronoi else None
     written: list[Path] = []
     if args.start and run.start is not None:
-        written += write(args.start, run.start, None, overwrite=args.force, numbers="exact")
+        written += write(args.start, _start_value(run.start), None, overwrite=args.force,
+                         numbers="exact")
     if args.output:
-        written += write(args.output, run.mesh, output_format, overwrite=args.force,
+        mesh_value: Any = run.mesh
+        if cell_final:
+            from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+
+            mesh_value = MixedMeshData(run.mesh, {"level": run.leaf_mesh.levels})
+        written += write(args.output, mesh_value, output_format, overwrite=args.force,
                          numbers=args.numbers)
     if args.trace and run.trace is not None:
         trace = attrs.evolve(run.trace, parameters={
@@ -232,7 +252,7 @@ def _octree(args: argparse.Namespace) -> int:
 
         write_control_volumes(args.voronoi, run.mesh, volumes, overwrite=args.force)
         written.append(Path(args.voronoi))
-    report = {
+    report: dict[str, Any] = {
         "box": [format_rational(v) for v in (*domain.low, *domain.high)],
         "grid": list(args.grid),
         "final": args.final,
@@ -240,15 +260,33 @@ def _octree(args: argparse.Namespace) -> int:
         "levels": {str(level): count for level, count in run.octree.levels()},
         "leaves_refined": run.refined.leaf_count,
         "forced_splits": run.leaf_mesh.forced_splits,
-        "tetrahedra": run.mesh.tetrahedron_count,
-        "vertices": run.mesh.vertex_count,
-        "min_dihedral": quality.min_dihedral,
-        "max_dihedral": quality.max_dihedral,
-        "max_radius_edge": quality.max_radius_edge,
-        "conforming": run.conformity.conforming,
-        "interior_faces": run.conformity.interior_faces,
-        "boundary_faces": run.conformity.boundary_faces,
-        "volume": format_rational(run.volume),
+    }
+    if cell_final:
+        report |= {
+            "cells": run.mesh.cell_count,
+            "cells_by_kind": run.leaf_mesh.kinds(),
+            "templates": run.leaf_mesh.templates,
+            "added_points": run.leaf_mesh.added,
+            "vertices": run.mesh.vertex_count,
+            "conforming": run.conformity.conforming,
+            "interior_faces": run.conformity.interior_faces,
+            "boundary_faces": run.conformity.boundary_faces,
+            "volume": format_rational(domain.volume),
+        }
+    else:
+        quality = run.quality()
+        report |= {
+            "tetrahedra": run.mesh.tetrahedron_count,
+            "vertices": run.mesh.vertex_count,
+            "min_dihedral": quality.min_dihedral,
+            "max_dihedral": quality.max_dihedral,
+            "max_radius_edge": quality.max_radius_edge,
+            "conforming": run.conformity.conforming,
+            "interior_faces": run.conformity.interior_faces,
+            "boundary_faces": run.conformity.boundary_faces,
+            "volume": format_rational(run.volume),
+        }
+    report |= {
         "digest": run.mesh.digest_text,
         "steps": None if run.trace is None else len(run.trace),
         "stage_seconds": {name: round(value, 4) for name, value in run.seconds.items()},
@@ -265,14 +303,29 @@ def _octree(args: argparse.Namespace) -> int:
     else:
         title = (f"octree mesh of {domain.describe()} (grid {'x'.join(map(str, args.grid))}, "
                  f"final {args.final})")
+        shown = (("cells", "cells_by_kind", "added_points") if cell_final else
+                 ("tetrahedra", "vertices", "min_dihedral", "max_dihedral", "max_radius_edge"))
         rows = {key: report[key] for key in (
-            "leaves", "levels", "forced_splits", "tetrahedra", "vertices", "min_dihedral",
-            "max_dihedral", "max_radius_edge", "conforming", "volume", "digest", "seconds",
-            "peak_memory_mb")}
+            "leaves", "levels", "forced_splits", *shown, "vertices", "conforming", "volume",
+            "digest", "seconds", "peak_memory_mb")}
         print_table(title, rows)
         for path in written:
             print(f"wrote {path}")
     return EXIT_OK
+
+
+def _start_value(start: Mesh3 | MixedMesh3) -> Mesh3:
+    """What ``--start`` writes: the trace's input, its vertices and no cell (a mixed
+    start as the tetrahedral mesh of its vertices: the same digest, and a file the
+    tetrahedral formats hold exactly)."""
+    if isinstance(start, Mesh3):
+        return start
+    if start.cell_count:  # pragma: no cover - an octree trace starts from vertices only
+        raise UsageProblem("--start: the trace's input has cells")
+    from geomexact.mesh3d.transient import mesh3_from_positive_arrays
+
+    return mesh3_from_positive_arrays(
+        [start.point(vertex) for vertex in range(start.vertex_count)], ())
 
 
 def add_parser(commands: Subcommands) -> None:
@@ -300,9 +353,12 @@ def add_parser(commands: Subcommands) -> None:
     octree.add_argument("--refine-box", nargs=6, type=_exact, action="append",
                         metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                         help="refine where this box meets a leaf (repeatable)")
-    octree.add_argument("--final", choices=("patterns", "delaunay"), default="patterns",
-                        help="each leaf's pattern partition (default), or that improved by "
-                        "Joe's flips inside the leaf (delaunay)")
+    octree.add_argument("--final", choices=("patterns", "delaunay", *CELL_FINALS),
+                        default="patterns",
+                        help="each leaf's tetrahedra by its pattern (default), those improved "
+                        "by Joe's flips inside the leaf (delaunay), hexahedra with wedges, "
+                        "pyramids and tetrahedra at transitions (mixed), or the exact "
+                        "Delaunay cells with co-spherical groups kept whole (polyhedral)")
     add_run_outputs(
         octree,
         output="write the mesh (TetGen OUT.ele/.node/.face, .vtu, .vtk, Geomview .off)",

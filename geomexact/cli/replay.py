@@ -1,6 +1,8 @@
 """``geomexact replay``: replay a trace on its input mesh, checking every digest: a 2D
 trace on its triangle mesh (or the PSLG it triangulated), a 3D trace on its tetrahedral
-mesh, and a cuboid trace also on the start mesh rebuilt from its own parameters."""
+mesh, a mixed-cell trace on its mixed mesh (or the tetrahedral mesh of the same cells:
+an octree's start is its vertices), and a cuboid trace also on the start mesh rebuilt
+from its own parameters."""
 
 from __future__ import annotations
 
@@ -28,6 +30,9 @@ from geomexact.mesh2d.ops import OPERATIONS as OPERATIONS_2D
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.cuboid.partition import recorded_start
+from geomexact.mesh3d.mixed.conversion import from_tetrahedral
+from geomexact.mesh3d.mixed.ops import OPERATIONS as OPERATIONS_MIXED
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.ops import OPERATIONS as OPERATIONS_3D
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.playback import replay
@@ -48,11 +53,18 @@ def trace_dimension(trace: Trace) -> int | None:
     if known is not None:
         return known
     ops = {step.op for step in trace.steps}
-    if ops and ops <= OPERATIONS_3D.keys():
+    if ops and (ops <= OPERATIONS_3D.keys() or ops <= OPERATIONS_MIXED.keys()):
         return 3
     if ops and ops <= OPERATIONS_2D.keys():
         return 2
     return None
+
+
+def is_mixed_trace(trace: Trace) -> bool:
+    """True when ``trace`` edits a mixed-cell mesh: its steps are the mixed step table's
+    and not all the tetrahedral one's."""
+    ops = {step.op for step in trace.steps}
+    return bool(ops) and ops <= OPERATIONS_MIXED.keys() and not ops <= OPERATIONS_3D.keys()
 
 
 def command_replay(args: argparse.Namespace) -> int:
@@ -63,12 +75,12 @@ def command_replay(args: argparse.Namespace) -> int:
     dimension = trace_dimension(trace)
     rebuilt = args.input is None
     if rebuilt:
-        start: Mesh2 | Mesh3 = _rebuilt_start(args.trace, trace)
+        start: Mesh2 | Mesh3 | MixedMesh3 = _rebuilt_start(args.trace, trace)
         value: Any = start
     else:
         loaded = load(args.input, args.format, args.verbose)
         value = loaded.value
-        start = start_of(args.input, value, args.trace, dimension)
+        start = start_of(args.input, value, args.trace, dimension, is_mixed_trace(trace))
     check_outputs([("-o", args.output, args.to)], type(start), force=args.force)
     if start.digest != trace.input_digest:
         raise UsageProblem(wrong_input(args.input, value, start, args.trace, trace))
@@ -90,6 +102,7 @@ def command_replay(args: argparse.Namespace) -> int:
     applied = len(trace) if args.until is None else args.until
     written = write(args.output, result, args.to, overwrite=args.force, numbers=args.numbers)
     cells, count = (("tetrahedra", result.tetrahedron_count) if isinstance(result, Mesh3)
+                    else ("cells", result.cell_count) if isinstance(result, MixedMesh3)
                     else ("triangles", result.triangle_count))
     if args.json:
         print_json(
@@ -97,7 +110,7 @@ def command_replay(args: argparse.Namespace) -> int:
                 "input": args.input,
                 "trace": args.trace,
                 "diverged": False,
-                "dimension": 3 if isinstance(result, Mesh3) else 2,
+                "dimension": 2 if isinstance(result, Mesh2) else 3,
                 "rebuilt_start": rebuilt,
                 "trace_steps": len(trace),
                 "steps_applied": applied,
@@ -136,22 +149,24 @@ def _rebuilt_start(trace_path: str, trace: Trace) -> Mesh3:
         ) from error
 
 
-def start_of(input_path: str, value: Any, trace_path: str, dimension: int | None
-              ) -> Mesh2 | Mesh3:
-    """The mesh to replay on: ``value`` itself (the isolated vertices of a PSLG); a
-    :class:`UsageProblem` for another kind of value or a trace of the other dimension."""
-    start: Mesh2 | Mesh3
-    if isinstance(value, Mesh3):
+def start_of(input_path: str, value: Any, trace_path: str, dimension: int | None,
+             mixed: bool = False) -> Mesh2 | Mesh3 | MixedMesh3:
+    """The mesh to replay on: ``value`` itself (the isolated vertices of a PSLG; for a
+    ``mixed`` trace a tetrahedral mesh as the mixed mesh of its cells, the same digest);
+    a :class:`UsageProblem` for another kind of value or a trace of the other
+    dimension."""
+    start: Mesh2 | Mesh3 | MixedMesh3
+    if isinstance(value, Mesh3 | MixedMesh3):
         found, start = 3, value
     elif isinstance(value, PSLG):
         found, start = 2, vertices_mesh(value)
     elif isinstance(value, Mesh2):
         found, start = 2, value
     else:
-        raise UsageProblem(f"{input_path}: replay needs a triangle mesh, a PSLG or a "
-                           "tetrahedral mesh")
+        raise UsageProblem(f"{input_path}: replay needs a triangle mesh, a PSLG, a "
+                           "tetrahedral mesh or a mixed-cell mesh")
     if dimension is not None and dimension != found:
-        what = "a tetrahedral mesh (3D)" if found == 3 else (
+        what = "a 3D mesh" if found == 3 else (
             "a PSLG (2D)" if isinstance(value, PSLG) else "a triangle mesh (2D)")
         hint = ("; a cuboid trace also replays without INPUT: geomexact replay "
                 f"{trace_path} -o OUT" if dimension == 3 else "")
@@ -159,11 +174,14 @@ def start_of(input_path: str, value: Any, trace_path: str, dimension: int | None
             f"{trace_path} is {_DIMENSION_WORDS[dimension]}, but {input_path} is {what}: "
             f"a trace replays only on a mesh of its own dimension{hint}"
         )
+    if mixed and isinstance(start, Mesh3):
+        return from_tetrahedral(start)
     return start
 
 
 def wrong_input(
-    input_path: str | None, value: Any, start: Mesh2 | Mesh3, trace_path: str, trace: Trace
+    input_path: str | None, value: Any, start: Mesh2 | Mesh3 | MixedMesh3, trace_path: str,
+    trace: Trace
 ) -> str:
     """Why ``trace`` does not replay on ``input_path``: the input it was recorded on (its
     name when the trace header has it, and digest), this one's digest, which step of the

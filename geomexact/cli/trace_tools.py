@@ -35,7 +35,7 @@ from geomexact.cli.arguments import (
 from geomexact.cli.errors import UsageProblem, cli_wording
 from geomexact.cli.exit_codes import EXIT_CODES_HELP, EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
-from geomexact.cli.replay import start_of, trace_dimension, wrong_input
+from geomexact.cli.replay import is_mixed_trace, start_of, trace_dimension, wrong_input
 from geomexact.cli.reporting import print_json
 from geomexact.cli.trace_checks import CHECKS_HELP, named_check
 from geomexact.cli.writing import check_outputs, write
@@ -50,13 +50,14 @@ from geomexact.io.trace_file import (
 from geomexact.kernel.digest import digest_text
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.cuboid.partition import recorded_start
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.playback import first_divergence
 from geomexact.trace.record import Trace
 from geomexact.trace.step import Step
 from geomexact.trace.stepper import Change, Stepper, first_failing_step
 
-Mesh = Mesh2 | Mesh3
+Mesh = Mesh2 | Mesh3 | MixedMesh3
 
 
 # -----------------------------------------------------------------------------------------
@@ -79,7 +80,17 @@ def _step_text(step: Step) -> str:
 
 
 def _cells_word(mesh: Mesh) -> str:
-    return "tetrahedra" if isinstance(mesh, Mesh3) else "triangles"
+    return ("tetrahedra" if isinstance(mesh, Mesh3) else "cells"
+            if isinstance(mesh, MixedMesh3) else "triangles")
+
+
+def _simplicial(mesh: Mesh, what: str) -> Mesh2 | Mesh3:
+    """``mesh`` when it is a triangle or tetrahedral mesh; a :class:`UsageProblem` for a
+    mixed-cell mesh, which ``what`` does not take yet."""
+    if isinstance(mesh, MixedMesh3):
+        raise UsageProblem(f"{what} takes triangle and tetrahedral meshes, not a mixed-cell "
+                           "mesh (replay and trace show do)")
+    return mesh
 
 
 def _cells_text(cells: Sequence[tuple[int, ...]]) -> str:
@@ -101,7 +112,8 @@ def _given_start(input_path: str, format: str | None, verbose: bool, trace_path:
     """The mesh INPUT gives for ``trace`` (a PSLG's vertices for a triangulation trace);
     a :class:`UsageProblem` when it is of the wrong kind or not the trace's input."""
     value = load(input_path, format, verbose).value
-    start = start_of(input_path, value, trace_path, trace_dimension(trace))
+    start = start_of(input_path, value, trace_path, trace_dimension(trace),
+                     is_mixed_trace(trace))
     if start.digest != trace.input_digest:
         raise UsageProblem(wrong_input(input_path, value, start, trace_path, trace))
     return start
@@ -165,7 +177,8 @@ def _show_start(args: argparse.Namespace, trace: Trace) -> tuple[Mesh | None, st
         return None, "", f"its input {trace.input_name} is not beside it; give --input INPUT"
     try:
         value = load(str(beside), None, False).value
-        start = start_of(str(beside), value, args.trace, trace_dimension(trace))
+        start = start_of(str(beside), value, args.trace, trace_dimension(trace),
+                         is_mixed_trace(trace))
     except (FormatError, UsageProblem) as error:
         return None, "", f"{beside} does not read as its input ({error}); give --input INPUT"
     if start.digest != trace.input_digest:
@@ -382,12 +395,14 @@ def command_diff(args: argparse.Namespace) -> int:
     if args.picture:
         from geomexact.viz.trace_pictures import highlights_cells, plot_pair
 
-        plot_pair(after_a, after_b, args.picture, overwrite=args.force,
+        plot_pair(_simplicial(after_a, "trace diff --picture"),
+                  _simplicial(after_b, "trace diff --picture"), args.picture,
+                  overwrite=args.force,
                   titles=(f"{Path(args.a).name}: {_step_text(a.steps[index])}",
                           f"{Path(args.b).name}: {_step_text(b.steps[index])}"),
                   highlights=(only_a, only_b),
                   title=f"after step {k}, the first that differs")
-        highlighted = highlights_cells(after_a)
+        highlighted = highlights_cells(_simplicial(after_a, "trace diff --picture"))
         report.update(picture=args.picture, picture_highlights=highlighted)
         note = (f"wrote {args.picture} (both meshes after step {k}; the cells that differ "
                 "filled in orange)" if highlighted else
@@ -439,11 +454,11 @@ def command_bisect(args: argparse.Namespace) -> int:
     """Find the first step after which CHECK fails, by binary search."""
     trace = read_trace(args.trace)
     start = _bisect_start(args, trace)
-    check = named_check(args.fails, start)
+    check = named_check(args.fails, _simplicial(start, "trace bisect"))
     total = len(trace)
     report: dict[str, Any] = {
         "input": args.input, "trace": args.trace, "check": check.name,
-        "dimension": 3 if isinstance(start, Mesh3) else 2, "steps": total,
+        "dimension": 2 if isinstance(start, Mesh2) else 3, "steps": total,
         "failing_step": None, "failed_at_start": False, "holds": False,
         "checks": 0, "check_bound": check_bound(total),
         "step": None, "cells": _cells_word(start), "removed": None, "added": None,
@@ -509,7 +524,8 @@ def _write_bisection(args: argparse.Namespace, before: Mesh, after: Mesh, change
     directory.mkdir(parents=True, exist_ok=True)
     written = write(mesh_before, before, "triangle", overwrite=args.force, numbers="exact")
     written += write(mesh_after, after, "triangle", overwrite=args.force, numbers="exact")
-    plot_pair(before, after, picture, overwrite=args.force,
+    plot_pair(_simplicial(before, "trace bisect"), _simplicial(after, "trace bisect"), picture,
+              overwrite=args.force,
               titles=(f"before step {k}", f"after step {k}: {_step_text(step)}"),
               highlights=(change.removed, change.added),
               title=f"{args.fails} fails after step {k}")

@@ -22,6 +22,7 @@ from pathlib import Path
 from geomexact.errors import FormatError, RationalParseError
 from geomexact.io.files import read_lines, write_lines_atomic
 from geomexact.kernel.numbers import Rational, format_rational, parse_rational
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.mesh3d.voronoi import ControlVolumes
 
@@ -30,7 +31,7 @@ __all__ = ["CONTROL_VOLUMES_HEADER", "read_control_volumes", "write_control_volu
 CONTROL_VOLUMES_HEADER = "# geomexact control volumes 1"
 
 
-def control_volume_lines(mesh: Mesh3, volumes: ControlVolumes) -> Iterator[str]:
+def control_volume_lines(mesh: Mesh3 | MixedMesh3, volumes: ControlVolumes) -> Iterator[str]:
     """The lines of the file (module docstring), without their newlines."""
     yield CONTROL_VOLUMES_HEADER
     yield f"vertices {len(volumes.volumes)}"
@@ -46,7 +47,7 @@ def control_volume_lines(mesh: Mesh3, volumes: ControlVolumes) -> Iterator[str]:
                         "1" if face.adequate else "0"])
 
 
-def write_control_volumes(path: str | Path, mesh: Mesh3, volumes: ControlVolumes, *,
+def write_control_volumes(path: str | Path, mesh: Mesh3 | MixedMesh3, volumes: ControlVolumes, *,
                           overwrite: bool = False) -> None:
     """Write the control volumes of ``mesh`` to ``path`` atomically (refusing to replace
     a file unless ``overwrite``)."""

@@ -36,6 +36,8 @@ from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import ZERO, Rational, mpq, to_float
 from geomexact.kernel.points import Point3
 from geomexact.mesh3d.measures import is_delaunay3
+from geomexact.mesh3d.mixed.conversion import to_tetrahedral
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Edge, Mesh3
 
 __all__ = ["ControlVolumes", "VoronoiFace", "control_volumes", "voronoi_faces"]
@@ -169,11 +171,20 @@ def voronoi_faces(mesh: Mesh3) -> dict[Edge, Vector]:
     return {edge: (a * half, b * half, c * half) for edge, (a, b, c) in sorted(areas.items())}
 
 
-def control_volumes(mesh: Mesh3, *, require_delaunay: bool = True) -> ControlVolumes:
+def control_volumes(mesh: Mesh3 | MixedMesh3, *,
+                    require_delaunay: bool = True) -> ControlVolumes:
     """The Voronoi control volumes of ``mesh`` (module docstring).  A mesh that the exact
     check finds not Delaunay is refused (:class:`PreconditionError`) unless
     ``require_delaunay`` is False; the volumes then belong to the circumcentric dual and
-    still sum to the mesh's volume."""
+    still sum to the mesh's volume.
+
+    A mixed mesh (a polyhedral Delaunay mesh: its cells inscribed in empty spheres) is
+    cut into tetrahedra first (:func:`~geomexact.mesh3d.mixed.conversion.to_tetrahedral`:
+    any cut of a co-spherical cell is Delaunay, with that cell's circumcentre); the
+    faces of the cut's new edges (diagonals of its faces and cells) have zero area and
+    are left out, so every face is dual to an edge of ``mesh``."""
+    if isinstance(mesh, MixedMesh3):
+        return _mixed_control_volumes(mesh, require_delaunay)
     if require_delaunay and not is_delaunay3(mesh):
         raise PreconditionError(
             "control_volumes", "the mesh is not Delaunay (an interior face fails the exact "
@@ -189,3 +200,11 @@ def control_volumes(mesh: Mesh3, *, require_delaunay: bool = True) -> ControlVol
         volumes[v] += share
         faces.append(face)
     return ControlVolumes(MappingProxyType(volumes), tuple(faces))
+
+
+def _mixed_control_volumes(mesh: MixedMesh3, require_delaunay: bool) -> ControlVolumes:
+    cut = control_volumes(to_tetrahedral(mesh), require_delaunay=require_delaunay)
+    edges = {(min(u, v), max(u, v)) for cell in mesh.cell_list() for face in cell.faces
+             for u, v in zip(face, (*face[1:], face[0]), strict=True)}
+    kept = tuple(face for face in cut.faces if face.edge in edges or any(face.area_vector))
+    return ControlVolumes(cut.volumes, kept)

@@ -123,14 +123,16 @@ def surface_problem(cell: Cell) -> str | None:
     return None
 
 
-def cell_problems(cell: Cell, points: Mapping[int, Point3]) -> list[Violation]:
+def cell_problems(cell: Cell, points: Mapping[int, Point3], *,
+                  geometry: bool = True) -> list[Violation]:
     """The violations of one cell, exact, in this order (each check only when the ones
     before it pass, as it needs them): ``cell-surface`` (faces not a closed oriented
     sphere), ``coincident-vertices`` (two of its vertices at one point),
     ``non-planar-face``, ``non-convex-face`` (collinear, or not convex), then
     ``non-positive-volume`` and ``non-convex-cell`` (a vertex strictly outside a face's
     plane).  Passing all of them makes the cell a convex polyhedron (``specs/mixed.md``).
-    Every violation's elements are the cell's vertices."""
+    Every violation's elements are the cell's vertices.  Without ``geometry``, the first
+    two checks only."""
     elements = cell.vertices
     problem = surface_problem(cell)
     if problem is not None:
@@ -138,6 +140,8 @@ def cell_problems(cell: Cell, points: Mapping[int, Point3]) -> list[Violation]:
     if len({points[v] for v in cell.vertices}) != len(cell.vertices):
         return [Violation("coincident-vertices", f"cell {cell}: two of its vertices are at "
                           "one point", elements)]
+    if not geometry:
+        return []
     found = []
     for face in cell.faces:
         corners = [points[v] for v in face]

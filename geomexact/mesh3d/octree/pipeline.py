@@ -13,12 +13,15 @@ from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import Rational
 from geomexact.mesh3d.cuboid.boxes import Box
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+from geomexact.mesh3d.octree.cell_final import CellConformity, CellLeafMesh, cell_conformity
 from geomexact.mesh3d.octree.conformity import ConformityReport, lattice_conformity
 from geomexact.mesh3d.octree.stages import (
     BALANCE_TWO_TO_ONE,
     NO_REFINEMENT,
     PATTERN_PARTITION,
     SINGLE_BOX,
+    CellFinalMesh,
     FinalMesh,
     LeafMesh,
 )
@@ -27,7 +30,7 @@ from geomexact.mesh3d.quality import QualitySummary, lattice_quality
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.record import Trace
 
-__all__ = ["OctreeMesh", "generate"]
+__all__ = ["OctreeCellMesh", "OctreeMesh", "generate", "generate_cells"]
 
 
 @attrs.frozen(slots=True, eq=False)
@@ -97,27 +100,94 @@ def generate(
         return _generate(domain, initial, refinement, improvement, final, trace, on_stage)
 
 
+class _Stages:
+    """The stages run one after another, each timed and announced (a transient)."""
+
+    def __init__(self, on_stage: Callable[[str], None] | None) -> None:
+        self.on_stage = on_stage
+        self.seconds: dict[str, float] = {}
+
+    def run(self, name: str, function: Callable[..., Any], *args: Any, **kwargs: Any) -> Any:
+        if self.on_stage is not None:
+            self.on_stage(name)
+        began = time.perf_counter()
+        value = function(*args, **kwargs)
+        self.seconds[name] = time.perf_counter() - began
+        return value
+
+    def octrees(self, domain: Box, initial: Callable[[Box], Octree],
+                refinement: Callable[[Octree], Octree],
+                improvement: Callable[[Octree], Octree]) -> tuple[Octree, Octree, Octree]:
+        first = self.run("initial", initial, domain)
+        refined = self.run("refinement", refinement, first)
+        return first, refined, self.run("improvement", improvement, refined)
+
+
 def _generate(domain: Box, initial: Callable[[Box], Octree],
               refinement: Callable[[Octree], Octree], improvement: Callable[[Octree], Octree],
               final: FinalMesh, trace: bool,
               on_stage: Callable[[str], None] | None) -> OctreeMesh:
-    seconds: dict[str, float] = {}
-
-    def timed(name: str, function: Callable[..., Any], *args: Any, **kwargs: Any) -> Any:
-        if on_stage is not None:
-            on_stage(name)
-        began = time.perf_counter()
-        value = function(*args, **kwargs)
-        seconds[name] = time.perf_counter() - began
-        return value
-
-    first = timed("initial", initial, domain)
-    refined = timed("refinement", refinement, first)
-    improved = timed("improvement", improvement, refined)
-    leaf_mesh: LeafMesh = timed("final", final, improved, trace=trace)
+    stages = _Stages(on_stage)
+    first, refined, improved = stages.octrees(domain, initial, refinement, improvement)
+    leaf_mesh: LeafMesh = stages.run("final", final, improved, trace=trace)
     lattice = leaf_mesh.lattice
-    report = timed("conformity", lattice_conformity, lattice.vertices, leaf_mesh.tetrahedra,
-                   lattice.size)
+    report = stages.run("conformity", lattice_conformity, lattice.vertices,
+                        leaf_mesh.tetrahedra, lattice.size)
     if not report.conforming:
         raise InvalidMeshError([Violation("conformity", problem) for problem in report.problems])
-    return OctreeMesh(first, refined, improved, leaf_mesh, report, seconds)
+    return OctreeMesh(first, refined, improved, leaf_mesh, report, stages.seconds)
+
+
+@attrs.frozen(slots=True, eq=False)
+class OctreeCellMesh:
+    """The result of :func:`generate_cells`: as :class:`OctreeMesh`, with a mixed-cell
+    ``leaf_mesh`` and its exact ``conformity``."""
+
+    initial: Octree
+    refined: Octree
+    improved: Octree
+    leaf_mesh: CellLeafMesh
+    conformity: CellConformity
+    seconds: dict[str, float]
+
+    @property
+    def mesh(self) -> MixedMesh3:
+        return self.leaf_mesh.mesh
+
+    @property
+    def octree(self) -> Octree:
+        return self.leaf_mesh.octree
+
+    @property
+    def start(self) -> MixedMesh3 | None:
+        return self.leaf_mesh.start
+
+    @property
+    def trace(self) -> Trace | None:
+        return self.leaf_mesh.trace
+
+
+def generate_cells(
+    domain: Box,
+    final: CellFinalMesh,
+    *,
+    initial: Callable[[Box], Octree] = SINGLE_BOX,
+    refinement: Callable[[Octree], Octree] = NO_REFINEMENT,
+    improvement: Callable[[Octree], Octree] = BALANCE_TWO_TO_ONE,
+    trace: bool = True,
+    on_stage: Callable[[str], None] | None = None,
+) -> OctreeCellMesh:
+    """:func:`generate` with a cell final (``final``: mixed or polyhedral cells): the
+    result validated exactly (:func:`~geomexact.mesh3d.octree.cell_final.cell_conformity`:
+    planar faces, convex cells, matching polygons, the domain's volume);
+    :class:`InvalidMeshError` if not."""
+    with collector_paused():
+        stages = _Stages(on_stage)
+        first, refined, improved = stages.octrees(domain, initial, refinement, improvement)
+        leaf_mesh: CellLeafMesh = stages.run("final", final, improved, trace=trace)
+        report = stages.run("conformity", cell_conformity, leaf_mesh.mesh, domain.volume,
+                            leaf_mesh.distinct)
+        if not report.conforming:
+            raise InvalidMeshError([Violation("conformity", problem)
+                                    for problem in report.problems])
+        return OctreeCellMesh(first, refined, improved, leaf_mesh, report, stages.seconds)

@@ -10,7 +10,13 @@ Refinement     :class:`RefineWhere`             :class:`NoRefinement`
 Improvement    :class:`BalanceTwoToOne`         :class:`NoImprovement`
 FinalMesh      :class:`PatternPartition`,       :class:`PatternPartition` (see below)
                :class:`DelaunayPartition`
+CellFinalMesh  :class:`MixedPartition`,         (none: a cell final is chosen)
+               :class:`PolyhedralPartition`
 =============  ===============================  ==========================================
+
+A :class:`FinalMesh` makes tetrahedra (a :class:`LeafMesh`); a :class:`CellFinalMesh`
+makes a mixed-cell mesh (a :class:`~geomexact.mesh3d.octree.cell_final.CellLeafMesh`:
+hexahedra, wedges, pyramids, tetrahedra and, for the polyhedral final, polyhedra).
 
 A final mesh must conform, so the final stage cannot be skipped: its minimum is the
 pattern partition.  It also cannot partition a leaf that is not 1-irregular (no cuboid
@@ -29,6 +35,7 @@ import numpy as np
 from geomexact.errors import PreconditionError
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.octree.balance import balance_two_to_one
+from geomexact.mesh3d.octree.cell_final import CellLeafMesh, cell_final
 from geomexact.mesh3d.octree.criteria import RefineToMaxLevel
 from geomexact.mesh3d.octree.lattice import OctreeLattice, octree_lattice
 from geomexact.mesh3d.octree.leaf_partition import (
@@ -50,14 +57,17 @@ __all__ = [
     "SINGLE_BOX",
     "BalanceTwoToOne",
     "BoxGrid",
+    "CellFinalMesh",
     "DelaunayPartition",
     "FinalMesh",
     "Improvement",
     "InitialMesh",
     "LeafMesh",
+    "MixedPartition",
     "NoImprovement",
     "NoRefinement",
     "PatternPartition",
+    "PolyhedralPartition",
     "RefineWhere",
     "Refinement",
     "SingleBox",
@@ -101,6 +111,12 @@ class FinalMesh(Protocol):
     """The tetrahedral mesh of an octree (with its trace when ``trace``)."""
 
     def __call__(self, octree: Octree, /, *, trace: bool = False) -> LeafMesh: ...
+
+
+class CellFinalMesh(Protocol):
+    """The mixed-cell mesh of an octree (with its trace when ``trace``)."""
+
+    def __call__(self, octree: Octree, /, *, trace: bool = False) -> CellLeafMesh: ...
 
 
 @attrs.frozen(slots=True)
@@ -191,6 +207,25 @@ class DelaunayPartition:
 
     def __call__(self, octree: Octree, /, *, trace: bool = False) -> LeafMesh:
         return _partition(octree, "delaunay", trace)
+
+
+@attrs.frozen(slots=True)
+class MixedPartition:
+    """Each leaf by its mixed template: a bare leaf one hexahedron, a 1-irregular leaf the
+    fewest wedges, pyramids and tetrahedra that cut its faces as the face rule does
+    (:func:`~geomexact.mesh3d.cuboid.cell_templates.mixed_template`)."""
+
+    def __call__(self, octree: Octree, /, *, trace: bool = False) -> CellLeafMesh:
+        return cell_final(octree, "mixed", trace)
+
+
+@attrs.frozen(slots=True)
+class PolyhedralPartition:
+    """Each leaf's exact Delaunay tessellation with every co-spherical group kept as one
+    cell (:func:`~geomexact.mesh3d.cuboid.cell_templates.polyhedral_template`)."""
+
+    def __call__(self, octree: Octree, /, *, trace: bool = False) -> CellLeafMesh:
+        return cell_final(octree, "polyhedral", trace)
 
 
 SINGLE_BOX: Final = SingleBox()
