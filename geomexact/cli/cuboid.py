@@ -1,5 +1,6 @@
 """``geomexact cuboid``: the partition of one 1-irregular cuboid pattern into
-tetrahedra, optionally improved by Joe's flips; reports it and can write its trace."""
+tetrahedra, optionally improved by Joe's flips, or its mixed or polyhedral cells
+(``--final``); reports it and can write its trace."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.cli.writing import check_outputs, write
+from geomexact.cli.writing import check_outputs, distinct_outputs, write
 from geomexact.io.registry import NumberStyle, nearest_double_text
 from geomexact.kernel.numbers import format_rational, parse_rational
 from geomexact.mesh3d.cuboid.boxes import Box, box_of_extents
@@ -81,6 +82,10 @@ def _configurations(mesh: Mesh3) -> dict[str, dict[str, int]]:
 
 def command_cuboid(args: argparse.Namespace) -> int:
     """Partition one pattern (optionally improve it), report it, write its trace."""
+    if args.final in CELL_FINALS:
+        return _cuboid_cells(args)
+    if args.final == "delaunay":
+        args.improve = True
     from geomexact.io.trace_file import write_trace
     from geomexact.mesh3d.cuboid.partition import partition_cuboid
     from geomexact.mesh3d.measures import is_delaunay3, total_volume
@@ -151,6 +156,86 @@ def command_cuboid(args: argparse.Namespace) -> int:
     return EXIT_FAILED if violations else EXIT_OK
 
 
+CELL_FINALS = ("mixed", "polyhedral")
+
+
+def _cuboid_cells(args: argparse.Namespace) -> int:
+    """``--final mixed|polyhedral``: the pattern's cell template on the box, validated
+    exactly, reported and written (the start: the cuboid's points, as tetrahedral mesh
+    files of vertices only)."""
+    from geomexact.io.trace_file import write_trace
+    from geomexact.mesh3d.cuboid.cell_templates import cuboid_cells
+    from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+    from geomexact.mesh3d.mixed.validation import validate_mixed
+    from geomexact.mesh3d.transient import mesh3_from_positive_arrays
+
+    if args.improve or args.allow_boundary_flips:
+        raise UsageProblem(f"--final {args.final} makes cells, not tetrahedra: --improve "
+                           "and --allow-boundary-flips apply to --final patterns|delaunay")
+    box = shape_box(args)
+    outputs = [("-o", args.output, args.to), ("--start", args.start, None),
+               ("--trace", args.trace, "file")]
+    distinct_outputs(outputs)
+    check_outputs(outputs[:1], MixedMesh3, force=args.force)
+    check_outputs(outputs[1:], Mesh3, force=args.force)
+    start_numbers = _start_numbers(args.start, box)
+    parameters = {"algorithm": "cuboid", "final": args.final, "pattern": args.pattern,
+                  "box": {"low": [format_rational(v) for v in box.low],
+                          "high": [format_rational(v) for v in box.high]}}
+    run = cuboid_cells(args.pattern, box, args.final, trace=bool(args.trace or args.start),
+                       parameters=parameters)
+    mesh = run.mesh
+    violations = validate_mixed(mesh, volume=box.volume)
+    kinds: dict[str, int] = {}
+    for cell in mesh.cell_list():
+        kinds[cell.kind.name.lower()] = kinds.get(cell.kind.name.lower(), 0) + 1
+    written: list[Path] = []
+    if args.start:
+        start = run.start
+        vertices = mesh3_from_positive_arrays(
+            [start.point(vertex) for vertex in range(start.vertex_count)], ())
+        written += write(args.start, vertices, None, overwrite=args.force,
+                         numbers=start_numbers)
+    if args.output:
+        written += write(args.output, mesh, args.to, overwrite=args.force,
+                         numbers=args.numbers)
+    if args.trace and run.trace is not None:
+        trace = with_provenance(run.trace, args, engine="reference", input_path=args.start)
+        write_trace(args.trace, trace, overwrite=args.force)
+        written.append(Path(args.trace))
+    report: dict[str, Any] = {
+        "pattern": args.pattern,
+        "bits": [bit for bit in range(18) if args.pattern >> bit & 1],
+        "shape": box.describe(),
+        "final": args.final,
+        "template": run.template.name,
+        "cells": mesh.cell_count,
+        "cells_by_kind": dict(sorted(kinds.items())),
+        "added_points": len(run.template.points),
+        "vertices": mesh.vertex_count,
+        "volume": format_rational(box.volume),
+        "valid": not violations,
+        "steps": None if run.trace is None else len(run.trace),
+        "digest": mesh.digest_text,
+        "start_digest": run.start.digest_text,
+        "written": [str(path) for path in written],
+    }
+    if args.json:
+        report["violations"] = violation_reports(violations)
+        print_json(report)
+    else:
+        title = (f"cuboid pattern {args.pattern} (bits {report['bits']}) on "
+                 f"{report['shape']}, final {args.final}")
+        print_table(title, {key: report[key] for key in (
+            "template", "cells", "cells_by_kind", "added_points", "vertices", "volume",
+            "valid", "digest")})
+        for violation in violations:
+            print(f"  {violation}")
+        for path in written:
+            print(f"wrote {path}")
+    return EXIT_FAILED if violations else EXIT_OK
+
+
 def _cells(mesh: Mesh3) -> list[int] | None:
     """The vertex count of each polyhedral Delaunay cell (co-spherical tetrahedra grouped
     exactly), or None when the mesh is not Delaunay (without --improve
@@ -211,6 +296,11 @@ def add_parser(commands: Subcommands) -> None:
                         help="0 .. 262143: bit i marks a Steiner point on cube edge i "
                         "(0-11) or face i (12-17); see docs/cuboid.md")
     add_cuboid_options(cuboid)
+    cuboid.add_argument("--final", choices=("patterns", "delaunay", *CELL_FINALS),
+                        default="patterns",
+                        help="the pattern's tetrahedra (default), improved by Joe's flips "
+                        "(delaunay: --improve), its mixed template (a hexahedron when bare; "
+                        "wedges, pyramids, tetrahedra) or its polyhedral Delaunay cells")
     add_run_outputs(
         cuboid,
         output="write the final mesh (TetGen OUT.ele with OUT.node and OUT.face, or .vtu, …)",

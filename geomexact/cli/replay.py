@@ -29,6 +29,7 @@ from geomexact.mesh2d.delaunay.triangulation import vertices_mesh
 from geomexact.mesh2d.ops import OPERATIONS as OPERATIONS_2D
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh3d.cuboid.cell_templates import recorded_cell_start
 from geomexact.mesh3d.cuboid.partition import recorded_start
 from geomexact.mesh3d.mixed.conversion import from_tetrahedral
 from geomexact.mesh3d.mixed.ops import OPERATIONS as OPERATIONS_MIXED
@@ -138,10 +139,18 @@ def _digest_or_none(value: int | None) -> str | None:
     return None if value is None else digest_text(value)
 
 
-def _rebuilt_start(trace_path: str, trace: Trace) -> Mesh3:
+def rebuilt_start(trace: Trace) -> Mesh3 | MixedMesh3:
+    """The start a cuboid trace records how to rebuild (its cell final's, or its
+    tetrahedral partition's); :class:`PreconditionError` for any other trace."""
+    if trace.parameter("final") in ("mixed", "polyhedral"):
+        return recorded_cell_start(trace)
+    return recorded_start(trace)
+
+
+def _rebuilt_start(trace_path: str, trace: Trace) -> Mesh3 | MixedMesh3:
     """The start mesh of a cuboid trace given without INPUT (exit 2 for any other)."""
     try:
-        return recorded_start(trace)
+        return rebuilt_start(trace)
     except PreconditionError as error:
         raise UsageProblem(
             f"{trace_path}: give the INPUT mesh the trace was recorded on "

@@ -35,7 +35,13 @@ from geomexact.cli.arguments import (
 from geomexact.cli.errors import UsageProblem, cli_wording
 from geomexact.cli.exit_codes import EXIT_CODES_HELP, EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
-from geomexact.cli.replay import is_mixed_trace, start_of, trace_dimension, wrong_input
+from geomexact.cli.replay import (
+    is_mixed_trace,
+    rebuilt_start,
+    start_of,
+    trace_dimension,
+    wrong_input,
+)
 from geomexact.cli.reporting import print_json
 from geomexact.cli.trace_checks import CHECKS_HELP, named_check
 from geomexact.cli.writing import check_outputs, write
@@ -49,7 +55,6 @@ from geomexact.io.trace_file import (
 )
 from geomexact.kernel.digest import digest_text
 from geomexact.mesh2d.snapshot import Mesh2
-from geomexact.mesh3d.cuboid.partition import recorded_start
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.playback import first_divergence
@@ -163,7 +168,7 @@ def _show_start(args: argparse.Namespace, trace: Trace) -> tuple[Mesh | None, st
             "input", ""
     if trace.parameter("algorithm") == "cuboid":
         try:
-            rebuilt = recorded_start(trace)
+            rebuilt = rebuilt_start(trace)
         except PreconditionError as error:
             return None, "", f"its start cannot be rebuilt ({error.problem}); give --input"
         if rebuilt.digest == trace.input_digest:
@@ -440,7 +445,7 @@ def _bisect_start(args: argparse.Namespace, trace: Trace) -> Mesh:
     if args.input is not None:
         return _given_start(args.input, args.format, args.verbose, args.trace, trace)
     try:
-        rebuilt = recorded_start(trace)
+        rebuilt = rebuilt_start(trace)
     except PreconditionError as error:
         raise UsageProblem(
             f"{args.trace}: give the INPUT mesh the trace was recorded on (geomexact trace "

@@ -39,21 +39,25 @@ Delaunay tessellation, which is unique, so the leaves conform.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from functools import cache, cmp_to_key
 from itertools import combinations, pairwise
 from math import gcd
-from typing import Final
+from typing import Any, Final
 
 import attrs
 
+from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, mpq
-from geomexact.mesh3d.cuboid.boxes import Box
+from geomexact.kernel.points import Point3, point3
+from geomexact.mesh3d.cuboid.boxes import Box, box_of_extents
 from geomexact.mesh3d.cuboid.numbering import (
     CORNER_POSITIONS,
+    PATTERN_COUNT,
     check_pattern,
     steiner_position2,
 )
+from geomexact.mesh3d.cuboid.partition import recorded_box
 from geomexact.mesh3d.mixed.cells import (
     Cell,
     CellKind,
@@ -62,13 +66,22 @@ from geomexact.mesh3d.mixed.cells import (
     reversed_face,
     standard_cell,
 )
+from geomexact.mesh3d.mixed.recording import recorded_cells
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+from geomexact.mesh3d.mixed.transient import mixed_mesh_from_cells
+from geomexact.trace.record import Trace
 
 __all__ = [
     "CENTRE",
     "CellTemplate",
+    "CuboidCells",
+    "cell_template",
+    "cuboid_cells",
+    "cuboid_start_points",
     "face_polygons",
     "mixed_template",
     "polyhedral_template",
+    "recorded_cell_start",
     "relabelled",
 ]
 
@@ -387,3 +400,75 @@ def relabelled(cell: Cell, ids: Sequence[int]) -> Cell:
     if cell.kind == CellKind.POLYHEDRON:
         return cell_of_faces([[ids[code] for code in face] for face in cell.faces])
     return standard_cell(cell.kind, [ids[code] for code in cell.vertices])
+
+
+@attrs.frozen(slots=True, eq=False)
+class CuboidCells:
+    """One cuboid's cell final (``geomexact cuboid P --final mixed|polyhedral``): its
+    ``template``, the ``start`` (the cuboid's corners and Steiner points, ids in code
+    order, no cell), the ``mesh`` (the template's added points after them) and, when
+    recorded, the ``trace`` from ``start`` to ``mesh``."""
+
+    template: CellTemplate
+    start: MixedMesh3
+    mesh: MixedMesh3
+    trace: Trace | None
+
+
+def cell_template(pattern: int, box: Box, kind: str) -> CellTemplate:
+    """The ``kind`` (``mixed`` or ``polyhedral``) template of ``pattern`` in ``box``."""
+    if kind not in ("mixed", "polyhedral"):
+        raise PreconditionError("cuboid_cells", f"a cell final is mixed or polyhedral, not "
+                                f"{kind!r}")
+    shape = box_of_extents(*box.extents)
+    return mixed_template(pattern, shape) if kind == "mixed" else polyhedral_template(
+        pattern, shape)
+
+
+def cuboid_start_points(pattern: int, box: Box) -> list[Point3]:
+    """The exact points of the corners and Steiner points of ``pattern`` in ``box``, in
+    code order (the start of :func:`cuboid_cells`)."""
+    return [_at_position(box, POSITIONS[code]) for code in range(CENTRE)
+            if _present(pattern, code)]
+
+
+def _at_position(box: Box, position: Sequence[Rational | int]) -> Point3:
+    return point3(*(box.low[axis] + box.extents[axis] * mpq(position[axis]) / 2
+                    for axis in range(3)))
+
+
+def cuboid_cells(pattern: int, box: Box, kind: str, *, trace: bool = False,
+                 parameters: Mapping[str, Any] | None = None) -> CuboidCells:
+    """The ``kind`` final of ``pattern`` in ``box``: its template's cells on the cuboid's
+    exact points; with ``trace``, built by the reference steps (``parameters`` recorded)."""
+    template = cell_template(pattern, box, kind)
+    points = cuboid_start_points(pattern, box)
+    codes = [code for code in range(CENTRE) if _present(pattern, code)]
+    ids = [-1] * (CENTRE + len(template.points))
+    for index, code in enumerate(codes):
+        ids[code] = index
+    for index in range(len(template.points)):
+        ids[CENTRE + index] = len(codes) + index
+    added = [_at_position(box, position) for position in template.points]
+    cells = tuple(sorted(relabelled(cell, ids) for cell in template.cells))
+    if trace:
+        start, mesh, recorded = recorded_cells(points, [(added, cells)], parameters or {})
+        return CuboidCells(template, start, mesh, recorded)
+    return CuboidCells(template, mixed_mesh_from_cells(points, ()),
+                       mixed_mesh_from_cells([*points, *added], cells), None)
+
+
+def recorded_cell_start(trace: Trace) -> MixedMesh3:
+    """The start of a trace of :func:`cuboid_cells` (its ``final``, ``pattern`` and
+    ``box`` parameters): the cuboid's points, no cell.  A :class:`PreconditionError` for
+    another trace or malformed parameters; the caller still checks the digest."""
+    box = recorded_box(trace)
+    final, pattern = trace.parameter("final"), trace.parameter("pattern")
+    if final not in ("mixed", "polyhedral"):
+        raise PreconditionError("recorded_start", f"the trace's final {final!r} is not a "
+                                "cell final (mixed or polyhedral)")
+    if isinstance(pattern, bool) or not isinstance(pattern, int) or not (
+            0 <= pattern < PATTERN_COUNT):
+        raise PreconditionError("recorded_start", f"the trace's pattern {pattern!r} is not "
+                                f"0 .. {PATTERN_COUNT - 1}")
+    return mixed_mesh_from_cells(cuboid_start_points(pattern, box), ())

@@ -125,26 +125,37 @@ def recorded_start(trace: Trace) -> Mesh3:
     :class:`~geomexact.errors.PreconditionError` when ``trace`` was not written by
     :func:`partition_cuboid` or its parameters are malformed.  The caller still checks the
     digest (``trace.playback.replay`` does)."""
+    start_box = recorded_box(trace)
+    if trace.parameter("final") in ("mixed", "polyhedral"):
+        raise PreconditionError(
+            "recorded_start", "a trace of a cuboid's cell final starts from the cuboid's "
+            "points (cell_templates.recorded_cell_start rebuilds it)")
+    template = trace.parameter("template")
+    if isinstance(template, bool) or template not in (0, 1):
+        raise PreconditionError("recorded_start",
+                                f"the trace's template {template!r} is not 0 or 1")
+    return initial_mesh(start_box, template)
+
+
+def recorded_box(trace: Trace) -> Box:
+    """The box of a cuboid trace (its ``box`` parameter); a
+    :class:`~geomexact.errors.PreconditionError` for another trace or a malformed box."""
     algorithm = trace.parameter("algorithm")
     if algorithm != "cuboid":
         shown = "none" if algorithm is None else repr(algorithm)
         raise PreconditionError(
             "recorded_start", f"not a cuboid trace (its algorithm is {shown}): only a "
             "cuboid trace records how to rebuild its start mesh")
-    box, template = trace.parameter("box"), trace.parameter("template")
+    box = trace.parameter("box")
     try:
         low, high = box["low"], box["high"]
         if len(low) != 3 or len(high) != 3:
             raise ValueError("three coordinates each")
-        start_box = Box(tuple(low), tuple(high))
+        return Box(tuple(low), tuple(high))
     except (TypeError, KeyError, ValueError) as error:  # RationalParseError is one
         raise PreconditionError(
             "recorded_start", "the trace's box is not {'low': [x, y, z], 'high': [x, y, z]} "
             f"of exact numbers with high > low ({error})") from error
-    if isinstance(template, bool) or template not in (0, 1):
-        raise PreconditionError("recorded_start",
-                                f"the trace's template {template!r} is not 0 or 1")
-    return initial_mesh(start_box, template)
 
 
 def _parameters(pattern: int, box: Box, order: str, template: int, improve: bool,

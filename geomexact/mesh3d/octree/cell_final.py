@@ -23,7 +23,6 @@ from typing import Any, Final, Literal
 import attrs
 import numpy as np
 
-from geomexact._version import __version__
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3, point3
@@ -36,9 +35,9 @@ from geomexact.mesh3d.cuboid.cell_templates import (
     relabelled,
 )
 from geomexact.mesh3d.mixed.cells import Cell, CellKind
-from geomexact.mesh3d.mixed.ops import add_cell_in, add_vertex_in
+from geomexact.mesh3d.mixed.recording import recorded_cells
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
-from geomexact.mesh3d.mixed.transient import MixedTransient3, mixed_mesh_from_cells
+from geomexact.mesh3d.mixed.transient import mixed_mesh_from_cells
 from geomexact.mesh3d.mixed.validation import validate_mixed
 from geomexact.mesh3d.octree.balance import balance_two_to_one
 from geomexact.mesh3d.octree.lattice import OctreeLattice, octree_lattice
@@ -148,17 +147,10 @@ def cell_final(octree: Octree, kind: CellFinalKind, trace: bool = False) -> Cell
     forced = (balanced.leaf_count - octree.leaf_count) // 7
     start = recorded = None
     if trace:
-        start = mixed_mesh_from_cells(points, ())
-        t = MixedTransient3(start)
         new_points = iter(added)
-        for count, cells in leaves:
-            for point in islice(new_points, count):
-                add_vertex_in(t, point.x, point.y, point.z)
-            for cell in cells:
-                add_cell_in(t, cell)
-        recorded = Trace(start.digest, t.steps, t.step_digests,
-                         {"algorithm": "octree", "final": kind}, __version__)
-        mesh = t.seal()
+        start, mesh, recorded = recorded_cells(
+            points, ((list(islice(new_points, count)), cells) for count, cells in leaves),
+            {"algorithm": "octree", "final": kind})
     else:
         mesh = mixed_mesh_from_cells([*points, *added],
                                      (cell for _, cells in leaves for cell in cells))
