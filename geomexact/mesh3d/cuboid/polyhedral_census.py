@@ -14,17 +14,19 @@ from __future__ import annotations
 
 import itertools
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 
 import attrs
 
 from geomexact.mesh3d.cospherical import PolyhedralCell, polyhedral_cells
 from geomexact.mesh3d.cuboid.boxes import Box
+from geomexact.mesh3d.cuboid.numbering import EDGE_BITS, FACE_EDGES
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
 from geomexact.mesh3d.snapshot import Mesh3
 
-__all__ = ["CellShape", "PolyhedralCensus", "cell_shape", "merged", "pattern_cells",
-           "polyhedral_census"]
+__all__ = ["CellShape", "CellType", "PapersCount", "PolyhedralCensus", "cell_shape",
+           "cell_type", "hull_faces", "merged", "papers_count", "papers_patterns",
+           "pattern_cells", "plane_cuts", "polyhedral_census", "uncut_parts"]
 
 CellShape = tuple[tuple[int, int, int], ...]
 """A cell's vertices as sorted half-lattice points, the smallest over the symmetries."""
@@ -123,3 +125,166 @@ def polyhedral_census(patterns: Iterable[int], box: Box = UNIT_CUBE) -> Polyhedr
         shapes.update(cell_shape(mesh, cell, box) for cell in found)
     return PolyhedralCensus(box, count, dict(sorted(shapes.items())),
                             dict(sorted(per_pattern.items())), tetrahedra, cells)
+
+
+# --- The papers' counting (Contreras and Hitschfeld-Kahler 2013, 2014) -----------------
+
+CellType = tuple[tuple[int, ...], ...]
+"""A cell's combinatorial type: the smallest rotation-system code of its hull's vertex-edge
+graph over every starting dart and both orientations (so mirror images are one type)."""
+
+Lattice = tuple[int, int, int]
+
+
+def papers_patterns() -> tuple[int, ...]:
+    """The edge-midpoint patterns that the papers' counts are reproduced on: Steiner points
+    on edges only (bits 0..11), and no face with all four of its edges split (a face whose
+    four edges are split carries its centre too, which the papers' 1-irregular cuboids,
+    "at most one Steiner point on their edges", do not have).  2,902 of the 4,096."""
+    return tuple(
+        pattern for pattern in range(1 << len(EDGE_BITS))
+        if not any(all(pattern >> edge & 1 for edge in edges) for edges in FACE_EDGES))
+
+
+def _minus(a: Lattice, b: Lattice) -> Lattice:
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _cross(a: Lattice, b: Lattice) -> Lattice:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _dot(a: Lattice, b: Lattice) -> int:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _planes(shape: CellShape) -> Iterator[tuple[Lattice, list[int]]]:
+    """Every plane through three of ``shape``'s points: (normal, the side of each point:
+    the sign-carrying dot product), each plane once per triple that spans it."""
+    for i, j, k in itertools.combinations(range(len(shape)), 3):
+        normal = _cross(_minus(shape[j], shape[i]), _minus(shape[k], shape[i]))
+        if normal != (0, 0, 0):
+            yield normal, [_dot(normal, _minus(point, shape[i])) for point in shape]
+
+
+def hull_faces(shape: CellShape) -> tuple[tuple[int, ...], ...]:
+    """The faces of the convex hull of ``shape`` (points in convex position, not coplanar),
+    each as its vertex indices in counter-clockwise order seen from outside; exact."""
+    faces: dict[frozenset[int], Lattice] = {}
+    for normal, sides in _planes(shape):
+        if all(side <= 0 for side in sides) or all(side >= 0 for side in sides):
+            outward = normal if all(side <= 0 for side in sides) else (
+                -normal[0], -normal[1], -normal[2])
+            faces[frozenset(n for n, side in enumerate(sides) if side == 0)] = outward
+    ordered = []
+    for members, outward in faces.items():
+        successor = {}
+        for u, v in itertools.permutations(members, 2):
+            # v follows u when every other vertex of the face lies to the left of u -> v
+            if all(_dot(outward, _cross(_minus(shape[v], shape[u]),
+                                        _minus(shape[w], shape[u]))) > 0
+                   for w in members if w not in (u, v)):
+                successor[u] = v
+        start = min(members)
+        cycle = [start]
+        while successor[cycle[-1]] != start:
+            cycle.append(successor[cycle[-1]])
+        ordered.append(tuple(cycle))
+    return tuple(sorted(ordered))
+
+
+def cell_type(shape: CellShape) -> CellType:
+    """The combinatorial type of the cell with vertices ``shape`` (:data:`CellType`):
+    Weinberg's canonical code, which a polyhedron's graph with its rotation system
+    determines up to isomorphism."""
+    turn: dict[tuple[int, int], int] = {}  # (v, w) -> the neighbour of v after w
+    for face in hull_faces(shape):
+        for index, vertex in enumerate(face):
+            turn[(vertex, face[(index + 1) % len(face)])] = face[index - 1]
+    best: CellType | None = None
+    for mirrored in (False, True):
+        rotation = turn if not mirrored else {(v, p): w for (v, w), p in turn.items()}
+        for first_vertex, first_neighbour in rotation:
+            label = {first_vertex: 0}
+            order = [first_vertex]
+            entry = {first_vertex: first_neighbour}
+            code = []
+            for vertex in order:  # grows while it is walked: breadth first
+                row = []
+                neighbour = entry[vertex]
+                while True:
+                    if neighbour not in label:
+                        label[neighbour] = len(order)
+                        order.append(neighbour)
+                        entry[neighbour] = vertex
+                    row.append(label[neighbour])
+                    neighbour = rotation[(vertex, neighbour)]
+                    if neighbour == entry[vertex]:
+                        break
+                code.append(tuple(row))
+            found = tuple(code)
+            if best is None or found < best:
+                best = found
+    assert best is not None
+    return best
+
+
+def plane_cuts(shape: CellShape) -> tuple[tuple[CellShape, CellShape], ...]:
+    """The ways to cut the cell ``shape`` in two by inserting one internal face: a plane
+    through three or more of its vertices with vertices strictly on both sides that
+    crosses none of its faces (each face stays whole, so the cell's neighbours see no
+    change); each as the two parts' sorted vertices, the plane's vertices in both."""
+    faces = hull_faces(shape)
+    found = set()
+    for _, sides in _planes(shape):
+        if not (min(sides) < 0 < max(sides)):
+            continue
+        if any(min(sides[v] for v in face) < 0 < max(sides[v] for v in face)
+               for face in faces):
+            continue
+        above = tuple(sorted(p for p, side in zip(shape, sides, strict=True) if side >= 0))
+        below = tuple(sorted(p for p, side in zip(shape, sides, strict=True) if side <= 0))
+        found.add((above, below))
+    return tuple(sorted(found))
+
+
+def uncut_parts(shape: CellShape) -> frozenset[CellShape]:
+    """The parts of five or more vertices that cannot be cut again (:func:`plane_cuts`)
+    over every way of cutting ``shape`` repeatedly: ``{shape}`` when it has no cut;
+    tetrahedra are left out (a co-spherical cell may always be cut into them)."""
+    if len(shape) < 5:
+        return frozenset()
+    cuts = plane_cuts(shape)
+    if not cuts:
+        return frozenset([shape])
+    return frozenset(part for pair in cuts for half in pair for part in uncut_parts(half))
+
+
+@attrs.frozen
+class PapersCount:
+    """The papers' counts on one census: the distinct combinatorial types of the cells of
+    five or more vertices (``types``, their shapes' numbers of cells summed), and what
+    inserting internal faces leaves: ``uncuttable`` (types none of whose cells has a
+    :func:`plane_cut <plane_cuts>`), ``reduced`` (the types of every uncut part: the
+    fewest types that remain when every cell is cut as far as it goes)."""
+
+    types: dict[CellType, int]
+    uncuttable: frozenset[CellType]
+    reduced: frozenset[CellType]
+
+
+def papers_count(census: PolyhedralCensus) -> PapersCount:
+    """:class:`PapersCount` of ``census``."""
+    types: Counter[CellType] = Counter()
+    cuttable: set[CellType] = set()
+    reduced: set[CellType] = set()
+    for shape, count in census.shapes.items():
+        if len(shape) < 5:
+            continue
+        kind = cell_type(shape)
+        types[kind] += count
+        if plane_cuts(shape):
+            cuttable.add(kind)
+        reduced.update(cell_type(part) for part in uncut_parts(shape))
+    return PapersCount(dict(sorted(types.items())), frozenset(set(types) - cuttable),
+                       frozenset(reduced))
