@@ -163,6 +163,7 @@ def _cuboid_cells(args: argparse.Namespace) -> int:
     """``--final mixed|polyhedral``: the pattern's cell template on the box, validated
     exactly, reported and written (the start: the cuboid's points, as tetrahedral mesh
     files of vertices only)."""
+    from geomexact.cli.summaries import cells_by_kind
     from geomexact.io.trace_file import write_trace
     from geomexact.mesh3d.cuboid.cell_templates import cuboid_cells
     from geomexact.mesh3d.mixed.snapshot import MixedMesh3
@@ -186,9 +187,6 @@ def _cuboid_cells(args: argparse.Namespace) -> int:
                        parameters=parameters)
     mesh = run.mesh
     violations = validate_mixed(mesh, volume=box.volume)
-    kinds: dict[str, int] = {}
-    for cell in mesh.cell_list():
-        kinds[cell.kind.name.lower()] = kinds.get(cell.kind.name.lower(), 0) + 1
     written: list[Path] = []
     if args.start:
         start = run.start
@@ -210,7 +208,7 @@ def _cuboid_cells(args: argparse.Namespace) -> int:
         "final": args.final,
         "template": run.template.name,
         "cells": mesh.cell_count,
-        "cells_by_kind": dict(sorted(kinds.items())),
+        "cells_by_kind": cells_by_kind(mesh),
         "added_points": len(run.template.points),
         "vertices": mesh.vertex_count,
         "volume": format_rational(box.volume),

@@ -27,6 +27,7 @@ from geomexact.cli.memory import BYTES_PER_TETRAHEDRON, active_budget
 from geomexact.cli.progress import add_progress_flags, progress_bar
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
+from geomexact.cli.summaries import cells_by_kind
 from geomexact.cli.writing import check_outputs, distinct_outputs, write
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import format_rational, parse_rational
@@ -161,8 +162,8 @@ def _control_volumes(mesh: Mesh3 | MixedMesh3) -> Any:
     except PreconditionError as error:
         raise UsageProblem(
             f"--voronoi: {error.problem}; nothing was written (--final polyhedral is "
-            "Delaunay, and so is any final of an octree refined to one level everywhere, "
-            "without --refine-sphere or --refine-box)"
+            "Delaunay when the leaves are cubes, and so is any final of an octree refined "
+            "to one level everywhere, without --refine-sphere or --refine-box)"
         ) from None
 
 
@@ -264,7 +265,7 @@ def _octree(args: argparse.Namespace) -> int:
     if cell_final:
         report |= {
             "cells": run.mesh.cell_count,
-            "cells_by_kind": run.leaf_mesh.kinds(),
+            "cells_by_kind": cells_by_kind(run.mesh),
             "templates": run.leaf_mesh.templates,
             "added_points": run.leaf_mesh.added,
             "vertices": run.mesh.vertex_count,

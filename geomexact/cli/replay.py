@@ -175,7 +175,8 @@ def start_of(input_path: str, value: Any, trace_path: str, dimension: int | None
         raise UsageProblem(f"{input_path}: replay needs a triangle mesh, a PSLG, a "
                            "tetrahedral mesh or a mixed-cell mesh")
     if dimension is not None and dimension != found:
-        what = "a 3D mesh" if found == 3 else (
+        what = ("a tetrahedral mesh (3D)" if isinstance(value, Mesh3) else
+                "a mixed-cell mesh (3D)") if found == 3 else (
             "a PSLG (2D)" if isinstance(value, PSLG) else "a triangle mesh (2D)")
         hint = ("; a cuboid trace also replays without INPUT: geomexact replay "
                 f"{trace_path} -o OUT" if dimension == 3 else "")

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from geomexact.errors import PreconditionError
+from geomexact.io.meshio_bridge import meshio_fixed
 from geomexact.io.vtk_polyhedra import face_stream, vtu_text
 from geomexact.kernel.points import point3
 from geomexact.mesh3d.cuboid.boxes import Box
@@ -21,6 +22,7 @@ from geomexact.mesh3d.mixed import (
     box_grid_mesh,
     cell_of_faces,
     mixed_mesh_from_cells,
+    standard_cell,
     validate_mixed,
 )
 from geomexact.mesh3d.mixed.ops import split_cell
@@ -133,3 +135,26 @@ def bad_files(tmp_path: Path) -> dict[str, tuple[Path, str]]:
                                      [("pyramid", [[0, 1, 2, 3, 9]])]),
                          "cell 0: vertex 9 is out of range"),
     }
+
+
+def meshio_cells(path: Path) -> tuple[list[Cell], dict[str, list[int]]]:
+    """The cells of ``path`` as meshio reads them (polyhedra readable), canonical, in the
+    file's order, and its cell data flattened."""
+    import meshio
+    import numpy as np
+
+    with meshio_fixed():
+        data = meshio.read(path, file_format="gmsh" if path.suffix == ".msh" else None)
+    cells: list[Cell] = []
+    for block in data.cells:
+        if block.type.startswith("polyhedron"):
+            cells += [cell_of_faces([[int(v) for v in face] for face in row])
+                      for row in block.data]
+        else:
+            kind = KINDS[block.type]
+            for row in block.data.tolist():
+                ids = [row[i] for i in GMSH_WEDGE] if kind == CellKind.WEDGE else row
+                cells.append(standard_cell(kind, ids))
+    arrays = {name: [int(v) for part in parts for v in np.asarray(part).ravel()]
+              for name, parts in data.cell_data.items() if not name.startswith("gmsh:")}
+    return cells, arrays

@@ -16,12 +16,10 @@ from geomexact import io
 from geomexact.errors import FormatError, OverwriteError, PreconditionError
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.mixed import (
-    Cell,
     CellKind,
     MixedMesh3,
     MixedMeshData,
     box_grid_mesh,
-    cell_of_faces,
     mixed_mesh_from_cells,
     standard_cell,
     validate_mixed,
@@ -34,39 +32,16 @@ np = pytest.importorskip("numpy")
 
 from helpers.mixed_files import (  # noqa: E402
     CUBE,
-    GMSH_WEDGE,
-    KINDS,
     UNIT,
     bad_files,
     every_kind_mesh,
     first_split,
     kinds_of,
+    meshio_cells,
     octahedron,
     splits,
     write_cells,
 )
-
-from geomexact.io.meshio_bridge import meshio_fixed  # noqa: E402
-
-
-def meshio_cells(path: Path) -> tuple[list[Cell], dict[str, list[int]]]:
-    """The cells of ``path`` as meshio reads them (polyhedra readable), canonical, in the
-    file's order, and its cell data flattened."""
-    with meshio_fixed():
-        data = meshio.read(path, file_format="gmsh" if path.suffix == ".msh" else None)
-    cells: list[Cell] = []
-    for block in data.cells:
-        if block.type.startswith("polyhedron"):
-            cells += [cell_of_faces([[int(v) for v in face] for face in row])
-                      for row in block.data]
-        else:
-            kind = KINDS[block.type]
-            for row in block.data.tolist():
-                ids = [row[i] for i in GMSH_WEDGE] if kind == CellKind.WEDGE else row
-                cells.append(standard_cell(kind, ids))
-    arrays = {name: [int(v) for part in parts for v in np.asarray(part).ravel()]
-              for name, parts in data.cell_data.items() if not name.startswith("gmsh:")}
-    return cells, arrays
 
 
 def assert_same(back: Any, mesh: MixedMesh3) -> None:

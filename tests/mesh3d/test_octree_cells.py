@@ -166,6 +166,8 @@ def test_random_octree_finals_pass_the_exact_and_the_independent_checks(seed: in
     result = cell_final(octree, kind)  # type: ignore[arg-type]
     assert independent_problems(result.mesh, octree.domain) == []
     assert cell_conformity(result.mesh, octree.domain.volume).conforming
+    # the fast check (each template once, then the faces) agrees with the full one
+    assert cell_conformity(result.mesh, octree.domain.volume, result.distinct).conforming
     assert len(result.levels) == result.mesh.cell_count
     assert sum(result.templates.values()) == result.octree.leaf_count
 

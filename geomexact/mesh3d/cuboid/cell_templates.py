@@ -284,11 +284,26 @@ def _fanned(face: Sequence[int]) -> list[tuple[int, ...]]:
     return [(first[0], b, c) for b, c in pairwise(first[1:])]
 
 
+def _inner_point(cell: Cell) -> Position3:
+    """A point strictly inside the convex ``cell``: the midpoint of its first two vertices
+    (code order) that share no face -- a quarter-lattice point, so a file of doubles keeps
+    it exactly -- else the average of its vertices."""
+    for u, v in combinations(cell.vertices, 2):
+        if not any(u in face and v in face for face in cell.faces):
+            return (mpq(POSITIONS[u][0] + POSITIONS[v][0], 2),
+                    mpq(POSITIONS[u][1] + POSITIONS[v][1], 2),
+                    mpq(POSITIONS[u][2] + POSITIONS[v][2], 2))
+    centroid = [sum((mpq(POSITIONS[v][axis]) for v in cell.vertices), mpq(0))
+                / len(cell.vertices) for axis in range(3)]
+    return (centroid[0], centroid[1], centroid[2])
+
+
 def _split_polyhedron(cell: Cell, code: int) -> tuple[tuple[Cell, ...], Position3 | None]:
     """A polyhedral cell in standard cells: the cones from one of its vertices whose
     faces are all triangles over its other faces, the fewest; without such a vertex, the
-    cones from its centroid (a new point, code ``code``) over all its faces.  Returns the
-    cells and the added point's half-lattice position (None when none is added)."""
+    cones from a point inside it (:func:`_inner_point`, a new point, code ``code``) over
+    all its faces.  Returns the cells and the added point's half-lattice position (None
+    when none is added)."""
     best: tuple[Cell, ...] | None = None
     for apex in cell.vertices:
         if any(len(face) != 3 for face in cell.faces if apex in face):
@@ -299,9 +314,7 @@ def _split_polyhedron(cell: Cell, code: int) -> tuple[tuple[Cell, ...], Position
             best = cones
     if best is not None:
         return best, None
-    centroid = tuple(sum((mpq(POSITIONS[v][axis]) for v in cell.vertices), mpq(0))
-                     / len(cell.vertices) for axis in range(3))
-    at = (centroid[0], centroid[1], centroid[2])
+    at = _inner_point(cell)
     return tuple(_cone(code, piece, at) for face in cell.faces
                  for piece in _fanned(face)), at
 

@@ -34,7 +34,7 @@ from geomexact.mesh3d.cuboid.cell_templates import (
     polyhedral_template,
     relabelled,
 )
-from geomexact.mesh3d.mixed.cells import Cell, CellKind
+from geomexact.mesh3d.mixed.cells import Cell
 from geomexact.mesh3d.mixed.recording import recorded_cells
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.mixed.transient import mixed_mesh_from_cells
@@ -75,11 +75,6 @@ class CellLeafMesh:
     forced_splits: int
     start: MixedMesh3 | None = None
     trace: Trace | None = None
-
-    def kinds(self) -> dict[str, int]:
-        """Cell kind name (lower case) -> count, in VTK type order."""
-        counts = Counter(cell.kind for cell in self.mesh.cell_list())
-        return {kind.name.lower(): counts[kind] for kind in sorted(CellKind) if counts[kind]}
 
 
 @attrs.frozen(slots=True)
