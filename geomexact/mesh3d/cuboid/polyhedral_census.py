@@ -14,18 +14,26 @@ from __future__ import annotations
 
 import itertools
 from collections import Counter
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Mapping
 
 import attrs
+import numpy as np
+from numpy.typing import NDArray
 
 from geomexact.mesh3d.cospherical import PolyhedralCell, polyhedral_cells
 from geomexact.mesh3d.cuboid.boxes import Box
-from geomexact.mesh3d.cuboid.numbering import EDGE_BITS, FACE_EDGES
+from geomexact.mesh3d.cuboid.numbering import (
+    EDGE_BITS,
+    FACE_EDGES,
+    BIT_COUNT,
+    steiner_position2,
+)
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
 from geomexact.mesh3d.snapshot import Mesh3
 
 __all__ = ["CellShape", "CellType", "PapersCount", "PolyhedralCensus", "cell_shape",
-           "cell_type", "hull_faces", "merged", "papers_count", "papers_patterns",
+           "cell_type", "hull_faces", "lattice_cells", "lattice_census",
+           "lattice_shape", "merged", "papers_count", "papers_patterns",
            "pattern_cells", "plane_cuts", "polyhedral_census", "uncut_parts"]
 
 CellShape = tuple[tuple[int, int, int], ...]
@@ -273,12 +281,12 @@ class PapersCount:
     reduced: frozenset[CellType]
 
 
-def papers_count(census: PolyhedralCensus) -> PapersCount:
-    """:class:`PapersCount` of ``census``."""
+def papers_count(shapes: Mapping[CellShape, int]) -> PapersCount:
+    """:class:`PapersCount` of a census's cells: how many of each shape (``shapes``)."""
     types: Counter[CellType] = Counter()
     cuttable: set[CellType] = set()
     reduced: set[CellType] = set()
-    for shape, count in census.shapes.items():
+    for shape, count in shapes.items():
         if len(shape) < 5:
             continue
         kind = cell_type(shape)
@@ -288,3 +296,80 @@ def papers_count(census: PolyhedralCensus) -> PapersCount:
         reduced.update(cell_type(part) for part in uncut_parts(shape))
     return PapersCount(dict(sorted(types.items())), frozenset(set(types) - cuttable),
                        frozenset(reduced))
+
+
+def lattice_cells(pattern: int, squares: tuple[int, int, int] = (1, 1, 1)
+                  ) -> tuple[CellShape, ...]:
+    """The Delaunay cells of ``pattern``'s points in a cuboid whose squared extents are in
+    the ratios ``squares`` (positive integers), each as its sorted half-lattice points;
+    exact, by brute force over every four points.  Only the squared extents enter the
+    insphere test (scaling an axis by e scales the orientation by e and the lifted
+    coordinate by e**2), so a 1 x 1 x sqrt 2 cuboid is ``squares=(1, 1, 2)`` though
+    sqrt 2 is not rational.  Agrees with :func:`pattern_cells` on rational boxes."""
+    points = [(2 * (k & 1), 2 * (k >> 1 & 1), 2 * (k >> 2 & 1)) for k in range(8)]
+    points += [steiner_position2(bit) for bit in range(BIT_COUNT)
+               if pattern >> bit & 1]
+    lattice = np.array(points, dtype=np.int64)
+    weights = np.array(squares, dtype=np.int64)
+    quads = np.array(list(itertools.combinations(range(len(points)), 4)), dtype=np.int64)
+    base = lattice[quads[:, 0]]
+    edges = lattice[quads[:, 1:]] - base[:, None, :]  # (q, 3, 3)
+    orientation = _det3(edges)
+    quads, orientation = quads[orientation != 0], orientation[orientation != 0]
+    # rows p - e, |p - e|^2 for p in the quadruple and e every point: (q, n, 4, 4)
+    offsets = lattice[quads][:, None, :, :] - lattice[None, :, None, :]
+    lifted = (offsets * offsets * weights).sum(axis=3)
+    matrix = np.concatenate([offsets, lifted[..., None]], axis=3)
+    location = -_det4(matrix) * np.sign(orientation)[:, None]  # > 0: e inside the sphere
+    empty = (location <= 0).all(axis=1)
+    cells = {tuple(sorted(points[n] for n in np.flatnonzero(row == 0)))
+             for row in location[empty]}
+    return tuple(sorted(cells))
+
+
+def _det3(m: NDArray[np.int64]) -> NDArray[np.int64]:
+    result: NDArray[np.int64] = (
+        m[..., 0, 0] * (m[..., 1, 1] * m[..., 2, 2] - m[..., 1, 2] * m[..., 2, 1])
+        - m[..., 0, 1] * (m[..., 1, 0] * m[..., 2, 2] - m[..., 1, 2] * m[..., 2, 0])
+        + m[..., 0, 2] * (m[..., 1, 0] * m[..., 2, 1] - m[..., 1, 1] * m[..., 2, 0]))
+    return result
+
+
+def _det4(m: NDArray[np.int64]) -> NDArray[np.int64]:
+    total = np.zeros(m.shape[:-2], dtype=np.int64)
+    for column in range(4):
+        minor = np.delete(np.delete(m, 0, axis=-2), column, axis=-1)
+        total += (-1) ** column * m[..., 0, column] * _det3(minor)
+    return total
+
+
+def lattice_shape(points: CellShape, squares: tuple[int, int, int] = (1, 1, 1)
+                  ) -> CellShape:
+    """:func:`cell_shape` of a cell given by its half-lattice ``points`` in a cuboid of
+    squared extents ``squares``: the smallest over the symmetries that exchange only
+    equal sides."""
+    best: CellShape | None = None
+    for permutation in itertools.permutations(range(3)):
+        if any(squares[permutation[axis]] != squares[axis] for axis in range(3)):
+            continue
+        for flips in itertools.product((False, True), repeat=3):
+            moved = tuple(sorted(
+                (_axis(p, permutation[0], flips[0]), _axis(p, permutation[1], flips[1]),
+                 _axis(p, permutation[2], flips[2])) for p in points))
+            if best is None or moved < best:
+                best = moved
+    assert best is not None
+    return best
+
+
+def _axis(point: tuple[int, int, int], axis: int, flip: bool) -> int:
+    return 2 - point[axis] if flip else point[axis]
+
+
+def lattice_census(patterns: Iterable[int], squares: tuple[int, int, int] = (1, 1, 1)
+                   ) -> Counter[CellShape]:
+    """How many cells of each shape :func:`lattice_cells` finds over ``patterns``."""
+    shapes: Counter[CellShape] = Counter()
+    for pattern in patterns:
+        shapes.update(lattice_shape(cell, squares) for cell in lattice_cells(pattern, squares))
+    return shapes
