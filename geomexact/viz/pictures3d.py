@@ -317,16 +317,24 @@ def _polygons(faces: CellFaces, slots: np.ndarray) -> _Polygons:
     return _Polygons(faces.corners[positions], offsets, sizes)
 
 
+_ONE = {"tetrahedra": "tetrahedron", "pyramids": "pyramid", "wedges": "wedge",
+        "hexahedra": "hexahedron", "polyhedra": "polyhedron"}
+
+
 def default_title3(drawing: Drawing3) -> str:
-    """``"V vertices, T tetrahedra"`` (a mixed mesh: ``"V vertices, C cells: 20
-    hexahedra, 2 wedges"``), with the clip and what it kept when there is one."""
+    """``"V vertices, T tetrahedra"`` (a mixed mesh: ``"V vertices, C cells"`` and a
+    line ``"20 hexahedra, 2 wedges"``), with the clip and what it kept when there is
+    one (a mixed mesh: on a line of its own)."""
     title = f"{drawing.vertices:,} vertices, {drawing.tetrahedra:,} tetrahedra"
     if drawing.mixed:
         title = f"{drawing.vertices:,} vertices, {drawing.cells:,} cells"
         if drawing.kinds:
-            title += ": " + ", ".join(f"{n:,} {name}" for name, n in drawing.kinds.items())
+            title += "\n" + ", ".join(f"{n:,} {_ONE.get(name, name) if n == 1 else name}"
+                                       for name, n in drawing.kinds.items())
     if drawing.clip is not None:
-        title += f" — clip {drawing.clip.text()}: {drawing.kept:,} kept"
+        # its own line: a mixed mesh's counts by kind fill the first
+        title += ("\n" if drawing.mixed else " — ") + (
+            f"clip {drawing.clip.text()}: {drawing.kept:,} kept")
     return title
 
 

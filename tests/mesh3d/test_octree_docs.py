@@ -43,7 +43,7 @@ def test_python_examples_give_the_numbers_they_state() -> None:
 def test_pictures_exist_are_small_and_linked() -> None:
     text = GUIDE.read_text(encoding="utf-8")
     pictures = re.findall(r"!\[[^\]]*\]\((images/[^)]+\.png)\)", text)
-    assert len(pictures) == 4
+    assert len(pictures) == 6
     for name in pictures:
         path = DOCS / name
         assert path.is_file(), name
@@ -69,3 +69,31 @@ def test_stated_counts_of_the_ball() -> None:
     assert (run.octree.leaf_count, run.mesh.tetrahedron_count, run.mesh.vertex_count) == (
         6_840, 39_848, 8_221)
     assert "6,840\nleaves, 39,848 tetrahedra, 8,221 vertices" in text
+
+
+def test_stated_counts_of_the_cell_finals() -> None:
+    """The mixed and polyhedral pictures' captions, checked by the library."""
+    from geomexact.cli.summaries import cells_by_kind
+    from geomexact.mesh3d.cuboid.boxes import Box
+    from geomexact.mesh3d.octree.pipeline import generate_cells
+    from geomexact.mesh3d.octree.regions import SphereSurfaceRegion
+    from geomexact.mesh3d.octree.stages import MixedPartition, PolyhedralPartition, RefineWhere
+
+    text = GUIDE.read_text(encoding="utf-8")
+    refinement = RefineWhere(4, region=SphereSurfaceRegion(("1/2",) * 3, "3/10"))
+    mixed = generate_cells(Box((0, 0, 0), (1, 1, 1)), MixedPartition(), trace=False,
+                           refinement=refinement)
+    assert (mixed.octree.leaf_count, mixed.mesh.cell_count, mixed.mesh.vertex_count,
+            mixed.leaf_mesh.added) == (1_352, 3_264, 1_945, 40)
+    assert cells_by_kind(mixed.mesh) == {"tetrahedra": 776, "pyramids": 1_200, "wedges": 168,
+                                         "hexahedra": 1_120}
+    polyhedral = generate_cells(Box((0, 0, 0), (1, 1, 1)), PolyhedralPartition(),
+                                trace=False, refinement=refinement)
+    assert cells_by_kind(polyhedral.mesh) == {
+        "tetrahedra": 568, "pyramids": 1_056, "wedges": 168, "hexahedra": 1_120,
+        "polyhedra": 64}
+    assert polyhedral.mesh.vertex_count == 1_905
+    for stated in ("3,264 cells (1,120 hexahedra, 168 wedges, 1,200 pyramids, 776",
+                   "1,945 vertices (40 added", "2,976 cells (1,120 hexahedra, 168 wedges, 1,056",
+                   "pyramids, 568 tetrahedra, 64 polyhedra), 1,905 vertices"):
+        assert stated in text.replace("\n", " ").replace("  ", " "), stated

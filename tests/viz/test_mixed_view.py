@@ -168,9 +168,9 @@ def test_picture_paints_polygons_coloured_by_kind(mesh: MixedMesh3, tmp_path: Pa
     path = tmp_path / "mixed.png"
     fig = plot_mesh3(mesh, path, clip=clip_plane("x", "1/2"))
     assert path.read_bytes().startswith(b"\x89PNG")
-    assert fig._suptitle.get_text().startswith("54 vertices, 21 cells: 2 tetrahedra, "
-                                               "1 pyramids, 1 wedges, 11 hexahedra")
-    assert fig._suptitle.get_text().endswith("clip x ≤ 0.5: 13 kept")
+    assert fig._suptitle.get_text().startswith("54 vertices, 21 cells\n2 tetrahedra, "
+                                               "1 pyramid, 1 wedge, 11 hexahedra")
+    assert fig._suptitle.get_text().endswith("\nclip x ≤ 0.5: 13 kept")
     with pytest.raises(ValueError, match="quality"):
         _drawing(mesh, colour="quality")
 
