@@ -1,33 +1,32 @@
 """Cell templates of a 1-irregular cuboid for the octree's mixed and polyhedral finals
 (issue 23; ``specs/octree.md``, "Mixed and polyhedral finals").
 
-Both work in *point codes* (corner k: k; Steiner point of bit i: 8 + i; the body centre:
-:data:`CENTRE`) on the cuboid's half-lattice (every coordinate 0, 1 or 2), so one
-template serves every leaf with that pattern.
+Both work in *point codes* (corner k: k; Steiner point of bit i: 8 + i; added points
+from :data:`CENTRE` on) on the cuboid's half-lattice (every coordinate 0, 1 or 2), so one
+template serves every leaf with that pattern and shape.
 
-**Mixed** (:func:`mixed_template`).  Each face of the cuboid is cut by a rule that reads
-only the points on that face (:func:`face_polygons`), so two leaves sharing a face cut it
-alike and the mesh conforms (a coarse face against four finer leaves has its centre and
-four midpoints, and is cut into the four quads they show):
+**The face rule** (:func:`face_polygons`).  Each face of the cuboid is cut into the
+co-circular polygons of the 2D Delaunay tessellation of the points on it (exact
+incircle; the tessellation is unique), a rule that reads only that face's points, so two
+leaves sharing a face cut it alike and the mesh conforms (a coarse face against four
+finer leaves has its centre and four midpoints, and is cut into the four quads they
+show; a face with one midpoint into three triangles).
 
-- no Steiner point: the quad;
-- its centre: the fan of triangles from the centre, two fan triangles round a corner
-  joined into a quad when both midpoints beside that corner are present;
-- exactly two midpoints, on opposite edges: two quads;
-- otherwise: the fan of triangles from its least midpoint (lexicographic order of points).
+**Mixed** (:func:`mixed_template`).  No Steiner point: one hexahedron.  Otherwise, of
+the templates below whose boundary polygons are exactly the face rule's, the one with
+the fewest cells (then the fewest added points; ties in this order):
 
-The leaf is then, of the templates below whose faces are exactly those cuts, the one with
-the fewest cells (ties in this order):
-
-1. no Steiner point: one hexahedron;
-2. an *extrusion* along an axis (no Steiner point on the edges along it nor a centre on
-   the faces along it, the same points on both end faces): the end face's polygons swept
+1. an *extrusion* along an axis (no Steiner point on the edges along it nor a centre on
+   the faces along it, the same cut on both end faces): the end face's polygons swept
    across -- triangles give wedges, quads hexahedra;
-3. a *star* from a midpoint A (on each face through A, the cut is the fan from A): the
-   cone from A over every polygon of the faces not through A -- pyramids and tetrahedra
-   (one midpoint on one edge gives four pyramids, as met's ``Patterns`` says);
+2. a *star* from a midpoint A (on each face through A, the cut is triangles through A):
+   the cone from A over every polygon of the faces not through A -- pyramids and
+   tetrahedra (one midpoint on one edge gives four pyramids, as met's ``Patterns`` says);
+3. *delaunay*: the polyhedral template below, each polyhedron cut into the cones from
+   one of its vertices whose faces are all triangles, or else from the midpoint of its
+   first two vertices sharing no face (an added point, on the quarter lattice);
 4. the *cone from the body centre* over every polygon: pyramids and tetrahedra, and one
-   new vertex (always applies).
+   added point (always applies).
 
 **Polyhedral** (:func:`polyhedral_template`).  The exact Delaunay tessellation of the
 cuboid's points with every co-spherical group one cell
