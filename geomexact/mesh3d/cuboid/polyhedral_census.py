@@ -23,9 +23,9 @@ from numpy.typing import NDArray
 from geomexact.mesh3d.cospherical import PolyhedralCell, polyhedral_cells
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.cuboid.numbering import (
+    BIT_COUNT,
     EDGE_BITS,
     FACE_EDGES,
-    BIT_COUNT,
     steiner_position2,
 )
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
@@ -241,7 +241,8 @@ def plane_cuts(shape: CellShape) -> tuple[tuple[CellShape, CellShape], ...]:
     """The ways to cut the cell ``shape`` in two by inserting one internal face: a plane
     through three or more of its vertices with vertices strictly on both sides that
     crosses none of its faces (each face stays whole, so the cell's neighbours see no
-    change); each as the two parts' sorted vertices, the plane's vertices in both."""
+    change); each once, as the two parts' sorted vertices (the smaller first), the
+    plane's vertices in both."""
     faces = hull_faces(shape)
     found = set()
     for _, sides in _planes(shape):
@@ -252,7 +253,7 @@ def plane_cuts(shape: CellShape) -> tuple[tuple[CellShape, CellShape], ...]:
             continue
         above = tuple(sorted(p for p, side in zip(shape, sides, strict=True) if side >= 0))
         below = tuple(sorted(p for p, side in zip(shape, sides, strict=True) if side <= 0))
-        found.add((above, below))
+        found.add((above, below) if above < below else (below, above))
     return tuple(sorted(found))
 
 
