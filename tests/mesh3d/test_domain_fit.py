@@ -112,7 +112,8 @@ def independent_problems(mesh: object, surface: TriangleSurface) -> list[str]:
                                   sub(b, a)[0] * sub(c, a)[1] - sub(b, a)[1] * sub(c, a)[0])]
             k = [i for i in range(3) if i != n.index(max(n))]
 
-            def side(u: tuple[Fraction, ...], v: tuple[Fraction, ...]) -> int:
+            def side(u: tuple[Fraction, ...], v: tuple[Fraction, ...],
+                     k: list[int] = k) -> int:
                 value = ((v[k[0]] - u[k[0]]) * (p[k[1]] - u[k[1]])
                          - (v[k[1]] - u[k[1]]) * (p[k[0]] - u[k[0]]))
                 return (value > 0) - (value < 0)
