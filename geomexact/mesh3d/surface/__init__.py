@@ -2,6 +2,19 @@
 (:class:`TriangleSurface`), its exact checks, and the exact geometric queries the octree's
 domain fit asks of it."""
 
+from geomexact.mesh3d.surface.checks import (
+    check_surface,
+    oriented_outward,
+    surface_problems,
+    surfaces_intersect,
+)
 from geomexact.mesh3d.surface.value import TriangleSurface, triangle_surface
 
-__all__ = ["TriangleSurface", "triangle_surface"]
+__all__ = [
+    "TriangleSurface",
+    "check_surface",
+    "oriented_outward",
+    "surface_problems",
+    "surfaces_intersect",
+    "triangle_surface",
+]
