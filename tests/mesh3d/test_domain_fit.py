@@ -224,4 +224,36 @@ def test_real_surfaces_fit_with_falling_volume_error(name: str) -> None:
         assert all(index.on_surface(mesh.point(v)) for v in on)  # type: ignore[attr-defined]
         assert {v for face in mesh.boundary_faces() for v in face} <= set(on)
         errors.append(abs(float((total_volume(mesh) - enclosed) / enclosed)))
-    assert errors[0] > errors[1] > errors[2] and errors[2] < 0.05
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 0.1
+
+
+@pytest.mark.skipif(not SURFACES.is_dir(), reason="../shared/data/surfaces is absent")
+def test_warping_removes_the_slivers_of_cut_points_next_to_vertices() -> None:
+    from fractions import Fraction as F
+
+    from geomexact.mesh3d.quality import quality_summary
+
+    points, triangles = [], []
+    for line in (SURFACES / "spot.obj").read_text().splitlines():
+        if line.startswith("v "):
+            points.append(tuple(F(x) for x in line.split()[1:4]))
+        elif line.startswith("f "):
+            triangles.append([int(w.split("/")[0]) - 1 for w in line.split()[1:4]])
+    surface = triangle_surface(points, triangles, "spot")
+    index = surface_index(surface)
+    run = generate(_domain_box(surface), trace=False, refinement=RefineWhere(
+        5, region=lambda box: index.meets_box(box.low, box.high)))
+    lattice_points = run.leaf_mesh.lattice.exact_points()
+
+    def angles(result: object) -> float:
+        mesh = result.mesh  # type: ignore[attr-defined]
+        xyz = np.array([[p.fx, p.fy, p.fz] for p in mesh.point_list()])
+        return float(quality_summary(xyz, np.array(mesh.tetrahedra())).min_dihedral)
+
+    plain = fit_to_surface(lattice_points, run.leaf_mesh.tetrahedra, index, warp=None)
+    warped = fit_to_surface(lattice_points, run.leaf_mesh.tetrahedra, index)
+    assert plain.warped == 0 and warped.warped > 0 and warped.pinches == ()
+    assert validate3(warped.mesh) == []
+    assert angles(plain) < 1 < 10 < angles(warped)
+    on = set(warped.surface_vertices)
+    assert all(index.on_surface(warped.mesh.point(v)) for v in on)
