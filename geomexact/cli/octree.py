@@ -151,7 +151,7 @@ def estimated_tetrahedra(args: argparse.Namespace, level: int) -> int:
     return int(TETRAHEDRA_PER_LEAF * min(everywhere, fine_leaves * 8 / 7 * 2 + cells))
 
 
-def _control_volumes(mesh: Mesh3 | MixedMesh3) -> Any:
+def control_volumes_or_refuse(mesh: Mesh3 | MixedMesh3) -> Any:
     """The mesh's Voronoi control volumes; a mesh the exact check finds not Delaunay is
     a usage problem (exit 2, nothing written)."""
     from geomexact.errors import PreconditionError
@@ -173,10 +173,11 @@ def _json_number(value: Any) -> Any:
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def _box(args: argparse.Namespace) -> Any:
+def box_of_arguments(args: argparse.Namespace) -> Any:
+    """The box of ``--box`` (the unit cube when not given); exit 2 for an empty one."""
     from geomexact.mesh3d.cuboid.boxes import Box
 
-    values = args.box
+    values = args.box if args.box is not None else [parse_rational(v) for v in "000111"]
     if not all(values[a] < values[a + 3] for a in range(3)):
         raise UsageProblem("--box X0 Y0 Z0 X1 Y1 Z1 needs X0 < X1, Y0 < Y1 and Z0 < Z1")
     return Box(values[:3], values[3:])
@@ -190,11 +191,21 @@ def command_octree(args: argparse.Namespace) -> int:
 
 
 def _octree(args: argparse.Namespace) -> int:
+    if args.domain:
+        from geomexact.cli.octree_domain import command_octree_domain
+
+        return command_octree_domain(args)
+    for name, given in (("--interior-level", args.interior_level), ("--band", args.band),
+                        ("--no-warp", args.no_warp)):
+        if given:
+            raise UsageProblem(f"{name} applies to --domain, which was not given")
+    if args.box is None:
+        args.box = [parse_rational(v) for v in "000111"]
     from geomexact.io.trace_file import write_trace
     from geomexact.mesh3d.octree.pipeline import generate, generate_cells
 
     started = time.perf_counter()
-    domain = _box(args)
+    domain = box_of_arguments(args)
     stages = _stages(args)
     cell_final = args.final in CELL_FINALS
     output_format = _output_format(args.output, args.to)
@@ -226,7 +237,7 @@ def _octree(args: argparse.Namespace) -> int:
         run = generate(domain, trace=bool(args.trace), on_stage=on_stage, **stages)
     if bar is not None:
         bar(len(STAGES), len(STAGES))
-    volumes = _control_volumes(run.mesh) if args.voronoi else None
+    volumes = control_volumes_or_refuse(run.mesh) if args.voronoi else None
     written: list[Path] = []
     if args.start and run.start is not None:
         written += write(args.start, _start_value(run.start), None, overwrite=args.force,
@@ -336,8 +347,8 @@ def add_parser(commands: Subcommands) -> None:
                          "asked, balanced 2:1, each leaf partitioned by its pattern)")
     octree.add_argument("--box", nargs=6, type=_exact, metavar=("X0", "Y0", "Z0", "X1", "Y1",
                                                                 "Z1"),
-                        default=[parse_rational(v) for v in "000111"],
-                        help="the domain, exact (default: the unit cube)")
+                        help="the box, exact (default: the unit cube; with --domain, a "
+                        "dyadic cube around the surfaces)")
     octree.add_argument("--grid", nargs=3, type=positive_int, metavar=("N", "M", "K"),
                         default=[1, 1, 1], help="the initial grid of boxes (default 1 1 1)")
     octree.add_argument("--level", type=non_negative, metavar="K",
@@ -370,5 +381,17 @@ def add_parser(commands: Subcommands) -> None:
                         help="write the Voronoi control volumes of the mesh (exact; "
                              "specs/formats/control_volumes.md); the mesh must be "
                              "Delaunay")
+    octree.add_argument("--domain", action="append", metavar="SURFACE",
+                        help="mesh the inside of this closed surface (.obj, .stl, .ply, "
+                        ".off; repeatable: a surface inside another is a hole); --level is "
+                        "then the level where the surface is (default 5)")
+    octree.add_argument("--interior-level", type=non_negative, default=0, metavar="K",
+                        help="with --domain: refine everywhere to level K first (default 0)")
+    octree.add_argument("--band", type=rational_argument, default=0, metavar="D",
+                        help="with --domain: refine to --level where a leaf is within D of "
+                        "a triangle's bounding box (default 0)")
+    octree.add_argument("--no-warp", action="store_true",
+                        help="with --domain: keep every vertex off the surface where it "
+                        "is (no snapping; thinner tetrahedra)")
     add_progress_flags(octree)
 

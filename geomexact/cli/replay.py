@@ -31,7 +31,8 @@ from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.cuboid.cell_templates import recorded_cell_start
 from geomexact.mesh3d.cuboid.partition import recorded_start
-from geomexact.mesh3d.mixed.conversion import from_tetrahedral
+from geomexact.mesh3d.mixed.cells import CellKind
+from geomexact.mesh3d.mixed.conversion import from_tetrahedral, to_tetrahedral
 from geomexact.mesh3d.mixed.ops import OPERATIONS as OPERATIONS_MIXED
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.ops import OPERATIONS as OPERATIONS_3D
@@ -82,7 +83,8 @@ def command_replay(args: argparse.Namespace) -> int:
         loaded = load(args.input, args.format, args.verbose)
         value = loaded.value
         start = start_of(args.input, value, args.trace, dimension, is_mixed_trace(trace))
-    check_outputs([("-o", args.output, args.to)], type(start), force=args.force)
+    check_outputs([("-o", args.output, args.to)], _result_type(start, trace, args.until),
+                  force=args.force)
     if start.digest != trace.input_digest:
         raise UsageProblem(wrong_input(args.input, value, start, args.trace, trace))
     try:
@@ -101,6 +103,9 @@ def command_replay(args: argparse.Namespace) -> int:
             )
         return EXIT_FAILED
     applied = len(trace) if args.until is None else args.until
+    if isinstance(result, MixedMesh3) and result.cell_count and all(
+            cell.kind == CellKind.TETRA for cell in result.cell_list()):
+        result = to_tetrahedral(result)  # the same digest, and the tetrahedral formats
     written = write(args.output, result, args.to, overwrite=args.force, numbers=args.numbers)
     cells, count = (("tetrahedra", result.tetrahedron_count) if isinstance(result, Mesh3)
                     else ("cells", result.cell_count) if isinstance(result, MixedMesh3)
@@ -133,6 +138,17 @@ def command_replay(args: argparse.Namespace) -> int:
         for path in written:
             print(f"wrote {path}")
     return EXIT_OK
+
+
+def _result_type(start: Mesh2 | Mesh3 | MixedMesh3, trace: Trace, until: int | None) -> type:
+    """The type of mesh the replay gives: a mixed trace whose steps add tetrahedra only
+    gives a tetrahedral mesh (it is written as one)."""
+    steps = trace.steps if until is None else trace.steps[:until]
+    if isinstance(start, MixedMesh3) and steps and all(
+            step.op == "add_cell" and step.args[:1] == (int(CellKind.TETRA),)
+            for step in steps):
+        return Mesh3
+    return type(start)
 
 
 def _digest_or_none(value: int | None) -> str | None:

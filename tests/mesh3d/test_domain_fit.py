@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.surface_cases import notched_box, octahedron
 
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import point3
@@ -25,42 +26,6 @@ from geomexact.mesh3d.surface.value import TriangleSurface, triangle_surface
 from geomexact.mesh3d.validation import validate3
 
 SURFACES = Path(__file__).resolve().parents[3] / "shared" / "data" / "surfaces"
-
-
-def octahedron(radius: object = mpq(7, 10), centre: object = mpq(1, 2)) -> TriangleSurface:
-    """The octahedron |x - c|_1 = r, outward."""
-    c, r = mpq(centre), mpq(radius)  # type: ignore[arg-type]
-    points = [(c + r, c, c), (c - r, c, c), (c, c + r, c), (c, c - r, c), (c, c, c + r),
-              (c, c, c - r)]
-    triangles = []
-    for x in (0, 1):
-        for y in (2, 3):
-            for z in (4, 5):
-                triangle = [x, y, z]
-                if (x == 1) ^ (y == 3) ^ (z == 5):
-                    triangle = [x, z, y]
-                triangles.append(triangle)
-    return triangle_surface(points, triangles, "octahedron")
-
-
-def notched_box() -> TriangleSurface:
-    """A non-convex closed surface: the box [0,1]^2 x [0,1/2] with the notch
-    [1/3,2/3] x [1/3,1] x [0,1/2] taken out (a U seen from above), outward."""
-    outline = [(0, 0), (1, 0), (1, 1), (mpq(2, 3), 1), (mpq(2, 3), mpq(1, 3)),
-               (mpq(1, 3), mpq(1, 3)), (mpq(1, 3), 1), (0, 1)]
-    n = len(outline)
-    points = [(x + mpq(1, 10), y + mpq(1, 10), mpq(1, 10)) for x, y in outline] + [
-        (x + mpq(1, 10), y + mpq(1, 10), mpq(3, 5)) for x, y in outline]
-    triangles = []
-    for i in range(n):  # the sides, outward
-        j = (i + 1) % n
-        triangles += [(i, j, n + j), (i, n + j, n + i)]
-    # bottom (facing -z) and top: the U as three convex pieces
-    pieces = [(0, 1, 4, 5), (1, 2, 3, 4), (0, 5, 6, 7)]
-    for a, b, c, d in pieces:
-        triangles += [(a, c, b), (a, d, c)]
-        triangles += [(n + a, n + b, n + c), (n + a, n + c, n + d)]
-    return triangle_surface(points, triangles, "notched box")
 
 
 def _domain_box(surface: TriangleSurface) -> Box:

@@ -12,6 +12,8 @@ the part inside it, exactly:
    clean path reaches gets its own ray.  A vertex exactly on a triangle is *on*.
 2. **Cut points.**  On every edge from an inside vertex to an outside one, the first point
    of the surface from the inside end: a rational point exactly on a triangle.
+   A tetrahedron whose four vertices are all on the surface is kept when its centre is
+   inside.
 3. **Warping.**  A vertex whose first surface point along one of its crossing edges is
    within :data:`WARP_FRACTION` of the edge is moved there (Labelle and Shewchuk's
    isosurface stuffing), when every tetrahedron around it stays positive; this removes
@@ -330,6 +332,11 @@ def _assembled(points: list[Point3], tetrahedra: Any, clean: Any, sides: dict[in
     keep_clean = clean & (kept_sides != OUTSIDE).all(axis=1) & (kept_sides == INSIDE).any(
         axis=1)
     crossing = ~clean & (kept_sides == INSIDE).any(axis=1)
+    # every vertex on the surface: the tetrahedron is inside or outside as its centre is
+    for row in np.flatnonzero(~clean & (kept_sides == ON).all(axis=1)).tolist():
+        corners = [points[v] for v in tetrahedra[row].tolist()]
+        centre = point3(*(sum((p[a] for p in corners), mpq(0)) / 4 for a in range(3)))
+        crossing[row] = index.side(centre) == INSIDE
     cut_edges: set[tuple[int, int]] = set()
     for tetrahedron in tetrahedra[crossing].tolist():
         for i, j in _TETRAHEDRON_EDGES:
