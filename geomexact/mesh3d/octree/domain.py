@@ -5,7 +5,8 @@ The surfaces (each closed, 2-manifold, outward, not self-intersecting, checked e
 by the caller with :func:`~geomexact.mesh3d.surface.checks.check_surface`; no two
 meeting) bound the domain: a point is in it when it is inside an odd number of them, so
 a surface nested in another is a hole.  Stages: the octree of a dyadic cube around the
-surfaces, refined everywhere to ``interior_level`` and, where a leaf meets a triangle's
+surfaces, refined to ``interior_level`` wherever a leaf meets the surfaces' bounding box
+and, where a leaf meets a triangle's
 bounding box (widened by ``band``), to ``level`` (or while its edges are longer than
 ``max_edge``); balanced 2:1; each leaf's pattern tetrahedra; then
 :func:`~geomexact.mesh3d.octree.domain_fit.fit_to_surface` keeps the domain's part,
@@ -166,8 +167,11 @@ def generate_domain(
                                             else MaxEdgeLength(max_edge))
         near = _near(index, mpq(band))
 
+        def within_bounds(leaf: Box) -> bool:
+            return all(leaf.low[a] <= high[a] and low[a] <= leaf.high[a] for a in range(3))
+
         def refinement(octree: Octree) -> Octree:
-            everywhere = RefineWhere(interior_level)(octree)
+            everywhere = RefineWhere(interior_level, region=within_bounds)(octree)
             return RefineWhere(level, criterion=criterion, region=near)(everywhere)
 
         run = generate(cube, refinement=refinement, trace=False, on_stage=on_stage)
