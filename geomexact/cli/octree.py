@@ -191,6 +191,10 @@ def command_octree(args: argparse.Namespace) -> int:
 
 
 def _octree(args: argparse.Namespace) -> int:
+    if args.device:
+        from geomexact.cli.octree_domain import command_octree_device
+
+        return command_octree_device(args)
     if args.domain:
         from geomexact.cli.octree_domain import command_octree_domain
 
@@ -385,6 +389,11 @@ def add_parser(commands: Subcommands) -> None:
                         help="mesh the inside of this closed surface (.obj, .stl, .ply, "
                         ".off; repeatable: a surface inside another is a hole); --level is "
                         "then the level where the surface is (default 5)")
+    octree.add_argument("--device", metavar="DEVICE",
+                        help="mesh a device of material boxes (specs/formats/device.md), "
+                        "every box face fitted exactly; --level refines everywhere (default "
+                        "0: the exact grid); write .vtu/.vtk/.msh (each tetrahedron's "
+                        "material as cell data)")
     octree.add_argument("--interior-level", type=non_negative, default=0, metavar="K",
                         help="with --domain: refine everywhere to level K first (default 0)")
     octree.add_argument("--band", type=rational_argument, default=0, metavar="D",

@@ -28,20 +28,20 @@ STAGES = ("surfaces", "index", "initial", "refinement", "improvement", "final", 
 DEFAULT_LEVEL = 5
 
 
-def _refused_options(args: argparse.Namespace) -> None:
-    """Options of the box mesher that a domain does not take (exit 2)."""
+def _refused_options(args: argparse.Namespace, option: str = "--domain") -> None:
+    """Options of the box mesher that a domain or a device does not take (exit 2)."""
     given = [name for name, value in (("--grid", args.grid != [1, 1, 1]),
                                       ("--refine-sphere", args.refine_sphere),
                                       ("--refine-box", args.refine_box),
                                       ("--surface", args.surface)) if value]
     if given:
-        raise UsageProblem(f"{', '.join(given)}: a --domain is refined where its surface is "
-                           "(--level, --max-edge, --band) and everywhere to "
-                           "--interior-level; these options are for a box")
+        raise UsageProblem(f"{', '.join(given)}: these options are for a box; a {option} "
+                           "is refined by --level and --max-edge (a --domain also by "
+                           "--interior-level and --band)")
     if args.final != "patterns":
-        raise UsageProblem(f"--final {args.final} with --domain: the fit to a surface keeps "
-                           "tetrahedra (--final patterns, the default); mixed cells at a "
-                           "surface are not built yet")
+        raise UsageProblem(f"--final {args.final} with {option}: its tetrahedra are fitted "
+                           "(--final patterns, the default); mixed cells there are not "
+                           "built yet")
 
 
 def _surfaces(paths: list[str]) -> list[Any]:
@@ -229,3 +229,96 @@ def command_octree_domain(args: argparse.Namespace) -> int:
         return EXIT_FAILED
     return EXIT_OK
 
+
+
+def command_octree_device(args: argparse.Namespace) -> int:
+    """Read the device, mesh it with every box face fitted exactly, check it (validity,
+    each material's exact volume against its painted volume), report it, write it with
+    each tetrahedron's material."""
+    from geomexact.io.device_file import read_device
+    from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+    from geomexact.mesh3d.mixed.conversion import from_tetrahedral
+    from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+    from geomexact.mesh3d.octree.device import generate_device, painted_volumes
+    from geomexact.mesh3d.quality import quality_summary
+    from geomexact.mesh3d.validation import validate3
+
+    started = time.perf_counter()
+    _refused_options(args, "--device")
+    if args.domain:
+        raise UsageProblem("--device and --domain: give one of them")
+    for name, given in (("--trace", args.trace), ("--start", args.start),
+                        ("--voronoi", args.voronoi), ("--interior-level", args.interior_level),
+                        ("--band", args.band), ("--no-warp", args.no_warp)):
+        if given:
+            raise UsageProblem(f"{name} does not apply to --device yet")
+    outputs = [("-o", args.output, args.to)]
+    distinct_outputs(outputs)
+    check_outputs(outputs, MixedMesh3, force=args.force)  # the materials need cell data
+    device = read_device(args.device)
+    level = 0 if args.level is None else args.level
+    run = generate_device(device, level=level, max_edge=args.max_edge)
+    mesh = run.mesh
+    violations = [str(v) for v in validate3(mesh)]
+    expected = painted_volumes(device)
+    names = dict(device.names)
+    materials = {
+        str(material): {"name": names.get(material), "tetrahedra": int(
+            (run.materials == material).sum()), "volume": format_rational(volume),
+            "painted_volume": format_rational(expected[material]),
+            "exact": volume == expected[material]}
+        for material, volume in run.volumes.items()}
+    problems = violations + [f"material {m}: volume {v['volume']} is not its painted "
+                             f"volume {v['painted_volume']}" for m, v in materials.items()
+                             if not v["exact"]]
+    written: list[Path] = []
+    if args.output and not problems:
+        mixed = from_tetrahedral(mesh)
+        by_cell = {tuple(sorted(t)): int(m) for t, m in zip(
+            mesh.tetrahedra(), run.materials.tolist(), strict=True)}
+        cell_materials = np.array([by_cell[tuple(sorted(cell.vertices))]
+                                   for cell in mixed.cell_list()], dtype=np.int64)
+        written += write(args.output, MixedMeshData(mixed, {"material": cell_materials}),
+                         args.to, overwrite=args.force, numbers=args.numbers)
+    xyz = np.array([[p.fx, p.fy, p.fz] for p in mesh.point_list()], dtype=np.float64)
+    quality = quality_summary(xyz, np.array(mesh.tetrahedra(), dtype=np.int64).reshape(-1, 4))
+    bounds = device.bounds()
+    report: dict[str, Any] = {
+        "device": args.device,
+        "box": [format_rational(v) for v in (*bounds.low, *bounds.high)],
+        "grid": list(run.grid),
+        "leaves": run.octree.leaf_count,
+        "levels": {str(k): n for k, n in run.octree.levels()},
+        "tetrahedra": mesh.tetrahedron_count,
+        "vertices": mesh.vertex_count,
+        "materials": materials,
+        "min_dihedral": quality.min_dihedral,
+        "max_dihedral": quality.max_dihedral,
+        "valid": not problems,
+        "problems": problems,
+        "digest": mesh.digest_text,
+        "stage_seconds": {name: round(value, 4) for name, value in run.seconds.items()},
+        "seconds": round(time.perf_counter() - started, 4),
+        "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+        "written": [str(path) for path in written],
+    }
+    if args.json:
+        print_json(report)
+    else:
+        title = f"octree mesh of the device {args.device} ({bounds.describe()})"
+        print_table(title, {key: report[key] for key in (
+            "grid", "leaves", "tetrahedra", "vertices", "min_dihedral", "max_dihedral",
+            "valid", "digest", "seconds")})
+        for material, row in materials.items():
+            label = f" ({row['name']})" if row["name"] else ""
+            print(f"  material {material}{label}: {row['tetrahedra']} tetrahedra, volume "
+                  f"{row['volume']}{' (exact)' if row['exact'] else ''}")
+        for problem in problems:
+            print(f"  {problem}")
+        for path in written:
+            print(f"wrote {path}")
+    if problems:
+        print("geomexact: the device mesh is not valid (above); nothing was written",
+              file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_OK

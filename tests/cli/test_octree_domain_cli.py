@@ -10,6 +10,7 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
+import numpy as np
 import pytest
 from helpers.command import run
 from helpers.surface_cases import cube, notched_box, torus, write_obj, write_off
@@ -85,7 +86,7 @@ def test_bad_surfaces_and_options_are_refused(capsys: pytest.CaptureFixture[str]
     code, _, err = run(capsys, "octree", "--domain", whole, "--domain", crossing, "-o", out)
     assert code == 2 and "meet" in err
     code, _, err = run(capsys, "octree", "--domain", part, "--final", "mixed", "-o", out)
-    assert code == 2 and "keeps tetrahedra" in err
+    assert code == 2 and "tetrahedra are fitted" in err
     code, _, err = run(capsys, "octree", "--domain", part, "--refine-sphere", "0", "0", "0",
                        "1", "-o", out)
     assert code == 2 and "--refine-sphere" in err
@@ -110,3 +111,49 @@ def test_spot_is_meshed(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> N
     report = json.loads(text)
     assert report["valid"] and report["boundary_on_surface"] and report["min_dihedral"] > 5
     assert report["volume_error"] < 0.1
+
+
+DEVICE = """geomexact-device 1
+# substrate, oxide, gate
+material 1 silicon
+material 2 oxide
+material 3 metal
+box 0 0 0 1 1 0.5 1
+box 0 0 0.5 1 1 0.75 2
+box 0.25 0.25 0.75 0.75 0.75 1 3
+"""
+
+
+def test_a_device_is_meshed_with_its_materials(capsys: pytest.CaptureFixture[str],
+                                               tmp_path: Path) -> None:
+    meshio = pytest.importorskip("meshio")
+    device = tmp_path / "mos.device"
+    device.write_text(DEVICE)
+    out = tmp_path / "mos.vtu"
+    code, text, err = run(capsys, "octree", "--device", device, "--level", "1", "-o", out,
+                          "--json")
+    assert code == 0, err
+    report = json.loads(text)
+    assert report["valid"] is True and report["grid"] == [4, 4, 4]
+    assert {m: (row["volume"], row["exact"]) for m, row in report["materials"].items()} == {
+        "1": ("0.5", True), "2": ("0.25", True), "3": ("0.0625", True)}
+    read = meshio.read(out)
+    materials = np.concatenate([np.asarray(block) for block in read.cell_data["material"]])
+    assert sorted(set(materials.tolist())) == [1, 2, 3]
+    assert len(materials) == report["tetrahedra"]
+    code, text, _ = run(capsys, "octree", "--device", device)
+    assert code == 0 and "material 3 (metal)" in text and "(exact)" in text
+
+
+def test_device_refusals_write_nothing(capsys: pytest.CaptureFixture[str],
+                                       tmp_path: Path) -> None:
+    device = tmp_path / "d.device"
+    device.write_text(DEVICE.replace("0.75 0.75 1 3", "0.75 0.75 0.75 3"))
+    code, _, err = run(capsys, "octree", "--device", device, "-o", tmp_path / "o.vtu")
+    assert code == 2 and "d.device:8" in err and "Z0 < Z1" in err
+    device.write_text(DEVICE)
+    code, _, err = run(capsys, "octree", "--device", device, "-o", tmp_path / "o.ele")
+    assert code == 2 and "not a mixed mesh" in err
+    code, _, err = run(capsys, "octree", "--device", device, "--trace", tmp_path / "t")
+    assert code == 2 and "--trace" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.device"]
