@@ -1,0 +1,372 @@
+"""Quality improvement by exact flips (issue 24, item 4; ``specs/quality_improvement.md``).
+
+A :class:`QualityCriterion` says which tetrahedra fail (minimum dihedral angle and/or
+radius ratio below a threshold); :func:`improve_quality` removes failing tetrahedra that
+meet a region by Joe's transformations (``flip23``, ``flip32``, ``flip44``; ``flip22``
+only with ``boundary=True``), each applied by the reference step
+:func:`~geomexact.mesh3d.ops.flip_in` (exact orient3d: an invalid flip is never made) and
+recorded in the trace, and only when it raises the smallest quality over the tetrahedra it
+replaces (hill climbing, Klingner and Shewchuk 2007).  The decision compares qualities in
+doubles; the steps, the mesh and its volume are exact.
+
+Order (deterministic, no hash order): each round takes the failing tetrahedra that meet
+the region, worst first, ties by their sorted vertex ids; for each one still in the mesh
+the candidate flips that remove it are enumerated (its four faces, then the faces around
+its edges that have three tetrahedra, each classified exactly), the one whose new
+tetrahedra have the largest smallest quality is applied when that beats the replaced
+tetrahedra's smallest quality (ties: the first candidate in (op, sorted face) order).
+Rounds repeat until one applies no flip or ``max_rounds`` is reached.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Iterable
+from itertools import combinations
+from typing import Final
+
+import attrs
+import numpy as np
+
+from geomexact.errors import PreconditionError
+from geomexact.kernel.points import Point3
+from geomexact.mesh3d.ops import (
+    FLIP_OF_KIND,
+    FaceConfiguration,
+    FaceKind,
+    classify_face_in,
+    flip_in,
+    oriented_third,
+)
+from geomexact.mesh3d.quality import dihedral_angles
+from geomexact.mesh3d.snapshot import Face, Mesh3
+from geomexact.mesh3d.transient import Transient3
+from geomexact.trace.record import Trace, trace_of
+
+__all__ = [
+    "FLIP_NAMES",
+    "QualityCriterion",
+    "QualityImprovement",
+    "Region",
+    "improve_quality",
+    "tetrahedron_measures",
+]
+
+FLIP_NAMES: Final = ("flip23", "flip32", "flip22", "flip44")
+
+Region = Callable[[tuple[Point3, ...]], bool]
+"""Whether a tetrahedron (its four points, sorted by vertex id) meets the region."""
+
+Key = tuple[int, int, int, int]
+"""A tetrahedron as its sorted vertex ids (the key of the quality cache)."""
+
+
+@attrs.frozen(slots=True)
+class QualityCriterion:
+    """A tetrahedron fails when its smallest dihedral angle is below ``min_dihedral``
+    (degrees) or its radius ratio (3 inradius / circumradius: 1 for the regular
+    tetrahedron, 0 when flat) is below ``min_radius_ratio``; None: not checked.  At least
+    one is given."""
+
+    min_dihedral: float | None = None
+    min_radius_ratio: float | None = None
+
+    def __attrs_post_init__(self) -> None:
+        if self.min_dihedral is None and self.min_radius_ratio is None:
+            raise PreconditionError("QualityCriterion", "give min_dihedral and/or "
+                                    "min_radius_ratio")
+        if self.min_dihedral is not None and not 0 < self.min_dihedral < 70.6:
+            raise PreconditionError("QualityCriterion", "min_dihedral is in degrees, "
+                                    f"between 0 and 70.5 (regular), not {self.min_dihedral}")
+        if self.min_radius_ratio is not None and not 0 < self.min_radius_ratio <= 1:
+            raise PreconditionError("QualityCriterion", "min_radius_ratio is in (0, 1], not "
+                                    f"{self.min_radius_ratio}")
+
+    def quality(self, min_dihedral: float, radius_ratio: float) -> float:
+        """The tetrahedron's quality relative to the criterion: the smallest of each
+        measure divided by its threshold (< 1: it fails)."""
+        values = []
+        if self.min_dihedral is not None:
+            values.append(min_dihedral / self.min_dihedral)
+        if self.min_radius_ratio is not None:
+            values.append(radius_ratio / self.min_radius_ratio)
+        return min(values)
+
+
+@attrs.frozen(slots=True)
+class QualityImprovement:
+    """What :func:`improve_quality` did: the ``mesh`` after it; the ``trace`` of its steps
+    from the input (None when not recorded); the flips applied of each kind (FLIP_NAMES
+    order); the rounds run; the smallest dihedral angle (degrees) over the whole mesh and
+    the number of failing tetrahedra in the region, before and after; the seconds taken."""
+
+    mesh: Mesh3
+    trace: Trace | None
+    flips: tuple[int, int, int, int]
+    rounds: int
+    worst_before: float | None
+    worst_after: float | None
+    failing_before: int
+    failing_after: int
+    seconds: float
+
+    @property
+    def flip_count(self) -> int:
+        return sum(self.flips)
+
+    def flips_of(self, name: str) -> int:
+        return self.flips[FLIP_NAMES.index(name)]
+
+
+def tetrahedron_measures(a: Point3, b: Point3, c: Point3, d: Point3) -> tuple[float, float]:
+    """(smallest dihedral angle in degrees, radius ratio) of the tetrahedron abcd, in
+    doubles from the points' doubles (a fixed order of operations: the same value for the
+    same points in any process).  A flat one in doubles gives (0, 0)."""
+    p = ((a.fx, a.fy, a.fz), (b.fx, b.fy, b.fz), (c.fx, c.fy, c.fz), (d.fx, d.fy, d.fz))
+    # face normals (unnormalised), face k opposite vertex k, pointing outward or inward
+    # consistently: the dihedral angle at edge (i, j) is pi minus the angle between the
+    # outward normals of the two faces containing it
+    normals = []
+    areas = []
+    for k in range(4):
+        i, j, m = (n for n in range(4) if n != k)
+        u = _sub(p[j], p[i])
+        v = _sub(p[m], p[i])
+        normal = _cross(u, v)
+        # orient outward: away from vertex k
+        if _dot(normal, _sub(p[k], p[i])) > 0:
+            normal = (-normal[0], -normal[1], -normal[2])
+        length = math.sqrt(_dot(normal, normal))
+        normals.append(normal)
+        areas.append(length)
+    if min(areas) == 0.0:
+        return 0.0, 0.0
+    largest_cosine = -1.0
+    for k, m in combinations(range(4), 2):  # faces k and m share the edge opposite them
+        cosine = -_dot(normals[k], normals[m]) / (areas[k] * areas[m])
+        largest_cosine = max(largest_cosine, cosine)
+    smallest_angle = math.degrees(math.acos(min(1.0, max(-1.0, largest_cosine))))
+    b0, c0, d0 = _sub(p[1], p[0]), _sub(p[2], p[0]), _sub(p[3], p[0])
+    triple = _dot(b0, _cross(c0, d0))  # 6 volume (signed)
+    if triple == 0.0:
+        return 0.0, 0.0
+    weights = (_dot(b0, b0), _dot(c0, c0), _dot(d0, d0))
+    terms = (_cross(c0, d0), _cross(d0, b0), _cross(b0, c0))
+    cx, cy, cz = (weights[0] * terms[0][n] + weights[1] * terms[1][n]
+                  + weights[2] * terms[2][n] for n in range(3))
+    centre = (cx, cy, cz)
+    circumradius = math.sqrt(_dot(centre, centre)) / abs(2.0 * triple)
+    # inradius = 3 V / total area = (|triple| / 2) / (sum of |normal| / 2)
+    inradius = abs(triple) / sum(areas)
+    return smallest_angle, 3.0 * inradius / circumradius
+
+
+Vector = tuple[float, float, float]
+
+
+def _sub(p: Vector, q: Vector) -> Vector:
+    return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
+
+
+def _cross(p: Vector, q: Vector) -> Vector:
+    return (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])
+
+
+def _dot(p: Vector, q: Vector) -> float:
+    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
+
+
+class _Qualities:
+    """The criterion's quality of tetrahedra, by sorted vertex ids, computed once each."""
+
+    __slots__ = ("_cache", "_criterion", "_t")
+
+    def __init__(self, t: Transient3, criterion: QualityCriterion) -> None:
+        self._t = t
+        self._criterion = criterion
+        self._cache: dict[Key, float] = {}
+
+    def __call__(self, vertices: Iterable[int]) -> float:
+        key: Key = tuple(sorted(vertices))  # type: ignore[assignment]
+        value = self._cache.get(key)
+        if value is None:
+            points = [self._t.point(vertex) for vertex in key]
+            value = self._criterion.quality(*tetrahedron_measures(*points))
+            self._cache[key] = value
+        return value
+
+    def forget(self, vertices: Iterable[int]) -> None:
+        self._cache.pop(tuple(sorted(vertices)), None)  # type: ignore[arg-type]
+
+
+def _replaced_and_made(t: Transient3, configuration: FaceConfiguration
+                       ) -> tuple[list[Key], list[Key]]:
+    """The tetrahedra a flip of ``configuration`` removes and those it makes (sorted
+    vertex ids), as :func:`~geomexact.mesh3d.ops.flip_in` would."""
+    a, b, c = configuration.face
+    d, e = configuration.d, configuration.e
+    kind = configuration.kind
+
+    def key(*vertices: int) -> Key:
+        return tuple(sorted(vertices))  # type: ignore[return-value]
+
+    if kind == FaceKind.T23:
+        return ([key(a, b, c, d), key(a, b, c, e)],
+                [key(d, e, u, v) for u, v in ((a, b), (b, c), (c, a))])
+    assert configuration.edge is not None
+    u, v = configuration.edge
+    w = oriented_third((a, b, c), u, v)
+    if kind == FaceKind.T32:
+        return ([key(a, b, c, d), key(a, b, c, e), key(u, v, d, e)],
+                [key(w, d, e, x) for x in (u, v)])
+    removed = [key(*tetrahedron) for tetrahedron in t.around_edge(u, v)]
+    apexes = [w] if kind == FaceKind.T22 else [w, configuration.apex_f]
+    return removed, [key(d, e, apex, x) for apex in apexes for x in (u, v)]  # type: ignore[arg-type]
+
+
+def _exists(t: Transient3, key: Key) -> bool:
+    a, b, c, d = key
+    return t.apex(a, b, c) == d or t.apex(a, c, b) == d
+
+
+def _interior(t: Transient3, face: Face) -> bool:
+    a, b, c = face
+    return t.apex(a, b, c) is not None and t.apex(a, c, b) is not None
+
+
+def _candidate_faces(t: Transient3, tetrahedron: Key) -> list[Face]:
+    """The interior faces whose flip could remove ``tetrahedron``: its own four, then the
+    faces around each of its edges with exactly three tetrahedra; sorted, once each."""
+    faces: set[Face] = set()
+    for face in combinations(tetrahedron, 3):
+        if _interior(t, face):  # type: ignore[arg-type]
+            faces.add(face)  # type: ignore[arg-type]
+    for u, v in combinations(tetrahedron, 2):
+        around = t.around_edge(u, v)
+        if len(around) != 3:
+            continue
+        for other in around:
+            for face in combinations(sorted(other), 3):
+                if u in face and v in face and _interior(t, face):  # type: ignore[arg-type]
+                    faces.add(face)  # type: ignore[arg-type]
+    return sorted(faces)
+
+
+def _best_flip(t: Transient3, tetrahedron: Key, quality: _Qualities,
+               allowed: frozenset[FaceKind]) -> tuple[str, Face, list[Key], list[Key]] | None:
+    """The flip that removes ``tetrahedron`` and raises the smallest quality of the
+    tetrahedra it replaces the most (module docstring), or None."""
+    best: tuple[float, str, Face, list[Key], list[Key]] | None = None
+    seen: set[tuple[str, tuple[Key, ...]]] = set()
+    for face in _candidate_faces(t, tetrahedron):
+        configuration = classify_face_in(t, face)
+        if configuration.kind not in allowed:
+            continue
+        removed, made = _replaced_and_made(t, configuration)
+        if tetrahedron not in removed:
+            continue
+        op = FLIP_OF_KIND[configuration.kind]
+        identity = (op, tuple(sorted(removed)))
+        if identity in seen:  # the same flip seen from another face
+            continue
+        seen.add(identity)
+        before = min(quality(k) for k in removed)
+        after = min(quality(k) for k in made)
+        if after > before and (best is None or after > best[0]):
+            best = (after, op, face, removed, made)
+    if best is None:
+        return None
+    return best[1], best[2], best[3], best[4]
+
+
+def _all_tetrahedra(t: Transient3) -> list[Key]:
+    """Every tetrahedron of the transient, as sorted vertex ids, sorted."""
+    found = []
+    for (a, b, c), d in t.faces_snapshot().items():
+        if d < a and d < b and d < c:
+            found.append(tuple(sorted((a, b, c, d))))
+    return sorted(found)  # type: ignore[arg-type]
+
+
+def _worst_dihedral(mesh: Mesh3) -> float | None:
+    if mesh.tetrahedron_count == 0:
+        return None
+    xyz = np.array([(p.fx, p.fy, p.fz) for p in mesh.point_list()], dtype=np.float64)
+    return float(dihedral_angles(xyz, mesh.tetrahedron_array()).min())
+
+
+def improve_quality(
+    mesh: Mesh3,
+    criterion: QualityCriterion,
+    *,
+    region: Region | None = None,
+    max_rounds: int = 10,
+    boundary: bool = False,
+    trace: bool = True,
+) -> QualityImprovement:
+    """Flip failing tetrahedra of ``mesh`` that meet ``region`` (all when None) away
+    while that raises the quality of the tetrahedra replaced (module docstring), for at
+    most ``max_rounds`` rounds.  ``boundary=False`` (default) keeps every boundary face:
+    only flip23, flip32 and flip44 (which change no boundary face) are made; True also
+    allows flip22 (two coplanar boundary faces re-triangulated: the boundary as a point set
+    and its vertices are kept).  ``mesh`` is unchanged; the result's trace replays on it."""
+    if max_rounds < 0:
+        raise PreconditionError("improve_quality", f"max_rounds >= 0, not {max_rounds}")
+    began = time.perf_counter()
+    allowed = {FaceKind.T23, FaceKind.T32, FaceKind.T44}
+    if boundary:
+        allowed.add(FaceKind.T22)
+    kinds = frozenset(allowed)
+    t = Transient3(mesh, batch=mesh.tetrahedron_count >= 256)
+    quality = _Qualities(t, criterion)
+
+    def meets(key: Key) -> bool:
+        return region is None or bool(region(tuple(t.point(v) for v in key)))
+
+    def failing() -> list[Key]:
+        found = [(quality(key), key) for key in _all_tetrahedra(t)
+                 if quality(key) < 1.0 and meets(key)]
+        return [key for _, key in sorted(found)]
+
+    counts = dict.fromkeys(FLIP_NAMES, 0)
+    worst_before = _worst_dihedral(mesh)
+    queue = failing()
+    failing_before = len(queue)
+    rounds = 0
+    while queue and rounds < max_rounds:
+        rounds += 1
+        flipped = 0
+        for key in queue:
+            if not _exists(t, key):
+                continue  # flipped away this round
+            choice = _best_flip(t, key, quality, kinds)
+            if choice is None:
+                continue
+            op, face, removed, _ = choice
+            flip_in(t, op, face)
+            counts[op] += 1
+            flipped += 1
+            for gone in removed:
+                quality.forget(gone)
+        if not flipped:
+            break
+        queue = failing()
+    failing_after = len(queue)  # the list after the last round (current)
+    recorded = trace_of(mesh, t, {"operation": "improve_quality",
+                                  "min_dihedral": criterion.min_dihedral,
+                                  "min_radius_ratio": criterion.min_radius_ratio,
+                                  "boundary": boundary, "max_rounds": max_rounds}
+                        ) if trace else None
+    result = t.seal()
+    return QualityImprovement(
+        mesh=result,
+        trace=recorded,
+        flips=(counts["flip23"], counts["flip32"], counts["flip22"], counts["flip44"]),
+        rounds=rounds,
+        worst_before=worst_before,
+        worst_after=_worst_dihedral(result),
+        failing_before=failing_before,
+        failing_after=failing_after,
+        seconds=time.perf_counter() - began,
+    )
