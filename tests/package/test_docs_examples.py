@@ -17,7 +17,8 @@ where a page names it: those examples skip when it is absent):
 
 docs/debugging.md and docs/viewer.md run in their own tests
 (``tests/trace/test_debugging_docs.py``, ``tests/viz/test_viz_docs.py``), as do the Python
-blocks of docs/octree.md (``tests/mesh3d/test_octree_docs.py``) and docs/install.md
+blocks of docs/octree.md (``tests/mesh3d/test_octree_docs.py``), docs/meshing-a-part.md
+(``tests/mesh3d/test_meshing_a_part_docs.py``) and docs/install.md
 (``test_docs_site.py``); here only their other blocks are checked.
 """
 
@@ -205,12 +206,15 @@ def run_doctest(block: Block, page: str, globs: dict[str, Any]) -> int:
 @pytest.fixture()
 def folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     """An empty folder, made current, holding ``superior.poly`` (and the same at
-    ``geomexact/data/superior.poly``, the path in a checkout)."""
+    ``geomexact/data/superior.poly``, the path in a checkout, beside the other packaged
+    data such as ``mos.device``)."""
     superior = resources.files("geomexact") / "data" / "superior.poly"
     data = superior.read_bytes()
     (tmp_path / "superior.poly").write_bytes(data)
     (tmp_path / "geomexact" / "data").mkdir(parents=True)
     (tmp_path / "geomexact" / "data" / "superior.poly").write_bytes(data)
+    device = resources.files("geomexact") / "data" / "mos.device"
+    (tmp_path / "geomexact" / "data" / "mos.device").write_bytes(device.read_bytes())
     monkeypatch.chdir(tmp_path)
     return tmp_path
 
@@ -439,4 +443,15 @@ def test_every_page_with_examples_is_checked() -> None:
                 pytest.fail(f"{path.name}:{block.line}: a session in a plain block "
                             "(label it console to have it run)")
             if block.language == "python":
-                assert path.name == "octree.md", f"{path.name}:{block.line}: use >>>"
+                assert path.name in ("octree.md", "meshing-a-part.md"), (
+                    f"{path.name}:{block.line}: use >>>")
+
+
+def test_meshing_a_part(folder: Path) -> None:
+    """The device session always; the spot session where ../shared/data is (its Python
+    block runs in tests/mesh3d/test_meshing_a_part_docs.py)."""
+    consoles = [block for block in blocks("meshing-a-part.md") if block.language == "console"]
+    assert len(consoles) == 2
+    run_console(consoles[1])
+    assert (folder / "mos.vtu").stat().st_size > 10_000
+    run_console(consoles[0])  # skips without ../shared/data
