@@ -14,6 +14,7 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.errors import UsageProblem, cli_wording, print_warning
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
+from geomexact.cli.info import materials_report, print_materials
 from geomexact.cli.loading import Loaded, load, seed_warnings, triangulation_problems
 from geomexact.cli.reporting import print_json, violation_reports
 from geomexact.cli.summaries import cells_by_kind
@@ -90,6 +91,7 @@ def command_check(args: argparse.Namespace) -> int:
             f"{args.file}: is a {loaded.kind.replace('_', ' ')}, but check needs a triangle, "
             "tetrahedral or polygon mesh or a PSLG"
         )
+    materials = materials_report(loaded)
     if args.json:
         print_json(
             {
@@ -97,6 +99,7 @@ def command_check(args: argparse.Namespace) -> int:
                 "kind": loaded.kind,
                 "valid": not violations,
                 **counts,
+                **materials,
                 "violations": violation_reports(violations),
                 "warnings": warnings,
             }
@@ -111,6 +114,7 @@ def command_check(args: argparse.Namespace) -> int:
             f"{', '.join(f'{number} {kind}' for kind, number in count.items())}"
             for name, count in counts.items())
         print(f"{args.file}: valid ({listed}{digest})")
+        print_materials(materials)
     return EXIT_FAILED if violations else EXIT_OK
 
 

@@ -13,9 +13,29 @@ from geomexact.cli.arguments import (
     add_verbose_flag,
 )
 from geomexact.cli.exit_codes import EXIT_OK
-from geomexact.cli.loading import Loaded, load
+from geomexact.cli.loading import Loaded, load, material_cells
 from geomexact.cli.reporting import print_json, print_table
-from geomexact.cli.summaries import summary_of
+from geomexact.cli.summaries import materials_summary, summary_of
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+from geomexact.mesh3d.snapshot import Mesh3
+
+
+def materials_report(loaded: Loaded) -> dict[str, Any]:
+    """``material_array`` (the array's name) and ``materials`` (per id: cells, exact
+    volume) of a 3D mesh file with a material cell array; else nothing."""
+    found = material_cells(loaded)
+    if found is None:
+        return {}
+    mesh = loaded.value
+    assert isinstance(mesh, Mesh3 | MixedMesh3)
+    name, materials = found
+    return {"material_array": name, "materials": materials_summary(mesh, materials)}
+
+
+def print_materials(report: dict[str, Any]) -> None:
+    """One line per material of a :func:`materials_report` (none without one)."""
+    for material, row in report.get("materials", {}).items():
+        print(f"  material {material}: {row['cells']} cells, volume {row['volume']}")
 
 
 def _describe(loaded: Loaded) -> dict[str, Any]:
@@ -24,6 +44,7 @@ def _describe(loaded: Loaded) -> dict[str, Any]:
         "format": loaded.format,
         "kind": loaded.kind,
         **summary_of(loaded.value),
+        **materials_report(loaded),
         "notes": list(loaded.notes),
     }
 
@@ -37,9 +58,11 @@ def command_info(args: argparse.Namespace) -> int:
     for index, report in enumerate(reports):
         if index:
             print()
-        rows = {k: v for k, v in report.items() if k not in {"file", "format", "kind", "notes"}}
+        rows = {k: v for k, v in report.items()
+                if k not in {"file", "format", "kind", "notes", "materials"}}
         kind = report["kind"].replace("_", " ")
         print_table(f"{report['file']} ({report['format']}, {kind})", rows)
+        print_materials(report)
     return EXIT_OK
 
 

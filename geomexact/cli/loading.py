@@ -7,12 +7,14 @@ import sys
 from typing import Any
 
 import attrs
+import numpy as np
 
 from geomexact import io
 from geomexact.cli.errors import UsageProblem, print_warning
 from geomexact.cli.kinds import Value, kind_name
 from geomexact.cli.memory import BYTES_PER_POINT, active_budget, refuse_large_file
 from geomexact.errors import FormatError, PreconditionError, SegmentError
+from geomexact.io.cell_arrays import material_array, read_cell_arrays
 from geomexact.io.registry import SourceLines, clipped
 from geomexact.kernel.numbers import format_rational
 from geomexact.kernel.points import Point2
@@ -21,6 +23,8 @@ from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.segments import crossing_point
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+from geomexact.mesh3d.snapshot import Mesh3
 
 SHOWN = 10
 """The most offending items a message lists one by one."""
@@ -59,6 +63,16 @@ def load(path: str, format: str | None, verbose: bool) -> Loaded:
         for note in reading.notes:
             print(f"geomexact: {path}: {note}", file=sys.stderr)
     return Loaded(path, format, reading.value, tuple(reading.notes), reading.sources)
+
+
+def material_cells(loaded: Loaded) -> tuple[str, np.ndarray] | None:
+    """The material array of a 3D mesh file (the first of
+    :data:`~geomexact.io.cell_arrays.MATERIAL_ARRAYS`): (its name, each cell's id aligned
+    with the mesh's cells), or None (no such array, or not a 3D mesh)."""
+    if not isinstance(loaded.value, Mesh3 | MixedMesh3):
+        return None
+    return material_array(read_cell_arrays(loaded.path, format=loaded.format,
+                                           mesh=loaded.value))
 
 
 def load_mesh(path: str, format: str | None, verbose: bool, command: str) -> Mesh2:

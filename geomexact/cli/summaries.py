@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
+from gmpy2 import mpq
 
 from geomexact.cli.kinds import Writable
 from geomexact.kernel.numbers import format_rational
@@ -14,8 +16,9 @@ from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
 from geomexact.mesh3d.measures import is_delaunay3, total_volume
 from geomexact.mesh3d.mixed.cell_data import MixedMeshData
+from geomexact.mesh3d.mixed.cell_geometry import cell_volume
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3, mixed_volume
-from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.mesh3d.snapshot import Mesh3, signed_volume6
 from geomexact.viz.scene3d import kind_counts
 
 
@@ -49,6 +52,33 @@ def mixed_summary(mesh: MixedMesh3) -> dict[str, Any]:
         "volume": format_rational(mixed_volume(mesh)),
         "digest": mesh.digest_text,
     }
+
+
+def cell_volumes(mesh: Mesh3 | MixedMesh3) -> list[Any]:
+    """Each cell's exact volume: a ``Mesh3``'s in ``tetrahedra()`` order, a
+    ``MixedMesh3``'s in ``cell_list()`` order."""
+    if isinstance(mesh, MixedMesh3):
+        points = {v: mesh.point(v) for v in range(mesh.vertex_count)}
+        return [cell_volume(cell, points) for cell in mesh.cell_list()]
+    point = mesh.point
+    return [signed_volume6(point(a), point(b), point(c), point(d)) / 6
+            for a, b, c, d in mesh.tetrahedra()]
+
+
+def materials_summary(mesh: Mesh3 | MixedMesh3, materials: Iterable[int]
+                      ) -> dict[str, dict[str, Any]]:
+    """Per material id (text keys, in increasing order): its ``cells`` and their exact
+    ``volume`` (text); ``materials`` holds each cell's id, aligned with
+    :func:`cell_volumes`."""
+    ids = [int(m) for m in materials]
+    volumes: dict[int, Any] = {}
+    counts: dict[int, int] = {}
+    for material, volume in zip(ids, cell_volumes(mesh), strict=True):
+        volumes[material] = volumes.get(material, mpq(0)) + volume
+        counts[material] = counts.get(material, 0) + 1
+    return {str(material): {"cells": counts[material],
+                            "volume": format_rational(volumes[material])}
+            for material in sorted(volumes)}
 
 
 def pslg_summary(pslg: PSLG) -> dict[str, Any]:
