@@ -150,3 +150,24 @@ def test_an_initial_grid_is_kept() -> None:
     run = generate_cells(Box((0, 0, 0), (3, 1, 1)), MixedPartition(),
                          initial=BoxGrid(3, 1, 1), trace=False)
     assert [cell.kind for cell in run.mesh.cell_list()] == [CellKind.HEXAHEDRON] * 3
+
+
+def test_derefinement_merges_siblings_where_accepted_and_is_inverse_of_refinement() -> None:
+    from geomexact.mesh3d.octree.refinement import derefine_octree
+    from geomexact.mesh3d.octree.regions import BoxRegion
+    from geomexact.mesh3d.octree.stages import DerefineWhere
+
+    coarse = octree_of_grid(unit_cube())
+    fine = RefineWhere(3)(coarse)
+    assert derefine_octree(fine, lambda box: True) == coarse
+    assert derefine_octree(fine, lambda box: True, min_level=2) == RefineWhere(2)(coarse)
+    assert derefine_octree(fine, lambda box: False) == fine
+    # away from the corner box only: fine leaves stay there, balanced 2:1 around
+    corner = BoxRegion((0, 0, 0), (mpq(1, 8), mpq(1, 8), mpq(1, 8)))
+    kept = DerefineWhere(lambda box: not corner(box))(fine)
+    assert kept.balanced and (3, 0, 0, 0) in kept.leaves
+    assert kept.leaf_count < fine.leaf_count and (0, 0, 0, 0) not in kept.leaves
+    mesh = generate_cells(unit_cube(), MixedPartition(), refinement=RefineWhere(3),
+                          improvement=DerefineWhere(lambda box: not corner(box)),
+                          trace=False)
+    assert mesh.conformity.conforming and mixed_volume(mesh.mesh) == 1

@@ -7,7 +7,8 @@ stage          implementations                  identity
 =============  ===============================  ==========================================
 InitialMesh    :class:`SingleBox`, BoxGrid      :class:`SingleBox` (the domain itself)
 Refinement     :class:`RefineWhere`             :class:`NoRefinement`
-Improvement    :class:`BalanceTwoToOne`         :class:`NoImprovement`
+Improvement    :class:`BalanceTwoToOne`,        :class:`NoImprovement`
+               :class:`DerefineWhere`
 FinalMesh      :class:`PatternPartition`,       :class:`PatternPartition` (see below)
                :class:`DelaunayPartition`
 CellFinalMesh  :class:`MixedPartition`,         (none: a cell final is chosen)
@@ -43,7 +44,7 @@ from geomexact.mesh3d.octree.leaf_partition import (
     assemble_tetrahedra,
     octree_trace,
 )
-from geomexact.mesh3d.octree.refinement import refine_octree
+from geomexact.mesh3d.octree.refinement import derefine_octree, refine_octree
 from geomexact.mesh3d.octree.regions import WholeDomain
 from geomexact.mesh3d.octree.tree import Octree, octree_of_grid
 from geomexact.mesh3d.snapshot import Mesh3
@@ -59,6 +60,7 @@ __all__ = [
     "BoxGrid",
     "CellFinalMesh",
     "DelaunayPartition",
+    "DerefineWhere",
     "FinalMesh",
     "Improvement",
     "InitialMesh",
@@ -174,6 +176,22 @@ class BalanceTwoToOne:
 
     def __call__(self, octree: Octree, /) -> Octree:
         return balance_two_to_one(octree)
+
+
+@attrs.frozen(slots=True)
+class DerefineWhere:
+    """Merge sibling leaves back into their parent where ``region`` meets the parent box
+    and ``accepts`` holds on it (down to ``min_level``), then balance 2:1: the seed's
+    "refine, improve and derefine"."""
+
+    accepts: Callable[[Box], bool]
+    region: Callable[[Box], bool] = attrs.field(factory=WholeDomain)
+    min_level: int = 0
+
+    def __call__(self, octree: Octree, /) -> Octree:
+        merged = derefine_octree(
+            octree, lambda box: self.region(box) and self.accepts(box), self.min_level)
+        return balance_two_to_one(merged)
 
 
 def _partition(octree: Octree, kind: FinalKind, trace: bool) -> LeafMesh:
