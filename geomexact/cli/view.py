@@ -18,9 +18,10 @@ from geomexact.cli.arguments import (
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
-from geomexact.cli.loading import load
+from geomexact.cli.loading import Loaded, load, material_cells
 from geomexact.cli.reporting import print_json
 from geomexact.errors import GeomexactError
+from geomexact.io.cell_arrays import MATERIAL_ARRAYS
 from geomexact.io.files import staged_path
 from geomexact.io.trace_file import read_trace
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
@@ -28,9 +29,11 @@ from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.record import Trace
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from geomexact.viz.scene3d import Clip
 
-VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region")
+VIEW_FILL_CHOICES = ("none", "min-angle", "area", "region", "material")
 
 
 def command_view(args: argparse.Namespace) -> int:
@@ -54,9 +57,10 @@ def command_view(args: argparse.Namespace) -> int:
                            "mesh (3D)")
     trace = read_trace(args.trace) if args.trace else None
     fill = args.color_by.replace("-", "_")
+    materials = _materials(args, loaded, fill, suffix in (".html", ".htm"))
     try:
         if isinstance(value, Mesh3 | MixedMesh3):
-            _view_mesh3(args, value, trace, output, fill)
+            _view_mesh3(args, value, trace, output, fill, materials)
         elif suffix in (".html", ".htm"):
             text = viewer.viewer_html(
                 value, trace=trace, title=args.title, source=Path(args.input).name,
@@ -95,6 +99,31 @@ def command_view(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _materials(args: argparse.Namespace, loaded: Loaded, fill: str, page: bool
+               ) -> np.ndarray | None:
+    """Each cell's material for ``--color-by material`` (a :class:`UsageProblem` naming
+    the file when it has none, or is no 3D mesh, or comes with a trace); for a page
+    without a trace, the materials when the file has them (its colour menu offers them);
+    else None."""
+    asked = fill == "material"
+    if not asked and (not page or args.trace):
+        return None
+    if asked and not isinstance(loaded.value, Mesh3 | MixedMesh3):
+        raise UsageProblem(f"{args.input}: --color-by material needs a tetrahedral or "
+                           "mixed-cell mesh with a material cell array")
+    if asked and args.trace:
+        raise UsageProblem("--color-by material colours a mesh's cells: it does not go with "
+                           "--trace")
+    found = material_cells(loaded)
+    if found is None:
+        if asked:
+            raise UsageProblem(f"{args.input}: has no integer cell array named "
+                               f"{', '.join(MATERIAL_ARRAYS)}: --color-by material has "
+                               "nothing to colour by")
+        return None
+    return found[1]
+
+
 def _clip_of(args: argparse.Namespace) -> Clip | None:
     from geomexact.viz.scene3d import clip_plane
 
@@ -108,11 +137,12 @@ def _clip_of(args: argparse.Namespace) -> Clip | None:
 
 
 def _view_mesh3(args: argparse.Namespace, mesh: Mesh3 | MixedMesh3, trace: Trace | None,
-                output: Path, fill: str) -> None:
+                output: Path, fill: str, materials: np.ndarray | None) -> None:
     """The page or the picture of a tetrahedral or mixed-cell mesh (with a trace: the page
     steps through it; the picture draws the mesh after step ``--step``, default the
     last).  A tetrahedral mesh is coloured by radius ratio (``min-angle``) or plain, a
-    mixed one by cell kind."""
+    mixed one by cell kind, either by ``materials`` (each cell's) for ``material``; the
+    page carries ``materials`` when given."""
     from geomexact.io.files import write_text_atomic
 
     clip = _clip_of(args)
@@ -122,14 +152,19 @@ def _view_mesh3(args: argparse.Namespace, mesh: Mesh3 | MixedMesh3, trace: Trace
         from geomexact.viz.scene3d import viewer_html_3d
 
         # the 2D fills name triangle measures; in 3D, quality (radius ratio), kind or plain
-        colour = "plain" if fill in ("area", "region") else "kind" if mixed else "quality"
+        colour = ("plain" if fill in ("area", "region") else "material"
+                  if fill == "material" else "kind" if mixed else "quality")
         text = viewer_html_3d(mesh, trace, title=title, colour=colour, step=args.step,
-                              clip=clip)
+                              clip=clip, materials=materials)
         write_text_atomic(output, text, overwrite=args.force)
         return
     from geomexact.trace.playback import replay
     from geomexact.viz.pictures3d import plot_mesh3
 
+    if fill == "material":
+        plot_mesh3(mesh, output, overwrite=args.force, title=args.title, clip=clip,
+                   colour="material", materials=materials)
+        return
     if mixed and fill != "none":
         raise UsageProblem(f"--color-by {args.color_by} has no meaning for a mixed-cell "
                            "mesh's picture: its faces are coloured by cell kind")
@@ -160,7 +195,10 @@ def add_parser(commands: Subcommands) -> None:
                            "default: the last")
     view.add_argument("--color-by", choices=VIEW_FILL_CHOICES, default="none",
                       help="fill triangles by smallest angle, area or region attribute; "
-                           "tetrahedra: min-angle colours by radius ratio")
+                           "tetrahedra: min-angle colours by radius ratio; 3D meshes: "
+                           "material colours cells by their integer cell array "
+                           f"{', '.join(MATERIAL_ARRAYS)} (the first present), with a "
+                           "legend")
     view.add_argument("--clip", nargs=2, metavar=("AXIS", "POSITION"),
                       help="3D meshes: remove the cells whose centroid (mean of their "
                            "vertices) is beyond the plane AXIS (x, y or z) = POSITION "

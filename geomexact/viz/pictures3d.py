@@ -19,6 +19,7 @@ Figures are made without pyplot, ``size`` inches at ``dpi`` exactly, as in
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
@@ -46,6 +47,7 @@ from geomexact.viz.pictures import DEFAULT_DPI, DEFAULT_SIZE, figure_bytes, pict
 from geomexact.viz.scene3d import (
     KIND_ORDER,
     KIND_PLURALS,
+    MATERIAL_FILLS,
     CellFaces,
     Clip,
     Mesh3D,
@@ -53,14 +55,17 @@ from geomexact.viz.scene3d import (
     faces_of_tetrahedra,
     kept_by_clip,
     kind_counts,
+    material_label,
+    material_ranks,
     mesh_xyz,
     radius_ratios,
 )
 
-Colour3 = Literal["plain", "quality", "kind"]
-COLOURS3: tuple[str, ...] = ("plain", "quality", "kind")
+Colour3 = Literal["plain", "quality", "kind", "material"]
+COLOURS3: tuple[str, ...] = ("plain", "quality", "kind", "material")
 """How :func:`draw_mesh3` colours faces: one colour (cut faces another), radius ratio
-(tetrahedral meshes), or the cell's kind (with a legend)."""
+(tetrahedral meshes), the cell's kind, or the cell's material (the last two with a
+legend)."""
 
 KIND_FILLS = {CellKind.TETRA: "#e07a5f", CellKind.PYRAMID: "#f2cc8f",
               CellKind.WEDGE: "#81b29a", CellKind.HEXAHEDRON: "#9fbfe0",
@@ -152,6 +157,7 @@ class Drawing3:
     kinds: dict[str, int] = attrs.field(factory=dict)
     sizes: dict[int, int] = attrs.field(factory=dict)
     mixed: bool = False
+    legend: tuple[str, ...] = ()
 
 
 def _view_axes(elevation: float, azimuth: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -174,6 +180,8 @@ def draw_mesh3(
     azimuth: float = DEFAULT_AZIMUTH,
     shrink: float = 0.0,
     colorbar: bool = True,
+    materials: np.ndarray | Sequence[int] | None = None,
+    material_names: Mapping[int, str] | None = None,
 ) -> Drawing3:
     """Draw ``mesh`` (a ``Mesh3`` or a ``MixedMesh3``) into the matplotlib axes ``ax`` (a
     plain 2D axes: the projection is done here); return what was drawn
@@ -184,8 +192,11 @@ def draw_mesh3(
     beyond the plane are removed whole (exactly) and the faces that opens are drawn, in
     orange when plain.  ``colour``: ``"plain"`` (a ``Mesh3``'s default), ``"quality"``
     (each tetrahedron's radius ratio, 0 flat … 1 regular, with a colour bar; a
-    ``Mesh3`` only) or ``"kind"`` (each cell's kind, with a legend; a ``MixedMesh3``'s
-    default).  ``shrink`` (0 ≤ shrink < 1) moves each kept cell's corners toward its
+    ``Mesh3`` only), ``"kind"`` (each cell's kind, with a legend; a ``MixedMesh3``'s
+    default) or ``"material"`` (each cell's id in ``materials``, one per cell in
+    ``tetrahedra()`` or ``cell_list()`` order, with a legend of the ids, named by
+    ``material_names`` where it names them; colours :data:`MATERIAL_FILLS` in
+    increasing order of id).  ``shrink`` (0 ≤ shrink < 1) moves each kept cell's corners toward its
     centroid and draws all its faces (O(kept) faces: for small meshes).  An empty mesh,
     or a clip that keeps nothing, gives an empty drawing.
     """
@@ -201,10 +212,17 @@ def draw_mesh3(
                          "mixed mesh is coloured by 'kind' or 'plain'")
     if not 0.0 <= shrink < 1.0:
         raise ValueError(f"shrink must be in [0, 1), not {shrink!r}")
+    if colour == "material" and materials is None:
+        raise ValueError("colour 'material' needs materials: each cell's material id")
     xyz = mesh_xyz(mesh)
     if not np.isfinite(xyz).all():
         raise ValueError("a coordinate is beyond the range of doubles: cannot draw it")
     faces = cell_faces(mesh)
+    if colour == "material":
+        material_ids, ranks = material_ranks(materials if materials is not None else [])
+        if len(ranks) != faces.cell_count:
+            raise ValueError(f"materials has {len(ranks)} values for {faces.cell_count} "
+                             "cells")
     kept = kept_by_clip(mesh, faces, clip)
     adjacency = face_neighbours(faces)
     found = visible_faces(adjacency, kept)
@@ -242,6 +260,9 @@ def draw_mesh3(
         for kind, fill in KIND_FILLS.items():
             palette[int(kind)] = to_rgb(fill)
         base = palette[faces.kinds[owners]]
+    elif colour == "material":
+        fills = np.array([to_rgb(fill) for fill in MATERIAL_FILLS])
+        base = fills[ranks[owners] % len(fills)]
     else:
         base = np.where(cut[:, None], np.array(to_rgb(CUT_FILL)),
                         np.array(to_rgb(SURFACE_FILL)))
@@ -264,11 +285,17 @@ def draw_mesh3(
     if mappable is not None and colorbar:
         ax.figure.colorbar(mappable, ax=ax, shrink=0.7, label="radius ratio (3r/R)")
     counts = kind_counts(faces.kinds)
-    if colour == "kind" and counts:
-        ax.legend(handles=[Patch(facecolor=KIND_FILLS[kind], edgecolor=EDGE_COLOUR,
-                                 label=KIND_PLURALS[kind]) for kind in KIND_ORDER
-                           if KIND_PLURALS[kind] in counts],
-                  loc="upper left", fontsize=8, frameon=False)
+    handles = []
+    if colour == "kind":
+        handles = [Patch(facecolor=KIND_FILLS[kind], edgecolor=EDGE_COLOUR,
+                         label=KIND_PLURALS[kind]) for kind in KIND_ORDER
+                   if KIND_PLURALS[kind] in counts]
+    elif colour == "material":
+        handles = [Patch(facecolor=MATERIAL_FILLS[rank % len(MATERIAL_FILLS)],
+                         edgecolor=EDGE_COLOUR, label=material_label(material, material_names))
+                   for rank, material in enumerate(material_ids)]
+    if handles:
+        ax.legend(handles=handles, loc="upper left", fontsize=8, frameon=False)
     sizes, numbers = np.unique(polygons.sizes[order], return_counts=True)
     return Drawing3(vertices=mesh.vertex_count,
                     tetrahedra=counts.get(KIND_PLURALS[CellKind.TETRA], 0), kept=found.kept,
@@ -276,7 +303,7 @@ def draw_mesh3(
                     cut=int(np.count_nonzero(found.cut)), painted=painted, clip=clip,
                     cells=found.cells, kinds=counts,
                     sizes={int(k): int(n) for k, n in zip(sizes, numbers, strict=True)},
-                    mixed=mixed)
+                    mixed=mixed, legend=tuple(str(h.get_label()) for h in handles))
 
 
 @attrs.frozen(eq=False)
@@ -372,8 +399,9 @@ def plot_mesh3(
     ``overwrite``) when given.
 
     ``options``: ``clip`` (a :class:`~geomexact.viz.scene3d.Clip`, see
-    :func:`~geomexact.viz.scene3d.clip_plane`), ``colour`` (``"plain"``, ``"quality"``
-    or ``"kind"``), ``elevation`` and ``azimuth`` (degrees, default 30 and -60),
+    :func:`~geomexact.viz.scene3d.clip_plane`), ``colour`` (``"plain"``, ``"quality"``,
+    ``"kind"`` or ``"material"``, with ``materials`` and ``material_names``),
+    ``elevation`` and ``azimuth`` (degrees, default 30 and -60),
     ``shrink``, ``colorbar`` (see :func:`draw_mesh3`).  ``size`` inches at ``dpi``
     (default 800 × 600 pixels); the same bytes for the same mesh and options.
 

@@ -1,7 +1,7 @@
 """The 3D viewer page: one self-contained HTML file showing a tetrahedral mesh
 (:class:`~geomexact.mesh3d.snapshot.Mesh3`) or a mixed-cell mesh
 (:class:`~geomexact.mesh3d.mixed.snapshot.MixedMesh3`) with rotation, zoom, shrunk cells, a
-clip plane, colour by quality, cell kind or creating step, and a step slider over a trace;
+clip plane, colour by quality, cell kind, material or creating step, and a step slider over a trace;
 and the arrays both the page and the pictures (:mod:`geomexact.viz.pictures3d`) draw from:
 :func:`tetrahedron_arrays`, :func:`cell_faces` (every cell as its polygon faces),
 :func:`radius_ratios`, :class:`Clip` and :func:`kept_by_clip`.
@@ -13,7 +13,8 @@ uses a prefix), and every tetrahedron that ever existed during the trace once
 alive at step s when ``birth <= s < death``), its radius ratio in 1/255ths (``Uint8Array``,
 display only) and the operation that created it (an index into ``ops``: ``"input"`` first,
 then the sorted operation names).  A mixed mesh's payload adds every cell's kind and its
-faces as outward polygons (CSR arrays).  Exact statistics (volume as a rational's text, digests,
+faces as outward polygons (CSR arrays); a page of materials adds each cell's material
+(an index into the distinct ids).  Exact statistics (volume as a rational's text, digests,
 the clip position) travel as strings.  Specification: ``specs/viewer.md``.
 """
 
@@ -23,6 +24,7 @@ import base64
 import html
 import json
 from array import array
+from collections.abc import Mapping, Sequence
 from fractions import Fraction
 from itertools import chain
 from pathlib import Path
@@ -60,6 +62,25 @@ KIND_ORDER = (CellKind.TETRA, CellKind.PYRAMID, CellKind.WEDGE, CellKind.HEXAHED
 KIND_PLURALS = {CellKind.TETRA: "tetrahedra", CellKind.PYRAMID: "pyramids",
                 CellKind.WEDGE: "wedges", CellKind.HEXAHEDRON: "hexahedra",
                 CellKind.POLYHEDRON: "polyhedra"}
+
+MATERIAL_FILLS = ("#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#b07aa1", "#edc948",
+                  "#76b7b2", "#ff9da7", "#9c755f", "#bab0ac")
+"""The fill of the k-th material in increasing order of id (cycling after the tenth);
+the page uses the same colours."""
+
+
+def material_ranks(materials: np.ndarray | Sequence[int]) -> tuple[list[int], np.ndarray]:
+    """(the distinct material ids, increasing; each cell's index among them): the colour
+    of a cell is ``MATERIAL_FILLS[rank % len(MATERIAL_FILLS)]``."""
+    values = np.asarray(materials, dtype=np.int64).reshape(-1)
+    ids, ranks = np.unique(values, return_inverse=True)
+    return [int(m) for m in ids], ranks.astype(np.int64).reshape(-1)
+
+
+def material_label(material: int, names: Mapping[int, str] | None = None) -> str:
+    """``"material 2"``, or ``"material 2 (oxide)"`` when ``names`` names it."""
+    name = (names or {}).get(material)
+    return f"material {material}" + (f" ({name})" if name else "")
 
 
 def _b64(values: array[Any]) -> str:
@@ -326,20 +347,30 @@ def _b64_array(values: np.ndarray, dtype: str) -> str:
 
 def payload3(mesh: Mesh3D, trace: Trace | None = None, *, title: str = "",
              colour: str | None = None, step: int | None = None,
-             clip: Clip | None = None) -> dict[str, Any]:
+             clip: Clip | None = None, materials: np.ndarray | Sequence[int] | None = None,
+             material_names: Mapping[int, str] | None = None) -> dict[str, Any]:
     """The JSON payload of the 3D page.  With ``trace``, ``mesh`` is the trace's input: it
     is replayed once (every digest checked, :class:`~geomexact.errors.TraceError`
     otherwise) and the payload holds every step; the shown mesh is the last one.
     ``colour``: one of :data:`COLOUR_MODES` for a ``Mesh3`` (default ``"quality"``), of
-    :data:`MIXED_COLOUR_MODES` for a ``MixedMesh3`` (default ``"kind"``).  ``clip``: the
-    clip plane the page starts with (None: none)."""
+    :data:`MIXED_COLOUR_MODES` for a ``MixedMesh3`` (default ``"kind"``), or
+    ``"material"`` with ``materials``.  ``clip``: the clip plane the page starts with
+    (None: none).  ``materials``: each cell's material id (``tetrahedra()`` or
+    ``cell_list()`` order; no trace), named by ``material_names`` where it names them:
+    the payload adds ``materials`` (each cell's index into ``material_ids``, the
+    distinct ids as text, increasing), ``material_names`` and ``material_counts``."""
     from geomexact._version import __version__
 
     if not isinstance(mesh, Mesh3 | MixedMesh3):
         raise TypeError(f"the 3D viewer shows a Mesh3 or a MixedMesh3, not "
                         f"{type(mesh).__name__}")
     mixed = isinstance(mesh, MixedMesh3)
-    modes = MIXED_COLOUR_MODES if mixed else COLOUR_MODES
+    modes: tuple[str, ...] = MIXED_COLOUR_MODES if mixed else COLOUR_MODES
+    if materials is not None:
+        if trace is not None:
+            raise ValueError("materials are a mesh's cells': the page shows them without "
+                             "a trace")
+        modes = (*modes, "material")
     colour = modes[0] if colour is None else colour
     if colour not in modes:
         raise ValueError(f"colour must be one of {', '.join(modes)}, not {colour!r}")
@@ -399,6 +430,19 @@ def payload3(mesh: Mesh3D, trace: Trace | None = None, *, title: str = "",
                 "value": float(clip.position)},
         },
     }
+    if materials is not None:
+        material_ids, ranks = material_ranks(materials)
+        if len(ranks) != faces.cell_count:
+            raise ValueError(f"materials has {len(ranks)} values for {faces.cell_count} "
+                             "cells")
+        named = material_names or {}
+        data.update({
+            "materials": _b64_array(ranks, "<u4"),
+            "material_ids": [str(m) for m in material_ids],
+            "material_names": [named.get(m, "") for m in material_ids],
+            "material_counts": {str(m): int(n) for m, n in zip(
+                material_ids, np.bincount(ranks, minlength=len(material_ids)), strict=True)},
+        })
     if mixed:
         final_kinds = np.array([int(c.kind) for c in final.cell_list()], dtype=np.uint8)
         data.update({
@@ -414,18 +458,23 @@ def payload3(mesh: Mesh3D, trace: Trace | None = None, *, title: str = "",
 
 def viewer_html_3d(mesh: Mesh3D, trace: Trace | None = None, *, title: str = "mesh",
                    colour: str | None = None, step: int | None = None,
-                   clip: Clip | None = None) -> str:
+                   clip: Clip | None = None,
+                   materials: np.ndarray | Sequence[int] | None = None,
+                   material_names: Mapping[int, str] | None = None) -> str:
     """The self-contained 3D viewer page of ``mesh``, a ``Mesh3`` or a ``MixedMesh3``
     (with ``trace``: ``mesh`` is its input and the page has a step slider over every
     intermediate mesh, ``step`` first shown, default the last).  ``colour``: for a
     ``Mesh3`` ``"quality"`` (radius ratio, the default), ``"step"`` (the operation that
     created each tetrahedron) or ``"plain"``; for a ``MixedMesh3`` ``"kind"`` (the
-    default), ``"step"`` or ``"plain"``.  Faces are drawn as their polygons.  ``clip``:
+    default), ``"step"`` or ``"plain"``; with ``materials`` (each cell's material id, no
+    trace: :func:`payload3`) also ``"material"``, a legend listing the ids (and the
+    names ``material_names`` gives).  Faces are drawn as their polygons.  ``clip``:
     the clip plane the page starts with (the page moves it; it decides in doubles).  No
     network request at any time; byte-identical for equal inputs.  Time O(the sum over
     steps of the cells then alive): every step's snapshot is compared with the previous
     one; the page holds each cell once.  ``TypeError`` for any other value."""
-    data = payload3(mesh, trace, title=title, colour=colour, step=step, clip=clip)
+    data = payload3(mesh, trace, title=title, colour=colour, step=step, clip=clip,
+                    materials=materials, material_names=material_names)
     text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
     text = text.replace("<", "\\u003c")
     values = {
@@ -452,6 +501,7 @@ __all__ = [
     "CLIP_AXES",
     "KIND_ORDER",
     "KIND_PLURALS",
+    "MATERIAL_FILLS",
     "MIXED_COLOUR_MODES",
     "TETRAHEDRON_FACES",
     "CellFaces",
@@ -465,6 +515,8 @@ __all__ = [
     "faces_of_tetrahedra",
     "kept_by_clip",
     "kind_counts",
+    "material_label",
+    "material_ranks",
     "mesh_xyz",
     "payload3",
     "radius_ratio",

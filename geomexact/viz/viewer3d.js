@@ -4,6 +4,7 @@
 // hexahedron's six quads, a polyhedron's polygons); each face is filled and outlined as
 // its polygon.  Only the faces that can be seen are drawn: the boundary faces of the cells
 // alive at the step and kept by the clip plane (cached per step and clip), facing the viewer.
+// Faces are coloured by quality, cell kind, creating step, material (a page of materials) or plain.
 "use strict";
 (function () {
   const data = JSON.parse(document.getElementById("geomexact-data").textContent);
@@ -22,6 +23,8 @@
   const quality = decode(data.quality, Uint8Array);  // radius ratio in 1/255ths
   const creator = decode(data.creator, Uint8Array);
   const cellCount = birth.length;
+  // a page of materials: each cell's index into data.material_ids (increasing ids)
+  const materialRank = typeof data.materials === "string" ? decode(data.materials, Uint32Array) : null;
   const vertexCount = xyz.length / 3;
   // a mixed mesh's payload has its cells' kinds and faces; a tetrahedral one has 4 ids per
   // cell, whose faces are made here: the face opposite corner i, oriented outward
@@ -76,6 +79,9 @@
   const KINDS = [[10, "tetrahedra", "#e07a5f"], [14, "pyramids", "#f2cc8f"],
                  [13, "wedges", "#81b29a"], [12, "hexahedra", "#9fbfe0"],
                  [42, "polyhedra", "#b48ad8"]];
+  // the k-th material in increasing order of id, cycling (the pictures' colours)
+  const MATERIAL_FILLS = ["#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#b07aa1", "#edc948",
+                          "#76b7b2", "#ff9da7", "#9c755f", "#bab0ac"];
 
   // every cell's centroid (the mean of its vertices), and the id of each face slot among
   // the distinct faces of every cell of the trace (an open-addressing hash of each face's
@@ -138,10 +144,16 @@
   const QUALITY_COLOURS = Array.from({ length: 256 }, (_, i) => qualityColour(i / 255));
   const OP_RGB = OP_COLOURS.map(hexColour);
   const KIND_RGB = new Map(KINDS.map(([type, , colour]) => [type, hexColour(colour)]));
+  const MATERIAL_RGB = MATERIAL_FILLS.map(hexColour);
+  function materialLabel(i) {
+    const name = (data.material_names || [])[i];
+    return `material ${data.material_ids[i]}` + (name ? ` (${name})` : "");
+  }
   function faceColour(c, cut) {
     if (state.colour === "quality") return QUALITY_COLOURS[quality[c]];
     if (state.colour === "step") return OP_RGB[creator[c] % OP_RGB.length];
     if (state.colour === "kind") return KIND_RGB.get(kinds[c]) || PLAIN;
+    if (state.colour === "material" && materialRank) return MATERIAL_RGB[materialRank[c] % MATERIAL_RGB.length];
     return cut ? CUT : PLAIN;
   }
   function countKinds(flags) {
@@ -151,6 +163,14 @@
     }
     const named = {};
     for (const [type, name] of KINDS) if (counts[type]) named[name] = counts[type];
+    return named;
+  }
+  function countMaterials(flags) {
+    if (!materialRank) return {};
+    const counts = new Array(data.material_ids.length).fill(0);
+    for (let c = 0; c < cellCount; c++) if (flags[c]) counts[materialRank[c]]++;
+    const named = {};
+    data.material_ids.forEach((id, i) => { if (counts[i]) named[id] = counts[i]; });
     return named;
   }
 
@@ -191,7 +211,8 @@
       }
     }
     const result = { alive, kept, cutCount, slots: Uint32Array.from(slots), cut: Uint8Array.from(cut),
-                     aliveKinds: countKinds(aliveCells), keptKinds: countKinds(keptCells) };
+                     aliveKinds: countKinds(aliveCells), keptKinds: countKinds(keptCells),
+                     keptMaterials: countMaterials(keptCells) };
     visibleCache.set(key, result);
     if (visibleCache.size > 8) visibleCache.delete(visibleCache.keys().next().value);
     timings.visible = performance.now() - begun;
@@ -321,6 +342,10 @@
         row(table, "kept, by kind", kept.join(", ") || "none");
       }
     }
+    if (materialRank) {
+      for (const [id, n] of Object.entries(shown.keptMaterials)) row(table, `material ${id}`, `${n} cells`);
+      table.dataset.materials = JSON.stringify(shown.keptMaterials);
+    }
     row(table, state.all ? "faces" : "boundary faces", String(shown.slots.length));
     if (state.clipAxis >= 0) row(table, "faces cut open", String(shown.cutCount));
     row(table, "faces drawn", String(painted));
@@ -358,6 +383,8 @@
     } else if (state.colour === "kind") {
       const present = new Set(kinds);
       for (const [type, name] of KINDS) if (present.has(type)) item(KIND_RGB.get(type), name);
+    } else if (state.colour === "material" && materialRank) {
+      data.material_ids.forEach((_, i) => item(MATERIAL_RGB[i % MATERIAL_RGB.length], materialLabel(i)));
     } else {
       item(PLAIN, "boundary face");
       item(CUT, "face cut open by the clip");
@@ -366,6 +393,7 @@
   // controls: a tetrahedral mesh is coloured by quality, a mixed one by kind
   const colourSelect = document.getElementById("colour");
   colourSelect.querySelector(`option[value="${mixed ? "quality" : "kind"}"]`).remove();
+  if (!materialRank) colourSelect.querySelector('option[value="material"]').remove();
   if (mixed) document.getElementById("all-label").textContent = "all cells";
   colourSelect.value = state.colour;
   colourSelect.addEventListener("change", () => { state.colour = colourSelect.value; showLegend(); draw(); });
