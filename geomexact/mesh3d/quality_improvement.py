@@ -23,12 +23,13 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Iterable
-from itertools import combinations
+from itertools import combinations, pairwise
 from typing import Final
 
 import attrs
 import numpy as np
 
+from geomexact._version import __version__
 from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point3
 from geomexact.mesh3d.ops import (
@@ -42,7 +43,8 @@ from geomexact.mesh3d.ops import (
 from geomexact.mesh3d.quality import dihedral_angles
 from geomexact.mesh3d.snapshot import Face, Mesh3
 from geomexact.mesh3d.transient import Transient3
-from geomexact.trace.record import Trace, trace_of
+from geomexact.trace.record import Trace
+from geomexact.trace.step import Step
 
 __all__ = [
     "FLIP_NAMES",
@@ -109,6 +111,7 @@ class QualityImprovement:
     worst_after: float | None
     failing_before: int
     failing_after: int
+    edge_removals: int
     seconds: float
 
     @property
@@ -159,7 +162,9 @@ def tetrahedron_measures(a: Point3, b: Point3, c: Point3, d: Point3) -> tuple[fl
     circumradius = math.sqrt(_dot(centre, centre)) / abs(2.0 * triple)
     # inradius = 3 V / total area = (|triple| / 2) / (sum of |normal| / 2)
     inradius = abs(triple) / sum(areas)
-    return smallest_angle, 3.0 * inradius / circumradius
+    if not 0.0 < circumradius < math.inf:  # flat in doubles: the centre cancels out
+        return smallest_angle, 0.0
+    return smallest_angle, min(1.0, 3.0 * inradius / circumradius)
 
 
 Vector = tuple[float, float, float]
@@ -180,10 +185,10 @@ def _dot(p: Vector, q: Vector) -> float:
 class _Qualities:
     """The criterion's quality of tetrahedra, by sorted vertex ids, computed once each."""
 
-    __slots__ = ("_cache", "_criterion", "_t")
+    __slots__ = ("_cache", "_criterion", "_mesh")
 
-    def __init__(self, t: Transient3, criterion: QualityCriterion) -> None:
-        self._t = t
+    def __init__(self, mesh: Mesh3, criterion: QualityCriterion) -> None:
+        self._mesh = mesh  # the points: flips add none
         self._criterion = criterion
         self._cache: dict[Key, float] = {}
 
@@ -191,13 +196,10 @@ class _Qualities:
         key: Key = tuple(sorted(vertices))  # type: ignore[assignment]
         value = self._cache.get(key)
         if value is None:
-            points = [self._t.point(vertex) for vertex in key]
+            points = [self._mesh.point(vertex) for vertex in key]
             value = self._criterion.quality(*tetrahedron_measures(*points))
             self._cache[key] = value
         return value
-
-    def forget(self, vertices: Iterable[int]) -> None:
-        self._cache.pop(tuple(sorted(vertices)), None)  # type: ignore[arg-type]
 
 
 def _replaced_and_made(t: Transient3, configuration: FaceConfiguration
@@ -220,7 +222,7 @@ def _replaced_and_made(t: Transient3, configuration: FaceConfiguration
     if kind == FaceKind.T32:
         return ([key(a, b, c, d), key(a, b, c, e), key(u, v, d, e)],
                 [key(w, d, e, x) for x in (u, v)])
-    removed = [key(*tetrahedron) for tetrahedron in t.around_edge(u, v)]
+    removed = _around(t, u, v, w)
     apexes = [w] if kind == FaceKind.T22 else [w, configuration.apex_f]
     return removed, [key(d, e, apex, x) for apex in apexes for x in (u, v)]  # type: ignore[arg-type]
 
@@ -235,30 +237,82 @@ def _interior(t: Transient3, face: Face) -> bool:
     return t.apex(a, b, c) is not None and t.apex(a, c, b) is not None
 
 
+def _ring(t: Transient3, u: int, v: int, w: int) -> tuple[list[int], bool]:
+    """The vertices around the edge uv, in order from the third vertex ``w`` of a
+    tetrahedron on it, and whether they close a ring (an interior edge) — walked across
+    the faces u v x of the face table (cheaper than a vertex's star)."""
+    ring = [w]
+    x = t.apex(u, v, w)
+    while x is not None and x != w:
+        ring.append(x)
+        x = t.apex(u, v, x)
+    if x == w:
+        return ring, True
+    x = t.apex(u, w, v)  # open: walk the other way from w
+    while x is not None:
+        ring.insert(0, x)
+        x = t.apex(u, x, v)
+    return ring, False
+
+
+def _around(t: Transient3, u: int, v: int, w: int) -> list[Key]:
+    """The tetrahedra on the edge uv (sorted vertex ids), from the third vertex ``w``."""
+    ring, closed = _ring(t, u, v, w)
+    pairs = list(pairwise(ring))
+    if closed:
+        pairs.append((ring[-1], ring[0]))
+    return [tuple(sorted((u, v, x, y))) for x, y in pairs]  # type: ignore[misc]
+
+
 def _candidate_faces(t: Transient3, tetrahedron: Key) -> list[Face]:
     """The interior faces whose flip could remove ``tetrahedron``: its own four, then the
-    faces around each of its edges with exactly three tetrahedra; sorted, once each."""
+    faces around each of its edges with exactly three tetrahedra in a closed ring; sorted,
+    once each."""
     faces: set[Face] = set()
     for face in combinations(tetrahedron, 3):
         if _interior(t, face):  # type: ignore[arg-type]
             faces.add(face)  # type: ignore[arg-type]
     for u, v in combinations(tetrahedron, 2):
-        around = t.around_edge(u, v)
-        if len(around) != 3:
-            continue
-        for other in around:
-            for face in combinations(sorted(other), 3):
-                if u in face and v in face and _interior(t, face):  # type: ignore[arg-type]
-                    faces.add(face)  # type: ignore[arg-type]
+        w = next(x for x in tetrahedron if x != u and x != v)
+        ring, closed = _ring(t, u, v, w)
+        if closed and len(ring) == 3:
+            faces.update(tuple(sorted((u, v, x))) for x in ring)  # type: ignore[misc]
     return sorted(faces)
 
 
-def _best_flip(t: Transient3, tetrahedron: Key, quality: _Qualities,
-               allowed: frozenset[FaceKind]) -> tuple[str, Face, list[Key], list[Key]] | None:
-    """The flip that removes ``tetrahedron`` and raises the smallest quality of the
-    tetrahedra it replaces the most (module docstring), or None."""
-    best: tuple[float, str, Face, list[Key], list[Key]] | None = None
-    seen: set[tuple[str, tuple[Key, ...]]] = set()
+Move = tuple[float, tuple[tuple[str, Face], ...], list[Key]]
+"""A candidate: the smallest quality of the tetrahedra it makes, its flip steps (op,
+sorted face) and the tetrahedra it removes."""
+
+MAX_RING: Final = 7
+"""Edge removal is tried on interior edges with 4 to this many tetrahedra around."""
+
+
+def _fan(u: int, v: int, ring: list[int], apex: int) -> tuple[tuple[tuple[str, Face], ...],
+                                                               list[Key]]:
+    """Edge removal of the interior edge uv whose closed ``ring`` is ring, replaced by the
+    fan of triangles from ``ring[apex]``: the flip23 steps across u v p1 … u v p(n-3) then
+    the flip32 at u v p0 (ring rotated to start at the apex), and the tetrahedra made."""
+    p = ring[apex:] + ring[:apex]
+    steps: list[tuple[str, Face]] = [
+        ("flip23", _sorted3(u, v, p[j])) for j in range(1, len(p) - 2)]
+    steps.append(("flip32", _sorted3(u, v, p[0])))
+    made = [tuple(sorted((p[0], p[j], p[j + 1], w)))
+            for j in range(1, len(p) - 1) for w in (u, v)]
+    return tuple(steps), made  # type: ignore[return-value]
+
+
+def _sorted3(a: int, b: int, c: int) -> Face:
+    x, y, z = sorted((a, b, c))
+    return x, y, z
+
+
+def _moves(t: Transient3, tetrahedron: Key, quality: _Qualities,
+           allowed: frozenset[FaceKind], edge_removal: bool) -> list[Move]:
+    """The moves that remove ``tetrahedron`` and raise the smallest quality of the
+    tetrahedra they replace (module docstring), best first (ties: in the order found)."""
+    found: list[Move] = []
+    seen: set[tuple[Key, ...]] = set()
     for face in _candidate_faces(t, tetrahedron):
         configuration = classify_face_in(t, face)
         if configuration.kind not in allowed:
@@ -266,18 +320,33 @@ def _best_flip(t: Transient3, tetrahedron: Key, quality: _Qualities,
         removed, made = _replaced_and_made(t, configuration)
         if tetrahedron not in removed:
             continue
-        op = FLIP_OF_KIND[configuration.kind]
-        identity = (op, tuple(sorted(removed)))
+        identity = tuple(sorted(made))
         if identity in seen:  # the same flip seen from another face
             continue
         seen.add(identity)
         before = min(quality(k) for k in removed)
         after = min(quality(k) for k in made)
-        if after > before and (best is None or after > best[0]):
-            best = (after, op, face, removed, made)
-    if best is None:
-        return None
-    return best[1], best[2], best[3], best[4]
+        if after > before:
+            found.append((after, ((FLIP_OF_KIND[configuration.kind], face),), removed))
+    if edge_removal:
+        for u, v in combinations(tetrahedron, 2):
+            w = next(x for x in tetrahedron if x != u and x != v)
+            ring, closed = _ring(t, u, v, w)
+            if not closed or not 4 <= len(ring) <= MAX_RING:
+                continue
+            removed = _around(t, u, v, w)
+            before = min(quality(k) for k in removed)
+            for apex in range(len(ring)):
+                steps, made = _fan(u, v, ring, apex)
+                identity = tuple(sorted(made))
+                if identity in seen:
+                    continue
+                seen.add(identity)
+                after = min(quality(k) for k in made)
+                if after > before:
+                    found.append((after, steps, removed))
+    order = sorted(range(len(found)), key=lambda index: (-found[index][0], index))
+    return [found[index] for index in order]
 
 
 def _all_tetrahedra(t: Transient3) -> list[Key]:
@@ -303,6 +372,7 @@ def improve_quality(
     region: Region | None = None,
     max_rounds: int = 10,
     boundary: bool = False,
+    edge_removal: bool = True,
     trace: bool = True,
 ) -> QualityImprovement:
     """Flip failing tetrahedra of ``mesh`` that meet ``region`` (all when None) away
@@ -318,46 +388,71 @@ def improve_quality(
     if boundary:
         allowed.add(FaceKind.T22)
     kinds = frozenset(allowed)
-    t = Transient3(mesh, batch=mesh.tetrahedron_count >= 256)
-    quality = _Qualities(t, criterion)
+    t = Transient3(mesh)
+    steps: list[Step] = []
+    digests: list[int] = []
+    quality = _Qualities(mesh, criterion)
 
     def meets(key: Key) -> bool:
-        return region is None or bool(region(tuple(t.point(v) for v in key)))
+        return region is None or bool(region(tuple(mesh.point(v) for v in key)))
 
     def failing() -> list[Key]:
         found = [(quality(key), key) for key in _all_tetrahedra(t)
                  if quality(key) < 1.0 and meets(key)]
         return [key for _, key in sorted(found)]
 
+    def attempt(move: Move) -> bool:
+        """Make the move's steps; a sequence whose intermediate flip is refused (its face
+        not of that kind) is given up, the mesh as before."""
+        nonlocal t
+        moves = move[1]
+        if len(moves) == 1:
+            op, face = moves[0]
+            flip_in(t, op, face)  # classified just before: it applies
+            return True
+        base = t.seal()
+        steps.extend(t.steps)
+        digests.extend(t.step_digests)
+        trial = Transient3(base)
+        try:
+            for op, face in moves:
+                flip_in(trial, op, face)
+        except PreconditionError:
+            t = Transient3(base)
+            return False
+        t = trial
+        return True
+
     counts = dict.fromkeys(FLIP_NAMES, 0)
+    removals = 0
     worst_before = _worst_dihedral(mesh)
     queue = failing()
     failing_before = len(queue)
     rounds = 0
     while queue and rounds < max_rounds:
         rounds += 1
-        flipped = 0
+        changed = 0
         for key in queue:
             if not _exists(t, key):
                 continue  # flipped away this round
-            choice = _best_flip(t, key, quality, kinds)
-            if choice is None:
-                continue
-            op, face, removed, _ = choice
-            flip_in(t, op, face)
-            counts[op] += 1
-            flipped += 1
-            for gone in removed:
-                quality.forget(gone)
-        if not flipped:
+            for move in _moves(t, key, quality, kinds, edge_removal):
+                if attempt(move):
+                    for op, _ in move[1]:
+                        counts[op] += 1
+                    removals += len(move[1]) > 1
+                    changed += 1
+                    break
+        if not changed:
             break
         queue = failing()
     failing_after = len(queue)  # the list after the last round (current)
-    recorded = trace_of(mesh, t, {"operation": "improve_quality",
-                                  "min_dihedral": criterion.min_dihedral,
-                                  "min_radius_ratio": criterion.min_radius_ratio,
-                                  "boundary": boundary, "max_rounds": max_rounds}
-                        ) if trace else None
+    steps.extend(t.steps)
+    digests.extend(t.step_digests)
+    recorded = Trace(mesh.digest, steps, digests, {
+        "operation": "improve_quality", "min_dihedral": criterion.min_dihedral,
+        "min_radius_ratio": criterion.min_radius_ratio, "boundary": boundary,
+        "edge_removal": edge_removal, "max_rounds": max_rounds}, __version__,
+    ) if trace else None
     result = t.seal()
     return QualityImprovement(
         mesh=result,
@@ -368,5 +463,6 @@ def improve_quality(
         worst_after=_worst_dihedral(result),
         failing_before=failing_before,
         failing_after=failing_after,
+        edge_removals=removals,
         seconds=time.perf_counter() - began,
     )
