@@ -12,7 +12,10 @@ doubles; the steps, the mesh and its volume are exact.
 Order (deterministic, no hash order): each round takes the failing tetrahedra that meet
 the region, worst first, ties by their sorted vertex ids; for each one still in the mesh
 the candidate flips that remove it are enumerated (its four faces, then the faces around
-its edges that have three tetrahedra, each classified exactly), the one whose new
+its edges that have three tetrahedra, each classified exactly; with ``edge_removal``
+the removal of each of its interior edges with 4 to 7 tetrahedra around, as the fan from
+each ring vertex: flip23s then a flip32, tried on a fresh transient and dropped when a
+step is refused), the one whose new
 tetrahedra have the largest smallest quality is applied when that beats the replaced
 tetrahedra's smallest quality (ties: the first candidate in (op, sorted face) order).
 Rounds repeat until one applies no flip or ``max_rounds`` is reached.
