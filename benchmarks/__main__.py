@@ -9,8 +9,8 @@ Usage::
 
 Each benchmark runs as its own script (``benchmarks/bench_*.py``, with ``--json``; the
 Polylla experiment prints a table), in a child process, in the same run as its peers
-(Triangle, ``sect``, ``shewchuk``, Gmsh, TetGen: the ``bench`` extra; a peer that is not
-installed is skipped by its benchmark, and the page says which were present).  The Lepp
+(Triangle, ``sect``, ``shewchuk``, Gmsh, TetGen, fTetWild: the ``bench`` extra; a peer that
+is not installed is skipped by its benchmark, and the page says which were present).  The Lepp
 sweep (triangle count against max area, time against triangle count, geomexact against
 Triangle) is run here, in a child process too.  ``--quick`` runs small sizes (a smoke run
 of a minute or two); the default runs each benchmark's own default workloads (many minutes).
@@ -35,7 +35,7 @@ from typing import Any
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-PEERS = ("triangle", "shewchuk", "sect", "gmsh", "tetgen")
+PEERS = ("triangle", "shewchuk", "sect", "gmsh", "tetgen", "pytetwild")
 """The peers' distribution names (the ``bench`` extra)."""
 
 
@@ -71,6 +71,10 @@ BENCHMARKS: tuple[Benchmark, ...] = (
     Benchmark("octree", "bench_octree.py", "Octree meshing against Gmsh and TetGen",
               ("--variants", "surface", "--peers", "gmsh-hxt"), (),
               peers=("gmsh", "tetgen")),
+    Benchmark("domain", "bench_domain.py",
+              "Meshing real surfaces against Gmsh, TetGen and fTetWild",
+              ("--surfaces", "spot", "--levels", "4", "5", "--peers", "gmsh-hxt"), (),
+              peers=("gmsh", "tetgen", "pytetwild")),
     Benchmark("pictures3d", "bench_pictures3d.py", "Pictures of a tetrahedral mesh",
               ("--cubes", "8", "8", "8"), ()),
     Benchmark("commands", "bench_commands.py",
