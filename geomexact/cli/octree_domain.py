@@ -239,12 +239,19 @@ def command_octree_device(args: argparse.Namespace) -> int:
     from geomexact.mesh3d.mixed.cell_data import MixedMeshData
     from geomexact.mesh3d.mixed.conversion import from_tetrahedral
     from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+    from geomexact.mesh3d.mixed.validation import validate_mixed
     from geomexact.mesh3d.octree.device import generate_device, painted_volumes
     from geomexact.mesh3d.quality import quality_summary
     from geomexact.mesh3d.validation import validate3
 
     started = time.perf_counter()
+    final = args.final
+    if final == "delaunay":
+        raise UsageProblem("--final delaunay with --device: the Delaunay final needs equal "
+                           "grid cells; a device takes patterns, mixed or polyhedral")
+    args.final = "patterns"  # the other options are checked as for a domain
     _refused_options(args, "--device")
+    args.final = final
     if args.domain:
         raise UsageProblem("--device and --domain: give one of them")
     for name, given in (("--trace", args.trace), ("--start", args.start),
@@ -257,13 +264,14 @@ def command_octree_device(args: argparse.Namespace) -> int:
     check_outputs(outputs, MixedMesh3, force=args.force)  # the materials need cell data
     device = read_device(args.device)
     level = 0 if args.level is None else args.level
-    run = generate_device(device, level=level, max_edge=args.max_edge)
+    run = generate_device(device, level=level, max_edge=args.max_edge, final=final)
     mesh = run.mesh
-    violations = [str(v) for v in validate3(mesh)]
+    violations = [str(v) for v in (validate3(mesh) if isinstance(mesh, Mesh3) else
+                                   validate_mixed(mesh, check_digest=False))]
     expected = painted_volumes(device)
     names = dict(device.names)
     materials = {
-        str(material): {"name": names.get(material), "tetrahedra": int(
+        str(material): {"name": names.get(material), "cells": int(
             (run.materials == material).sum()), "volume": format_rational(volume),
             "painted_volume": format_rational(expected[material]),
             "exact": volume == expected[material]}
@@ -273,15 +281,22 @@ def command_octree_device(args: argparse.Namespace) -> int:
                              if not v["exact"]]
     written: list[Path] = []
     if args.output and not problems:
-        mixed = from_tetrahedral(mesh)
-        by_cell = {tuple(sorted(t)): int(m) for t, m in zip(
-            mesh.tetrahedra(), run.materials.tolist(), strict=True)}
-        cell_materials = np.array([by_cell[tuple(sorted(cell.vertices))]
-                                   for cell in mixed.cell_list()], dtype=np.int64)
+        if isinstance(mesh, Mesh3):
+            mixed = from_tetrahedral(mesh)
+            by_cell = {tuple(sorted(t)): int(m) for t, m in zip(
+                mesh.tetrahedra(), run.materials.tolist(), strict=True)}
+            cell_materials = np.array([by_cell[tuple(sorted(cell.vertices))]
+                                       for cell in mixed.cell_list()], dtype=np.int64)
+        else:
+            mixed, cell_materials = mesh, np.asarray(run.materials)
         written += write(args.output, MixedMeshData(mixed, {"material": cell_materials}),
                          args.to, overwrite=args.force, numbers=args.numbers)
-    xyz = np.array([[p.fx, p.fy, p.fz] for p in mesh.point_list()], dtype=np.float64)
-    quality = quality_summary(xyz, np.array(mesh.tetrahedra(), dtype=np.int64).reshape(-1, 4))
+    angles: tuple[float | None, float | None] = (None, None)
+    if isinstance(mesh, Mesh3):
+        xyz = np.array([[p.fx, p.fy, p.fz] for p in mesh.point_list()], dtype=np.float64)
+        quality = quality_summary(xyz, np.array(mesh.tetrahedra(),
+                                                dtype=np.int64).reshape(-1, 4))
+        angles = (quality.min_dihedral, quality.max_dihedral)
     bounds = device.bounds()
     report: dict[str, Any] = {
         "device": args.device,
@@ -289,11 +304,12 @@ def command_octree_device(args: argparse.Namespace) -> int:
         "grid": list(run.grid),
         "leaves": run.octree.leaf_count,
         "levels": {str(k): n for k, n in run.octree.levels()},
-        "tetrahedra": mesh.tetrahedron_count,
+        "final": final,
+        "cells": mesh.tetrahedron_count if isinstance(mesh, Mesh3) else mesh.cell_count,
         "vertices": mesh.vertex_count,
         "materials": materials,
-        "min_dihedral": quality.min_dihedral,
-        "max_dihedral": quality.max_dihedral,
+        "min_dihedral": angles[0],
+        "max_dihedral": angles[1],
         "valid": not problems,
         "problems": problems,
         "digest": mesh.digest_text,
@@ -307,11 +323,11 @@ def command_octree_device(args: argparse.Namespace) -> int:
     else:
         title = f"octree mesh of the device {args.device} ({bounds.describe()})"
         print_table(title, {key: report[key] for key in (
-            "grid", "leaves", "tetrahedra", "vertices", "min_dihedral", "max_dihedral",
+            "grid", "leaves", "cells", "vertices", "min_dihedral", "max_dihedral",
             "valid", "digest", "seconds")})
         for material, row in materials.items():
             label = f" ({row['name']})" if row["name"] else ""
-            print(f"  material {material}{label}: {row['tetrahedra']} tetrahedra, volume "
+            print(f"  material {material}{label}: {row['cells']} cells, volume "
                   f"{row['volume']}{' (exact)' if row['exact'] else ''}")
         for problem in problems:
             print(f"  {problem}")

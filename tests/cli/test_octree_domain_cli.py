@@ -134,13 +134,13 @@ def test_a_device_is_meshed_with_its_materials(capsys: pytest.CaptureFixture[str
                           "--json")
     assert code == 0, err
     report = json.loads(text)
-    assert report["valid"] is True and report["grid"] == [4, 4, 4]
+    assert report["valid"] is True and report["grid"] == [3, 3, 3]
     assert {m: (row["volume"], row["exact"]) for m, row in report["materials"].items()} == {
         "1": ("0.5", True), "2": ("0.25", True), "3": ("0.0625", True)}
     read = meshio.read(out)
     materials = np.concatenate([np.asarray(block) for block in read.cell_data["material"]])
     assert sorted(set(materials.tolist())) == [1, 2, 3]
-    assert len(materials) == report["tetrahedra"]
+    assert len(materials) == report["cells"]
     code, text, _ = run(capsys, "octree", "--device", device)
     assert code == 0 and "material 3 (metal)" in text and "(exact)" in text
 

@@ -11,16 +11,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from geomexact.errors import FormatError, PreconditionError
+from geomexact.errors import FormatError
 from geomexact.io.device_file import read_device, write_device
 from geomexact.kernel.numbers import mpq
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.measures import total_volume
 from geomexact.mesh3d.octree.device import (
-    MAX_GRID_CELLS,
     Device,
     DeviceBox,
-    device_grid,
+    device_planes,
     generate_device,
     painted_volumes,
 )
@@ -43,7 +42,7 @@ def test_each_material_has_its_exact_painted_volume() -> None:
     assert run.volumes == painted_volumes(device) == {1: mpq(1, 2), 2: mpq(1, 4),
                                                       3: mpq(1, 16)}
     assert total_volume(run.mesh) == sum(run.volumes.values())
-    assert run.grid == (4, 4, 4) and len(run.materials) == run.mesh.tetrahedron_count
+    assert run.grid == (3, 3, 3) and len(run.materials) == run.mesh.tetrahedron_count
 
 
 def _fraction_volume(points: list[tuple[Fraction, ...]]) -> Fraction:
@@ -81,13 +80,18 @@ def test_space_no_box_covers_is_left_out() -> None:
     assert total_volume(run.mesh) == 2 and run.volumes == {1: 1, 2: 1}
 
 
-def test_a_grid_too_fine_is_refused() -> None:
+def test_a_layer_of_any_rational_thickness_is_fitted_exactly() -> None:
+    """A layer 1/1000 thick (and one 1/3 thick) are rows of grid cells of the rectilinear
+    grid: no grid of equal cubes is needed."""
     thin = Device((DeviceBox(Box((0, 0, 0), (1, 1, 1)), 1),
-                   DeviceBox(Box((0, 0, 1), (1, 1, 1 + mpq(1, 1000))), 2)))
-    assert device_grid(thin)[1] == (1000, 1000, 1001)
-    assert MAX_GRID_CELLS < 1000 * 1000 * 1001
-    with pytest.raises(PreconditionError, match="1000 x 1000 x 1001 cubes"):
-        generate_device(thin)
+                   DeviceBox(Box((0, 0, 1), (1, 1, 1 + mpq(1, 1000))), 2),
+                   DeviceBox(Box((0, 0, 1 + mpq(1, 1000)), (1, mpq(1, 3), 2)), 3)))
+    assert device_planes(thin)[2] == (0, 1, 1 + mpq(1, 1000), 2)
+    run = generate_device(thin, level=1)
+    assert validate3(run.mesh) == []
+    assert run.volumes == painted_volumes(thin) == {1: 1, 2: mpq(1, 1000),
+                                                    3: mpq(1, 3) * (1 - mpq(1, 1000))}
+    assert run.grid == (1, 2, 3)
 
 
 def test_the_device_file_round_trips_and_names_bad_lines(tmp_path: Path) -> None:
@@ -140,3 +144,14 @@ def test_p1_poisson_on_a_device_converges_at_second_order() -> None:
         errors.append(float(np.sqrt(error.assemble(basis, uh=basis.interpolate(u)))))
     rates = [float(np.log2(errors[i - 1] / errors[i])) for i in (1, 2)]
     assert all(rate > 1.8 for rate in rates), (errors, rates)
+
+
+def test_a_thin_layer_is_flat_hexahedra_in_the_mixed_final() -> None:
+    from geomexact.mesh3d.mixed.cells import CellKind
+    from geomexact.mesh3d.mixed.validation import validate_mixed
+
+    run = generate_device(mos(), level=1, final="mixed")
+    assert validate_mixed(run.mesh, volume=mpq(13, 16)) == []  # type: ignore[arg-type]
+    assert {cell.kind for cell in run.mesh.cell_list()} == {CellKind.HEXAHEDRON}  # type: ignore[union-attr]
+    assert run.volumes == painted_volumes(mos())
+    assert len(run.materials) == run.mesh.cell_count  # type: ignore[union-attr]

@@ -10,6 +10,7 @@ from collections.abc import Iterable
 from itertools import product
 from typing import Any, Final
 
+import attrs
 import numpy as np
 
 from geomexact.mesh3d.octree.tree import Cell, Octree, cell_children
@@ -86,7 +87,7 @@ def balance_two_to_one(octree: Octree) -> Octree:
     while True:
         pending = _coarse_targets(octree, leaves)
         if not pending:
-            return Octree(octree.domain, octree.grid, leaves, balanced=True)
+            return attrs.evolve(octree, leaves=leaves, balanced=True)
         nodes = _ancestors(leaves)
         for _, target in sorted(pending):
             _split_down_to(target, leaves, nodes)

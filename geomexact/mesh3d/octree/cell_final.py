@@ -92,36 +92,42 @@ class CellConformity:
 
 
 def _templates(lattice: OctreeLattice, kind: str) -> list[CellTemplate]:
-    """Each leaf's template, by row (each distinct pattern computed once)."""
+    """Each leaf's template, by row (each distinct pattern and leaf shape computed once;
+    a rectilinear grid's cells have several shapes)."""
     if kind not in CELL_FINAL_KINDS:
         raise PreconditionError("octree", f"a cell final is one of {CELL_FINAL_KINDS}, "
                                 f"not {kind!r}")
-    shape = box_of_extents(*lattice.octree.cell_extents(0))
-    found: dict[int, CellTemplate] = {}
-    for pattern in np.unique(lattice.patterns).tolist():
-        found[pattern] = (mixed_template(pattern, shape) if kind == "mixed"
+    octree = lattice.octree
+    if octree.planes is None:
+        shapes = [box_of_extents(*octree.cell_extents(0))] * len(octree.leaves)
+    else:
+        shapes = [box_of_extents(*octree.grid_cell_extents(leaf)) for leaf in octree.leaves]
+    found: dict[tuple[int, object], CellTemplate] = {}
+    templates = []
+    for pattern, shape in zip(lattice.patterns.tolist(), shapes, strict=True):
+        key = (pattern, shape)
+        if key not in found:
+            found[key] = (mixed_template(pattern, shape) if kind == "mixed"
                           else polyhedral_template(pattern, shape))
-    return [found[pattern] for pattern in lattice.patterns.tolist()]
+        templates.append(found[key])
+    return templates
 
 
 def _added_points(lattice: OctreeLattice, templates: list[CellTemplate]) -> list[Point3]:
     """The exact points the leaves' templates add, in leaf order (a template's in its
-    order): half-lattice position p of a leaf of level L is the lattice point
-    low + p * 2**(depth - L - 1)."""
+    order): half-lattice position p of a leaf of level L at corner c is the lattice
+    point c * 2**(depth - L) + p * 2**(depth - L - 1)."""
     rows = [row for row, template in enumerate(templates) if template.points]
     if not rows:
         return []
     cells = np.array(lattice.octree.leaves, dtype=np.int64).reshape(-1, 4)[rows].tolist()
-    size = lattice.size
-    low, extents = lattice.octree.domain.low, lattice.octree.domain.extents
     found = []
     for (level, *corner), row in zip(cells, rows, strict=True):
         half = 1 << (lattice.depth - level - 1)
         for position in templates[row].points:
-            exact = [low[axis] + extents[axis] * (2 * half * corner[axis] + half
-                                                  * position[axis]) / size[axis]
-                     for axis in range(3)]
-            found.append(point3(*exact))
+            found.append(point3(*(lattice.coordinate(axis, 2 * half * corner[axis]
+                                                     + half * position[axis])
+                                  for axis in range(3))))
     return found
 
 

@@ -3,18 +3,18 @@
 
 A :class:`Device` is a list of boxes, each with a material id; where boxes overlap, **the
 later box wins** (the list paints the device in order); space in the bounding box that no
-box covers is not part of the device.  :func:`generate_device` makes the box faces lattice
-planes: the octree starts from a grid of equal cubes whose side is the greatest common
-divisor of every box coordinate's distance from the device's low corner (exact rational
-gcd), so a layer of any rational thickness is a union of leaves; each tetrahedron then
-lies in one grid cube, and its material is the last box holding its centre.  Each
-material's volume is exact and equals the painted volume of its boxes."""
+box covers is not part of the device.  :func:`generate_device` makes the box faces grid
+planes: the octree starts from the *rectilinear* grid whose lines are the boxes'
+coordinates on each axis (:func:`~geomexact.mesh3d.octree.tree.octree_of_planes`), so a
+layer of any rational thickness is a row of grid cells, however thin; each tetrahedron
+then lies in one grid cell, and its material is the last box holding its centre.  Each
+material's volume is exact and equals the painted volume of its boxes.
+"""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import Any, Final, Literal
 
 import attrs
 import numpy as np
@@ -22,26 +22,31 @@ import numpy as np
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import ZERO, Rational, mpq
 from geomexact.mesh3d.cuboid.boxes import Box
+from geomexact.mesh3d.cuboid.cell_templates import relabelled
+from geomexact.mesh3d.mixed.cell_geometry import cell_volume
+from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+from geomexact.mesh3d.mixed.transient import mixed_mesh_from_cells
 from geomexact.mesh3d.octree.criteria import MaxEdgeLength, RefineToMaxLevel
-from geomexact.mesh3d.octree.pipeline import generate
+from geomexact.mesh3d.octree.pipeline import generate, generate_cells
 from geomexact.mesh3d.octree.refinement import MAX_LEVEL
-from geomexact.mesh3d.octree.stages import BoxGrid, RefineWhere
-from geomexact.mesh3d.octree.tree import Octree
+from geomexact.mesh3d.octree.stages import MixedPartition, PolyhedralPartition, RefineWhere
+from geomexact.mesh3d.octree.tree import Octree, octree_of_planes
 from geomexact.mesh3d.snapshot import Mesh3, signed_volume6
 from geomexact.mesh3d.transient import mesh3_from_positive_arrays
 
 __all__ = [
-    "MAX_GRID_CELLS",
+    "DEVICE_FINALS",
     "Device",
     "DeviceBox",
+    "DeviceFinal",
     "DeviceMesh",
-    "device_grid",
+    "device_planes",
     "generate_device",
     "painted_volumes",
 ]
 
-MAX_GRID_CELLS = 1 << 18
-"""The most cubes the exact grid of a device may have (about 1.3 million tetrahedra)."""
+DeviceFinal = Literal["patterns", "mixed", "polyhedral"]
+DEVICE_FINALS: Final[tuple[DeviceFinal, ...]] = ("patterns", "mixed", "polyhedral")
 
 
 @attrs.frozen(slots=True)
@@ -78,7 +83,8 @@ class Device:
 
 @attrs.frozen(slots=True, eq=False)
 class DeviceMesh:
-    """The result of :func:`generate_device`: the ``device``, the ``grid`` of cubes, the
+    """The result of :func:`generate_device`: the ``device``, the ``grid`` (cells per axis
+    of its rectilinear grid), the
     balanced ``octree``, the ``mesh`` (tetrahedra of the device only), the ``materials``
     of its tetrahedra (aligned with ``mesh.tetrahedra()``), each material's exact
     ``volumes`` and the stage ``seconds``."""
@@ -86,32 +92,18 @@ class DeviceMesh:
     device: Device
     grid: tuple[int, int, int]
     octree: Octree
-    mesh: Mesh3
+    mesh: Mesh3 | MixedMesh3
     materials: Any
     volumes: dict[int, Rational]
     seconds: dict[str, float]
 
 
-def _rational_gcd(a: Rational, b: Rational) -> Rational:
-    a, b = mpq(a), mpq(b)
-    numerator = math.gcd(int(a.numerator) * int(b.denominator),
-                         int(b.numerator) * int(a.denominator))
-    return mpq(numerator, int(a.denominator) * int(b.denominator))
-
-
-def device_grid(device: Device) -> tuple[Box, tuple[int, int, int], Rational]:
-    """(the device's bounding box, the grid of equal cubes over it, their side): the side
-    is the gcd of every box coordinate's distance from the low corner, on all axes."""
-    bounds = device.bounds()
-    step = ZERO
-    for item in device.boxes:
-        for corner in (item.box.low, item.box.high):
-            for axis in range(3):
-                distance = corner[axis] - bounds.low[axis]
-                if distance:
-                    step = distance if step == 0 else _rational_gcd(step, distance)
-    grid = tuple(int(extent / step) for extent in bounds.extents)
-    return bounds, (grid[0], grid[1], grid[2]), step
+def device_planes(device: Device) -> tuple[tuple[Rational, ...], ...]:
+    """The grid lines of the device's rectilinear grid: every box coordinate, per axis,
+    sorted."""
+    return tuple(tuple(sorted({c for item in device.boxes
+                               for c in (item.box.low[a], item.box.high[a])}))
+                 for a in range(3))
 
 
 def painted_volumes(device: Device) -> dict[int, Rational]:
@@ -130,52 +122,78 @@ def painted_volumes(device: Device) -> dict[int, Rational]:
 
 
 def generate_device(device: Device, *, level: int = 0, max_edge: Rational | None = None,
+                    final: DeviceFinal = "patterns",
                     on_stage: Callable[[str], None] | None = None) -> DeviceMesh:
-    """The tetrahedral mesh of ``device`` (module docstring): the grid of cubes refined
-    everywhere to ``level`` (or while a leaf's edges are longer than ``max_edge``),
-    balanced, each leaf's pattern tetrahedra; the tetrahedra outside every box left
-    out.  :class:`PreconditionError` when the exact grid would have more than
-    :data:`MAX_GRID_CELLS` cubes."""
+    """The mesh of ``device`` (module docstring): the rectilinear grid of its box
+    coordinates refined everywhere to ``level`` (or while a leaf's edges are longer than
+    ``max_edge``), balanced, each leaf cut by the ``final`` (its pattern tetrahedra, or
+    the mixed or polyhedral cells: a thin layer's flat leaves are then flat hexahedra);
+    the elements outside every box left out."""
     if not device.boxes:
         raise PreconditionError("generate_device", "a device needs one or more boxes")
     if not 0 <= level <= MAX_LEVEL:
         raise PreconditionError("generate_device", f"the level is 0 .. {MAX_LEVEL}, not "
                                 f"{level}")
-    bounds, grid, step = device_grid(device)
-    cells = grid[0] * grid[1] * grid[2]
-    if cells > MAX_GRID_CELLS:
-        raise PreconditionError(
-            "generate_device", f"fitting every box face exactly needs a grid of "
-            f"{grid[0]} x {grid[1]} x {grid[2]} cubes of side {step} (the gcd of the box "
-            f"coordinates), more than {MAX_GRID_CELLS}; give the boxes coordinates with a "
-            "larger common step (cells split along one or two axes only are not built yet)")
+    if final not in DEVICE_FINALS:
+        raise PreconditionError("generate_device", f"the final is one of {DEVICE_FINALS}, "
+                                f"not {final!r}")
+    planes = device_planes(device)
+    bounds = device.bounds()
     criterion: Callable[[Box], bool] = (RefineToMaxLevel() if max_edge is None
                                         else MaxEdgeLength(max_edge))
     deepest = level if max_edge is None or level > 0 else MAX_LEVEL
-    run = generate(bounds, initial=BoxGrid(*grid),
-                   refinement=RefineWhere(deepest, criterion=criterion), trace=False,
-                   on_stage=on_stage)
-    lattice = run.leaf_mesh.lattice
-    points = lattice.exact_points()
-    tetrahedra = np.asarray(run.leaf_mesh.tetrahedra, dtype=np.int64).reshape(-1, 4)
-    materials = np.zeros(len(tetrahedra), dtype=np.int64)
-    for row, tetrahedron in enumerate(tetrahedra.tolist()):
-        corners = [points[v] for v in tetrahedron]
-        centre = tuple(sum((p[a] for p in corners), mpq(0)) / 4 for a in range(3))
-        materials[row] = device.material_at(centre) or 0
-    kept = tetrahedra[materials > 0]
-    used = np.unique(kept)
-    renumber = np.full(len(points), -1, dtype=np.int64)
-    renumber[used] = np.arange(len(used))
-    mesh = mesh3_from_positive_arrays([points[v] for v in used.tolist()], renumber[kept])
-    by_row = {tuple(sorted(row)): m for row, m in zip(renumber[kept].tolist(),
-                                                       materials[materials > 0].tolist(),
-                                                       strict=True)}
-    aligned = np.array([by_row[tuple(sorted(t))] for t in mesh.tetrahedra()], dtype=np.int64)
-    aligned.setflags(write=False)
+    stages: dict[str, Any] = {
+        "initial": lambda _: octree_of_planes(planes),
+        "refinement": RefineWhere(deepest, criterion=criterion), "trace": False,
+        "on_stage": on_stage}
+    if final == "patterns":
+        run = generate(bounds, **stages)
+        points = run.leaf_mesh.lattice.exact_points()
+        tetrahedra = np.asarray(run.leaf_mesh.tetrahedra, dtype=np.int64).reshape(-1, 4)
+        cells: list[Any] = [tuple(t) for t in tetrahedra.tolist()]
+        vertex_lists = cells
+    else:
+        cell_run = generate_cells(bounds, MixedPartition() if final == "mixed"
+                                  else PolyhedralPartition(), **stages)
+        run = cell_run  # type: ignore[assignment]
+        whole = cell_run.mesh
+        points = [whole.point(v) for v in range(whole.vertex_count)]
+        cells = whole.cell_list()
+        vertex_lists = [cell.vertices for cell in cells]
+    materials = []
+    for vertices in vertex_lists:
+        centre = tuple(sum((points[v][a] for v in vertices), mpq(0)) / len(vertices)
+                       for a in range(3))
+        materials.append(device.material_at(centre) or 0)
+    kept = [index for index, material in enumerate(materials) if material]
+    used = sorted({v for index in kept for v in vertex_lists[index]})
+    renumber = {v: i for i, v in enumerate(used)}
+    kept_points = [points[v] for v in used]
     volumes = {m: ZERO for m in device.materials()}
-    for (a, b, c, d), material in zip(mesh.tetrahedra(), aligned.tolist(), strict=True):
-        volumes[material] += signed_volume6(mesh.point(a), mesh.point(b), mesh.point(c),
-                                            mesh.point(d))
-    volumes = {m: v / 6 for m, v in volumes.items()}
-    return DeviceMesh(device, grid, run.octree, mesh, aligned, volumes, dict(run.seconds))
+    if final == "patterns":
+        rows = np.array([[renumber[v] for v in cells[index]] for index in kept],
+                        dtype=np.int64).reshape(-1, 4)
+        tetrahedral = mesh3_from_positive_arrays(kept_points, rows)
+        by_cell = {tuple(sorted(row)): materials[index]
+                   for row, index in zip(rows.tolist(), kept, strict=True)}
+        aligned = np.array([by_cell[tuple(sorted(t))] for t in tetrahedral.tetrahedra()],
+                           dtype=np.int64)
+        for (a, b, c, d), material in zip(tetrahedral.tetrahedra(), aligned.tolist(),
+                                          strict=True):
+            volumes[material] += signed_volume6(tetrahedral.point(a), tetrahedral.point(b),
+                                                tetrahedral.point(c), tetrahedral.point(d)) / 6
+        mesh: Mesh3 | MixedMesh3 = tetrahedral
+    else:
+        renamed = [relabelled(cells[index], [renumber.get(v, -1)
+                                             for v in range(len(points))])
+                   for index in kept]
+        mesh = mixed_mesh_from_cells(kept_points, renamed)
+        by_cell_mixed = {cell: materials[index]
+                         for cell, index in zip(renamed, kept, strict=True)}
+        aligned = np.array([by_cell_mixed[cell] for cell in mesh.cell_list()],
+                           dtype=np.int64)
+        for cell, material in zip(mesh.cell_list(), aligned.tolist(), strict=True):
+            volumes[material] += cell_volume(cell, mesh.vertices)
+    aligned.setflags(write=False)
+    return DeviceMesh(device, run.octree.grid, run.octree, mesh, aligned, volumes,
+                      dict(run.seconds))

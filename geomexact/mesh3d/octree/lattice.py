@@ -61,8 +61,22 @@ class OctreeLattice:
         return int(self.vertices.shape[0])
 
     def unit(self, axis: int) -> Rational:
-        """The exact length of one lattice unit along ``axis``."""
+        """The exact length of one lattice unit along ``axis`` (equal grid cells only)."""
+        if self.octree.planes is not None:
+            raise PreconditionError("octree", "a rectilinear grid's lattice units differ")
         return self.octree.domain.extents[axis] / self.size[axis]  # type: ignore[no-any-return]
+
+    def coordinate(self, axis: int, value: Rational | int) -> Rational:
+        """The exact coordinate along ``axis`` of the lattice coordinate ``value`` (an
+        integer, or a rational strictly inside a grid cell)."""
+        octree = self.octree
+        if octree.planes is None:
+            return octree.domain.low[axis] + octree.domain.extents[axis] * mpq(  # type: ignore[no-any-return]
+                value) / self.size[axis]
+        per = 1 << self.depth
+        cell = min(int(mpq(value) // per), octree.grid[axis] - 1)
+        start, end = octree.planes[axis][cell], octree.planes[axis][cell + 1]
+        return start + (end - start) * (mpq(value) - cell * per) / per  # type: ignore[no-any-return]
 
     def exact_points(self) -> list[Point3]:
         """The vertices' exact coordinates, by id."""
@@ -71,13 +85,9 @@ class OctreeLattice:
     def exact_points_of(self, lattice_points: Any) -> list[Point3]:
         """The exact coordinates of ``lattice_points`` ((n, 3) integers; each distinct
         lattice coordinate is converted once: a lattice has few of them per axis)."""
-        low = self.octree.domain.low
-        extents = self.octree.domain.extents
         columns = []
-        for lo, e, n, column in zip(low, extents, self.size,
-                                    np.asarray(lattice_points).reshape(-1, 3).T.tolist(),
-                                    strict=True):
-            exact = {value: lo + e * mpq(value, n) for value in set(column)}
+        for axis, column in enumerate(np.asarray(lattice_points).reshape(-1, 3).T.tolist()):
+            exact = {value: self.coordinate(axis, value) for value in set(column)}
             doubles = {value: nearest_double(q) for value, q in exact.items()}
             columns.append(([exact[v] for v in column], [doubles[v] for v in column]))
         (xs, fxs), (ys, fys), (zs, fzs) = columns

@@ -48,7 +48,12 @@ def _check_kind(kind: str) -> None:
 
 
 def _shape_box(lattice: OctreeLattice) -> Box:
-    """A box of the leaves' shape (every leaf is one, scaled by a power of two)."""
+    """A box of the leaves' shape (every leaf is one, scaled by a power of two); the
+    Delaunay final needs one shape, so not a rectilinear grid's."""
+    if lattice.octree.planes is not None:
+        raise PreconditionError("octree", "the delaunay final needs equal grid cells; a "
+                                "rectilinear grid takes the patterns, mixed or polyhedral "
+                                "final")
     return box_of_extents(*lattice.octree.cell_extents(0))
 
 

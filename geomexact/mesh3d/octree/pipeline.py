@@ -8,11 +8,13 @@ from collections.abc import Callable
 from typing import Any
 
 import attrs
+import numpy as np
 
 from geomexact.errors import InvalidMeshError, Violation
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.numbers import Rational
 from geomexact.mesh3d.cuboid.boxes import Box
+from geomexact.mesh3d.measures import total_volume
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.octree.cell_final import CellConformity, CellLeafMesh, cell_conformity
 from geomexact.mesh3d.octree.conformity import ConformityReport, lattice_conformity
@@ -26,7 +28,7 @@ from geomexact.mesh3d.octree.stages import (
     LeafMesh,
 )
 from geomexact.mesh3d.octree.tree import Octree
-from geomexact.mesh3d.quality import QualitySummary, lattice_quality
+from geomexact.mesh3d.quality import QualitySummary, lattice_quality, quality_summary
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.record import Trace
 
@@ -67,6 +69,8 @@ class OctreeMesh:
     def volume(self) -> Rational:
         """The exact volume of the tetrahedra (the domain's when conforming)."""
         lattice = self.leaf_mesh.lattice
+        if lattice.octree.planes is not None:
+            return total_volume(self.mesh)
         unit = lattice.unit(0) * lattice.unit(1) * lattice.unit(2)
         return self.conformity.volume(unit)
 
@@ -74,6 +78,9 @@ class OctreeMesh:
         """Dihedral angles and radius-edge ratio (doubles, for display), right for any
         box (:func:`~geomexact.mesh3d.quality.lattice_quality`)."""
         lattice = self.leaf_mesh.lattice
+        if lattice.octree.planes is not None:
+            points = np.array([[p.fx, p.fy, p.fz] for p in self.mesh.point_list()])
+            return quality_summary(points, self.leaf_mesh.tetrahedra)
         units = [lattice.unit(axis) for axis in range(3)]
         return lattice_quality(lattice.vertices, units, self.leaf_mesh.tetrahedra)
 

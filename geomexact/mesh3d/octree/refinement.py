@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import attrs
+
 from geomexact.errors import PreconditionError
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.octree.tree import Cell, Octree, cell_children, cell_parent
@@ -36,7 +38,7 @@ def refine_octree(octree: Octree, criterion: Callable[[Box], bool],
                     continue
             leaves.append(cell)
         pending = following
-    return Octree(octree.domain, octree.grid, leaves)
+    return attrs.evolve(octree, leaves=leaves, balanced=False)
 
 
 def derefine_octree(octree: Octree, accepts: Callable[[Box], bool],
@@ -58,4 +60,4 @@ def derefine_octree(octree: Octree, accepts: Callable[[Box], bool],
             if len(children) == 8 and accepts(octree.cell_box(parent)):
                 leaves.difference_update(children)
                 leaves.add(parent)
-    return Octree(octree.domain, octree.grid, leaves)
+    return attrs.evolve(octree, leaves=leaves, balanced=False)
