@@ -45,6 +45,17 @@ def _exact(text: str) -> Any:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
+def _degrees(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of degrees") from None
+    if not 0 < value < 70.5:
+        raise argparse.ArgumentTypeError(f"a dihedral angle bound is between 0 and 70.5 "
+                                         f"degrees, not {text}")
+    return value
+
+
 def _output_format(path: str | None, to: str | None) -> str | None:
     """``--to``, or the Geomview OFF of tetrahedra for an ``.off`` output (the 2D OFF
     format holds triangles only)."""
@@ -200,7 +211,8 @@ def _octree(args: argparse.Namespace) -> int:
 
         return command_octree_domain(args)
     for name, given in (("--interior-level", args.interior_level), ("--band", args.band),
-                        ("--no-warp", args.no_warp)):
+                        ("--no-warp", args.no_warp),
+                        ("--improve-quality", args.improve_quality is not None)):
         if given:
             raise UsageProblem(f"{name} applies to --domain, which was not given")
     if args.box is None:
@@ -399,6 +411,9 @@ def add_parser(commands: Subcommands) -> None:
     octree.add_argument("--band", type=rational_argument, default=0, metavar="D",
                         help="with --domain: refine to --level where a leaf is within D of "
                         "a triangle's bounding box (default 0)")
+    octree.add_argument("--improve-quality", type=_degrees, metavar="DEG",
+                        help="with --domain: then flip tetrahedra (exact steps, the "
+                        "boundary kept) while that raises any dihedral angle below DEG")
     octree.add_argument("--no-warp", action="store_true",
                         help="with --domain: keep every vertex off the surface where it "
                         "is (no snapping; thinner tetrahedra)")

@@ -24,7 +24,7 @@ from geomexact.kernel.numbers import format_rational
 from geomexact.mesh3d.snapshot import Mesh3
 
 STAGES = ("surfaces", "index", "initial", "refinement", "improvement", "final", "conformity",
-          "fit", "enclosed volume", "trace")
+          "fit", "enclosed volume", "quality", "trace")
 DEFAULT_LEVEL = 5
 
 
@@ -101,6 +101,7 @@ def command_octree_domain(args: argparse.Namespace) -> int:
     from geomexact.mesh3d.octree.domain import generate_domain, merged_surface
     from geomexact.mesh3d.octree.domain_fit import WARP_FRACTION
     from geomexact.mesh3d.quality import quality_summary
+    from geomexact.mesh3d.quality_improvement import QualityCriterion
     from geomexact.mesh3d.surface.queries import surface_index
     from geomexact.mesh3d.validation import validate3
 
@@ -133,9 +134,11 @@ def command_octree_domain(args: argparse.Namespace) -> int:
             bar(STAGES.index(name), len(STAGES))
 
     try:
+        criterion = (None if args.improve_quality is None
+                     else QualityCriterion(min_dihedral=args.improve_quality))
         run = generate_domain(surfaces, level=level, interior_level=interior,
                               max_edge=args.max_edge, band=args.band, box=box,
-                              warp=None if args.no_warp else WARP_FRACTION,
+                              warp=None if args.no_warp else WARP_FRACTION, quality=criterion,
                               trace=bool(args.trace), on_stage=on_stage)
     except ValueError as error:  # pragma: no cover - a PreconditionError is one
         raise UsageProblem(str(error)) from None
@@ -160,7 +163,7 @@ def command_octree_domain(args: argparse.Namespace) -> int:
         if args.start and run.start is not None:
             from geomexact.mesh3d.transient import mesh3_from_positive_arrays
 
-            start = mesh3_from_positive_arrays(
+            start = run.start if isinstance(run.start, Mesh3) else mesh3_from_positive_arrays(
                 [run.start.point(v) for v in range(run.start.vertex_count)], ())
             written += write(args.start, start, None, overwrite=args.force, numbers="exact")
         if args.output:
@@ -190,6 +193,14 @@ def command_octree_domain(args: argparse.Namespace) -> int:
         "surface_vertices": len(run.fit.surface_vertices),
         "cut_points": run.fit.cut_points,
         "warped": run.fit.warped,
+        "improvement": None if run.improvement is None else {
+            "min_dihedral": args.improve_quality, "flips": run.improvement.flip_count,
+            "edge_removals": run.improvement.edge_removals,
+            "rounds": run.improvement.rounds,
+            "worst_before": run.improvement.worst_before,
+            "worst_after": run.improvement.worst_after,
+            "failing_before": run.improvement.failing_before,
+            "failing_after": run.improvement.failing_after},
         "min_dihedral": quality.min_dihedral,
         "max_dihedral": quality.max_dihedral,
         "max_radius_edge": quality.max_radius_edge,

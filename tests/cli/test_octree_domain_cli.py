@@ -157,3 +157,26 @@ def test_device_refusals_write_nothing(capsys: pytest.CaptureFixture[str],
     code, _, err = run(capsys, "octree", "--device", device, "--trace", tmp_path / "t")
     assert code == 2 and "--trace" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d.device"]
+
+
+def test_quality_improvement_is_traced_from_the_fitted_mesh(
+        capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    path = write_obj(tmp_path / "part.obj", notched_box())
+    out, trace, start = tmp_path / "q.ele", tmp_path / "q.trace", tmp_path / "fit.ele"
+    code, text, err = run(capsys, "octree", "--domain", path, "--level", "4", "--no-warp",
+                          "--improve-quality", "15", "-o", out, "--exact", "--trace", trace,
+                          "--start", start, "--json")
+    assert code == 0, err
+    report = json.loads(text)
+    improvement = report["improvement"]
+    assert improvement["flips"] > 0 and improvement["worst_after"] >= improvement["worst_before"]
+    assert improvement["failing_after"] < improvement["failing_before"]
+    assert report["valid"] and report["boundary_on_surface"]
+    code, text, _ = run(capsys, "octree", "--domain", path, "--level", "4", "--no-warp",
+                        "--json")
+    assert json.loads(text)["volume"] == report["volume"]  # flips keep the volume exactly
+    code, _, err = run(capsys, "replay", start, trace, "-o", tmp_path / "r.ele", "--exact")
+    assert code == 0, err
+    assert (tmp_path / "r.ele").read_bytes() == out.read_bytes()
+    code, _, err = run(capsys, "octree", "--improve-quality", "15")
+    assert code == 2 and "--domain" in err

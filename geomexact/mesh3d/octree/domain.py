@@ -38,6 +38,11 @@ from geomexact.mesh3d.octree.pipeline import generate
 from geomexact.mesh3d.octree.refinement import MAX_LEVEL
 from geomexact.mesh3d.octree.stages import RefineWhere
 from geomexact.mesh3d.octree.tree import Octree
+from geomexact.mesh3d.quality_improvement import (
+    QualityCriterion,
+    QualityImprovement,
+    improve_quality,
+)
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.mesh3d.surface.queries import INSIDE, SurfaceIndex, surface_index
 from geomexact.mesh3d.surface.value import TriangleSurface, triangle_surface
@@ -49,8 +54,10 @@ __all__ = ["DomainMesh", "domain_box", "enclosed_volume", "generate_domain", "me
 @attrs.frozen(slots=True, eq=False)
 class DomainMesh:
     """The result of :func:`generate_domain`: the ``surfaces``, the ``box`` meshed, the
-    balanced ``octree``, the ``fit`` (its ``mesh``), the exact ``enclosed_volume`` of the
-    domain, the stage ``seconds`` and, when recorded, ``start`` and ``trace``."""
+    balanced ``octree``, the ``fit``, the exact ``enclosed_volume`` of the domain, the
+    stage ``seconds``, the quality ``improvement`` when asked and, when recorded,
+    ``start`` and ``trace`` (of the fit from its vertices, or, after an improvement, of
+    the improvement from the fitted mesh)."""
 
     surfaces: tuple[TriangleSurface, ...]
     box: Box
@@ -58,12 +65,14 @@ class DomainMesh:
     fit: SurfaceFit
     enclosed_volume: Rational
     seconds: dict[str, float]
-    start: MixedMesh3 | None = None
+    start: MixedMesh3 | Mesh3 | None = None
     trace: Trace | None = None
+    improvement: QualityImprovement | None = None
 
     @property
     def mesh(self) -> Mesh3:
-        return self.fit.mesh
+        """The fitted mesh, after the quality improvement when one was asked."""
+        return self.fit.mesh if self.improvement is None else self.improvement.mesh
 
 
 def domain_box(surfaces: Sequence[TriangleSurface]) -> Box:
@@ -132,12 +141,15 @@ def generate_domain(
     band: Rational | int = 0,
     box: Box | None = None,
     warp: Rational | None = WARP_FRACTION,
+    quality: QualityCriterion | None = None,
     trace: bool = False,
     on_stage: Callable[[str], None] | None = None,
 ) -> DomainMesh:
     """The tetrahedral mesh of the domain the ``surfaces`` bound (module docstring).
     ``box``: the cube to mesh (default :func:`domain_box`), which must hold every surface
-    strictly inside."""
+    strictly inside.  With ``quality``, the fitted mesh is then improved by exact flips
+    that keep its boundary (:func:`~geomexact.mesh3d.quality_improvement.
+    improve_quality`)."""
     if not surfaces:
         raise PreconditionError("generate_domain", "a domain needs one or more surfaces")
     if not 0 <= interior_level <= level <= MAX_LEVEL:
@@ -180,8 +192,14 @@ def generate_domain(
         fit = timed("fit", fit_to_surface, lattice.exact_points(), run.leaf_mesh.tetrahedra,
                     index, warp=warp)
         volume = timed("enclosed volume", enclosed_volume, surfaces)
-        start = recorded = None
-        if trace:
+        start: MixedMesh3 | Mesh3 | None = None
+        recorded = None
+        improvement = None
+        if quality is not None:
+            improvement = timed("quality", improve_quality, fit.mesh, quality, trace=trace)
+            if trace:
+                start, recorded = fit.mesh, improvement.trace
+        elif trace:
             mesh = fit.mesh
             cells = [standard_cell(CellKind.TETRA, tetrahedron)
                      for tetrahedron in mesh.tetrahedra()]
@@ -191,4 +209,4 @@ def generate_domain(
                                         "interior_level": interior_level,
                                         "surfaces": [surface.name for surface in surfaces]})
         return DomainMesh(tuple(surfaces), cube, run.octree, fit, volume, seconds, start,
-                          recorded)
+                          recorded, improvement)
