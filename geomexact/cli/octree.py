@@ -56,6 +56,17 @@ def _degrees(text: str) -> float:
     return value
 
 
+def _angle(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of degrees") from None
+    if not 0 < value < 180:
+        raise argparse.ArgumentTypeError(f"an angle between normals is between 0 and 180 "
+                                         f"degrees, not {text}")
+    return value
+
+
 def _output_format(path: str | None, to: str | None) -> str | None:
     """``--to``, or the Geomview OFF of tetrahedra for an ``.off`` output (the 2D OFF
     format holds triangles only)."""
@@ -212,7 +223,8 @@ def _octree(args: argparse.Namespace) -> int:
         return command_octree_domain(args)
     for name, given in (("--interior-level", args.interior_level), ("--band", args.band),
                         ("--no-warp", args.no_warp),
-                        ("--improve-quality", args.improve_quality is not None)):
+                        ("--improve-quality", args.improve_quality is not None),
+                        ("--feature-angle", args.feature_angle is not None)):
         if given:
             raise UsageProblem(f"{name} applies to --domain, which was not given")
     if args.box is None:
@@ -411,6 +423,10 @@ def add_parser(commands: Subcommands) -> None:
     octree.add_argument("--band", type=rational_argument, default=0, metavar="D",
                         help="with --domain: refine to --level where a leaf is within D of "
                         "a triangle's bounding box (default 0)")
+    octree.add_argument("--feature-angle", type=_angle, metavar="DEG",
+                        help="with --domain: refine a leaf at the surface only while the "
+                        "surface's normals inside it differ by more than DEG (curved parts "
+                        "and creases fine, flat parts coarse)")
     octree.add_argument("--improve-quality", type=_degrees, metavar="DEG",
                         help="with --domain: then flip tetrahedra (exact steps, the "
                         "boundary kept) while that raises any dihedral angle below DEG")

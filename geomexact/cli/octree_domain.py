@@ -138,6 +138,7 @@ def command_octree_domain(args: argparse.Namespace) -> int:
                      else QualityCriterion(min_dihedral=args.improve_quality))
         run = generate_domain(surfaces, level=level, interior_level=interior,
                               max_edge=args.max_edge, band=args.band, box=box,
+                              feature_angle=args.feature_angle,
                               warp=None if args.no_warp else WARP_FRACTION, quality=criterion,
                               trace=bool(args.trace), on_stage=on_stage)
     except ValueError as error:  # pragma: no cover - a PreconditionError is one
@@ -267,7 +268,9 @@ def command_octree_device(args: argparse.Namespace) -> int:
         raise UsageProblem("--device and --domain: give one of them")
     for name, given in (("--trace", args.trace), ("--start", args.start),
                         ("--voronoi", args.voronoi), ("--interior-level", args.interior_level),
-                        ("--band", args.band), ("--no-warp", args.no_warp)):
+                        ("--band", args.band), ("--no-warp", args.no_warp),
+                        ("--feature-angle", args.feature_angle is not None),
+                        ("--improve-quality", args.improve_quality is not None)):
         if given:
             raise UsageProblem(f"{name} does not apply to --device yet")
     outputs = [("-o", args.output, args.to)]

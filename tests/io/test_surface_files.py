@@ -236,10 +236,13 @@ def _big_obj(path: Path, side: int) -> int:
 
 
 _PEAK_SCRIPT = """
-import resource, sys
+import re, sys
+from pathlib import Path
 from geomexact.io.surface_files import read_surface
 surface = read_surface(sys.argv[1])
-print(surface.triangle_count, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+# VmHWM, not ru_maxrss: the latter survives exec, so it would count the forked parent
+peak = re.search(r"VmHWM:\\s+(\\d+) kB", Path("/proc/self/status").read_text()).group(1)
+print(surface.triangle_count, peak)
 """
 
 

@@ -132,6 +132,33 @@ def _near(index: SurfaceIndex, band: Rational) -> Callable[[Box], bool]:
     return region
 
 
+def _normals(surface: TriangleSurface) -> Any:
+    """Each triangle's unit normal, in doubles (for the feature criterion only)."""
+    xyz = np.array([[p.fx, p.fy, p.fz] for p in surface.points], dtype=np.float64)
+    a, b, c = (xyz[surface.triangles[:, k]] for k in range(3))
+    normals = np.cross(b - a, c - a)
+    lengths = np.linalg.norm(normals, axis=1)
+    return normals / np.where(lengths > 0, lengths, 1.0)[:, None]
+
+
+def _featured(index: SurfaceIndex, feature_angle: float) -> Callable[[Box], bool]:
+    """A leaf holds a feature of the surface when the triangles meeting its box have
+    normals more than ``feature_angle`` degrees apart: curvature or a crease at the
+    leaf's size (the seed's ``Is_fulfilled(mesh, element)`` on the geometry).  Decided in
+    doubles: it only chooses where to refine."""
+    normals = _normals(index.surface)
+    bound = float(np.cos(np.radians(feature_angle)))
+
+    def holds_feature(box: Box) -> bool:
+        near = index.near(box.low, box.high)
+        if len(near) < 2:
+            return False
+        found = normals[near]
+        return bool((found @ found.T).min() < bound)
+
+    return holds_feature
+
+
 def generate_domain(
     surfaces: Sequence[TriangleSurface],
     *,
@@ -139,6 +166,7 @@ def generate_domain(
     interior_level: int = 0,
     max_edge: Rational | None = None,
     band: Rational | int = 0,
+    feature_angle: float | None = None,
     box: Box | None = None,
     warp: Rational | None = WARP_FRACTION,
     quality: QualityCriterion | None = None,
@@ -147,9 +175,12 @@ def generate_domain(
 ) -> DomainMesh:
     """The tetrahedral mesh of the domain the ``surfaces`` bound (module docstring).
     ``box``: the cube to mesh (default :func:`domain_box`), which must hold every surface
-    strictly inside.  With ``quality``, the fitted mesh is then improved by exact flips
-    that keep its boundary (:func:`~geomexact.mesh3d.quality_improvement.
-    improve_quality`)."""
+    strictly inside.  With ``feature_angle``, a leaf meeting the surface is split past
+    ``interior_level`` only while the surface's normals inside it differ by more than
+    that many degrees (refinement by the local feature of the surface: curved parts and
+    creases get small leaves, flat parts large ones).  With ``quality``, the fitted mesh
+    is then improved by exact flips that keep its boundary
+    (:func:`~geomexact.mesh3d.quality_improvement.improve_quality`)."""
     if not surfaces:
         raise PreconditionError("generate_domain", "a domain needs one or more surfaces")
     if not 0 <= interior_level <= level <= MAX_LEVEL:
@@ -178,6 +209,14 @@ def generate_domain(
         criterion: Callable[[Box], bool] = (RefineToMaxLevel() if max_edge is None
                                             else MaxEdgeLength(max_edge))
         near = _near(index, mpq(band))
+        if feature_angle is not None:
+            if not 0 < feature_angle < 180:
+                raise PreconditionError("generate_domain", f"the feature angle is between 0 "
+                                        f"and 180 degrees, not {feature_angle}")
+            featured, plain_near = _featured(index, feature_angle), near
+
+            def near(box: Box) -> bool:
+                return plain_near(box) and featured(box)
 
         def within_bounds(leaf: Box) -> bool:
             return all(leaf.low[a] <= high[a] and low[a] <= leaf.high[a] for a in range(3))
