@@ -69,6 +69,7 @@ Targets are ratios to peers measured in the same run, never absolute times.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import itertools
 import json
 import math
@@ -329,7 +330,9 @@ def work_ftetwild(spec: dict[str, Any]) -> dict[str, Any]:
     size = spec["size"]
     tetrahedralize, version = _ftetwild()
     wall, cpu = _clock()
-    nodes, elements = tetrahedralize(points, faces, edge_length_abs=size, num_threads=1)
+    # fTetWild writes __tracked_surface.stl into the working folder: give it a scratch one
+    with tempfile.TemporaryDirectory() as scratch, contextlib.chdir(scratch):
+        nodes, elements = tetrahedralize(points, faces, edge_length_abs=size, num_threads=1)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     written = _write(spec, nodes, elements)
     report = {"tetrahedra": len(elements), "vertices": len(nodes), "seconds": wall,

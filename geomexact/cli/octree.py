@@ -8,6 +8,7 @@ import argparse
 import math
 import resource
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -45,26 +46,38 @@ def _exact(text: str) -> Any:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
-def _degrees(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number of degrees") from None
-    if not 0 < value < 70.5:
-        raise argparse.ArgumentTypeError(f"a dihedral angle bound is between 0 and 70.5 "
-                                         f"degrees, not {text}")
-    return value
+def degrees_below(bound: float, meaning: str) -> Callable[[str], float]:
+    """An argparse type: a number of degrees strictly between 0 and ``bound``."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number of degrees") from None
+        if not 0 < value < bound:
+            raise argparse.ArgumentTypeError(f"{meaning} is between 0 and {bound:g} degrees, "
+                                             f"not {text}")
+        return value
+
+    return parse
 
 
-def _angle(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number of degrees") from None
-    if not 0 < value < 180:
-        raise argparse.ArgumentTypeError(f"an angle between normals is between 0 and 180 "
-                                         f"degrees, not {text}")
-    return value
+def run_report(mesh: Any, trace: Any, seconds: dict[str, float], started: float,
+               written: list[Path], volumes: Any) -> dict[str, Any]:
+    """The keys every octree run reports last: digest, steps, stage and whole seconds,
+    peak memory, the files written, the control volumes."""
+    return {
+        "digest": mesh.digest_text,
+        "steps": None if trace is None else len(trace),
+        "stage_seconds": {name: round(value, 4) for name, value in seconds.items()},
+        "seconds": round(time.perf_counter() - started, 4),
+        "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+        "written": [str(path) for path in written],
+        "voronoi": None if volumes is None else {
+            "vertices": len(volumes.volumes), "faces": len(volumes.faces),
+            "inadequate_faces": len(volumes.inadequate_edges()),
+            "total": format_rational(volumes.total)},
+    }
 
 
 def _output_format(path: str | None, to: str | None) -> str | None:
@@ -326,18 +339,7 @@ def _octree(args: argparse.Namespace) -> int:
             "boundary_faces": run.conformity.boundary_faces,
             "volume": format_rational(run.volume),
         }
-    report |= {
-        "digest": run.mesh.digest_text,
-        "steps": None if run.trace is None else len(run.trace),
-        "stage_seconds": {name: round(value, 4) for name, value in run.seconds.items()},
-        "seconds": round(time.perf_counter() - started, 4),
-        "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-        "written": [str(path) for path in written],
-        "voronoi": None if volumes is None else {
-            "vertices": len(volumes.volumes), "faces": len(volumes.faces),
-            "inadequate_faces": len(volumes.inadequate_edges()),
-            "total": format_rational(volumes.total)},
-    }
+    report |= run_report(run.mesh, run.trace, run.seconds, started, written, volumes)
     if args.json:
         print_json({key: _json_number(value) for key, value in report.items()})
     else:
@@ -423,11 +425,13 @@ def add_parser(commands: Subcommands) -> None:
     octree.add_argument("--band", type=rational_argument, default=0, metavar="D",
                         help="with --domain: refine to --level where a leaf is within D of "
                         "a triangle's bounding box (default 0)")
-    octree.add_argument("--feature-angle", type=_angle, metavar="DEG",
+    octree.add_argument("--feature-angle", metavar="DEG",
+                        type=degrees_below(180, "an angle between normals"),
                         help="with --domain: refine a leaf at the surface only while the "
                         "surface's normals inside it differ by more than DEG (curved parts "
                         "and creases fine, flat parts coarse)")
-    octree.add_argument("--improve-quality", type=_degrees, metavar="DEG",
+    octree.add_argument("--improve-quality", metavar="DEG",
+                        type=degrees_below(70.5, "a dihedral angle bound"),
                         help="with --domain: then flip tetrahedra (exact steps, the "
                         "boundary kept) while that raises any dihedral angle below DEG")
     octree.add_argument("--no-warp", action="store_true",

@@ -16,6 +16,7 @@ import numpy as np
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.memory import BYTES_PER_TETRAHEDRON, active_budget
+from geomexact.cli.octree import control_volumes_or_refuse, run_report
 from geomexact.cli.progress import progress_bar
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
@@ -156,8 +157,6 @@ def command_octree_domain(args: argparse.Namespace) -> int:
                             run.fit.unfit[:3]]
     volumes = None
     if args.voronoi and not problems:
-        from geomexact.cli.octree import control_volumes_or_refuse
-
         volumes = control_volumes_or_refuse(mesh)
     written: list[Path] = []
     if not problems:
@@ -212,16 +211,7 @@ def command_octree_domain(args: argparse.Namespace) -> int:
         "volume": format_rational(volume),
         "enclosed_volume": format_rational(run.enclosed_volume),
         "volume_error": abs(float((volume - run.enclosed_volume) / run.enclosed_volume)),
-        "digest": mesh.digest_text,
-        "steps": None if run.trace is None else len(run.trace),
-        "stage_seconds": {name: round(value, 4) for name, value in run.seconds.items()},
-        "seconds": round(time.perf_counter() - started, 4),
-        "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-        "written": [str(path) for path in written],
-        "voronoi": None if volumes is None else {
-            "vertices": len(volumes.volumes), "faces": len(volumes.faces),
-            "inadequate_faces": len(volumes.inadequate_edges()),
-            "total": format_rational(volumes.total)},
+        **run_report(mesh, run.trace, run.seconds, started, written, volumes),
     }
     if args.json:
         print_json(report)

@@ -9,17 +9,10 @@ from pathlib import Path
 
 import pytest
 from helpers.command import run
+from helpers.device_cases import MOS_DEVICE
 
 pytest.importorskip("meshio")
 
-MOS_DEVICE = """geomexact-device 1
-material 1 silicon
-material 2 oxide
-material 3 metal
-box 0 0 0 1 1 0.5 1
-box 0 0 0.5 1 1 0.75 2
-box 0.25 0.25 0.75 0.75 0.75 1 3
-"""
 VOLUMES = {"1": Fraction(1, 2), "2": Fraction(1, 4), "3": Fraction(1, 16)}
 
 

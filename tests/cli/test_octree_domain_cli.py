@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.command import run
+from helpers.device_cases import MOS_DEVICE
 from helpers.surface_cases import cube, notched_box, torus, write_obj, write_off
 
 from geomexact import io
@@ -113,22 +114,13 @@ def test_spot_is_meshed(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> N
     assert report["volume_error"] < 0.1
 
 
-DEVICE = """geomexact-device 1
-# substrate, oxide, gate
-material 1 silicon
-material 2 oxide
-material 3 metal
-box 0 0 0 1 1 0.5 1
-box 0 0 0.5 1 1 0.75 2
-box 0.25 0.25 0.75 0.75 0.75 1 3
-"""
 
 
 def test_a_device_is_meshed_with_its_materials(capsys: pytest.CaptureFixture[str],
                                                tmp_path: Path) -> None:
     meshio = pytest.importorskip("meshio")
     device = tmp_path / "mos.device"
-    device.write_text(DEVICE)
+    device.write_text(MOS_DEVICE)
     out = tmp_path / "mos.vtu"
     code, text, err = run(capsys, "octree", "--device", device, "--level", "1", "-o", out,
                           "--json")
@@ -148,10 +140,10 @@ def test_a_device_is_meshed_with_its_materials(capsys: pytest.CaptureFixture[str
 def test_device_refusals_write_nothing(capsys: pytest.CaptureFixture[str],
                                        tmp_path: Path) -> None:
     device = tmp_path / "d.device"
-    device.write_text(DEVICE.replace("0.75 0.75 1 3", "0.75 0.75 0.75 3"))
+    device.write_text(MOS_DEVICE.replace("0.75 0.75 1 3", "0.75 0.75 0.75 3"))
     code, _, err = run(capsys, "octree", "--device", device, "-o", tmp_path / "o.vtu")
     assert code == 2 and "d.device:8" in err and "Z0 < Z1" in err
-    device.write_text(DEVICE)
+    device.write_text(MOS_DEVICE)
     code, _, err = run(capsys, "octree", "--device", device, "-o", tmp_path / "o.ele")
     assert code == 2 and "not a mixed mesh" in err
     code, _, err = run(capsys, "octree", "--device", device, "--trace", tmp_path / "t")

@@ -12,20 +12,13 @@ from typing import Any
 
 import pytest
 from helpers.chromium import canvas_image, canvas_inked, open_offline_page
+from helpers.device_cases import MOS_DEVICE
 
 from geomexact.cli import main
 
 pytestmark = pytest.mark.browser
 
 ARTIFACTS = Path(__file__).resolve().parents[2] / "artifacts" / "browser"
-MOS_DEVICE = """geomexact-device 1
-material 1 silicon
-material 2 oxide
-material 3 metal
-box 0 0 0 1 1 0.5 1
-box 0 0 0.5 1 1 0.75 2
-box 0.25 0.25 0.75 0.75 0.75 1 3
-"""
 MATERIALS = ("1", "2", "3")
 
 
