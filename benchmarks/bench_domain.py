@@ -75,16 +75,16 @@ import json
 import math
 import os
 import platform
-import subprocess
 import sys
 import tempfile
-import threading
 import time
 from collections.abc import Callable
 from fractions import Fraction
 from functools import partial
 from pathlib import Path
 from typing import Any
+
+from child_process import best_of, child, clock, installed, rate
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -135,10 +135,6 @@ def size_factor(peer: str, surface: str, level: int) -> float:
 
 
 # --- workers (run in child processes) ---------------------------------------------------------
-def _clock() -> tuple[float, float]:
-    return time.perf_counter(), time.process_time()
-
-
 def measures(points: Any, tets: Any, enclosed: float) -> dict[str, Any]:
     """The same float measures for every tool: dihedral angles, volume, inverted count."""
     import numpy as np
@@ -172,7 +168,7 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
     surface, _ = oriented_outward(read_surface(spec["path"]))
     check_surface(surface, spec["path"])
     read = time.perf_counter() - read
-    wall, cpu = _clock()
+    wall, cpu = clock()
     run = generate_domain([surface], level=spec["level"])
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     mesh = run.mesh
@@ -212,7 +208,7 @@ def work_gmsh(spec: dict[str, Any]) -> dict[str, Any]:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.NumThreads", 1)
         gmsh.model.add("surface")
-        wall, cpu = _clock()
+        wall, cpu = clock()
         tag = gmsh.model.addDiscreteEntity(2)
         gmsh.model.mesh.addNodes(2, tag, list(range(1, len(points) + 1)),
                                  points.ravel().tolist())
@@ -260,7 +256,7 @@ def work_tetgen(spec: dict[str, Any]) -> dict[str, Any]:
     size = spec["size"]
     maxvolume = size**3 / (6 * math.sqrt(2))
     mesher = tetgen.TetGen(points, faces)
-    wall, cpu = _clock()
+    wall, cpu = clock()
     nodes, elements, *_ = mesher.tetrahedralize(quality=True, minratio=2.0, fixedvolume=True,
                                                 maxvolume=maxvolume, verbose=0)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
@@ -329,7 +325,7 @@ def work_ftetwild(spec: dict[str, Any]) -> dict[str, Any]:
     points, faces = load_surface(spec["path"])
     size = spec["size"]
     tetrahedralize, version = _ftetwild()
-    wall, cpu = _clock()
+    wall, cpu = clock()
     # fTetWild writes __tracked_surface.stl into the working folder: give it a scratch one
     with tempfile.TemporaryDirectory() as scratch, contextlib.chdir(scratch):
         nodes, elements = tetrahedralize(points, faces, edge_length_abs=size, num_threads=1)
@@ -353,63 +349,6 @@ def worker(spec: dict[str, Any]) -> None:
 
 
 # --- running children -------------------------------------------------------------------------
-def child(command: list[str], timeout: float | None) -> dict[str, Any]:
-    """Run ``command``; its wall time (launch to exit), CPU time and peak memory from its
-    own rusage (``os.wait4``), its stdout as JSON (the whole output, or its last line)."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-        [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])]))
-    expired: list[bool] = []
-
-    def expire(process: subprocess.Popen[str]) -> None:
-        expired.append(True)
-        process.kill()
-
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        started = time.perf_counter()
-        process = subprocess.Popen(command, stdout=out, stderr=err, text=True, env=env)
-        timer = threading.Timer(timeout, expire, (process,)) if timeout else None
-        if timer is not None:
-            timer.start()
-        _, status, usage = os.wait4(process.pid, 0)
-        wall = time.perf_counter() - started
-        if timer is not None:
-            timer.cancel()
-        process.returncode = os.waitstatus_to_exitcode(status)
-        out.seek(0)
-        err.seek(0)
-        stdout, stderr = out.read(), err.read()
-    if expired:
-        return {"status": f"did not finish in {timeout:.0f} s"}
-    if process.returncode != 0:
-        last = (stderr.strip().splitlines() or stdout.strip().splitlines() or ["?"])[-1]
-        return {"status": f"failed, exit {process.returncode} ({last[:160]})"}
-    report: dict[str, Any] = {"status": "ok"}
-    try:
-        report.update(json.loads(stdout))
-    except json.JSONDecodeError:
-        lines = stdout.strip().splitlines() or ["{}"]
-        try:
-            report.update(json.loads(lines[-1]))
-        except json.JSONDecodeError:
-            return {"status": f"no JSON report ({lines[-1][:80]})"}
-    report["process_seconds"] = wall
-    report["process_cpu_seconds"] = usage.ru_utime + usage.ru_stime
-    report["process_max_rss_mb"] = usage.ru_maxrss / 1024
-    return report
-
-
-def best_of(repeat: int, run: Callable[[], dict[str, Any]]) -> dict[str, Any]:
-    best: dict[str, Any] | None = None
-    for _ in range(repeat):
-        report = run()
-        if report.get("status") != "ok":
-            return report
-        if best is None or report["process_seconds"] < best["process_seconds"]:
-            best = report
-    assert best is not None
-    return best
-
-
 def worker_command(spec: dict[str, Any]) -> list[str]:
     return [sys.executable, str(Path(__file__).resolve()), "--worker", json.dumps(spec)]
 
@@ -421,12 +360,6 @@ def geomexact_command(path: Path, level: int, output: Path) -> list[str]:
     program = [str(script)] if script.exists() else [sys.executable, "-m", "geomexact"]
     return [*program, "octree", "--domain", str(path), "--level", str(level),
             "-o", str(output), "--json", "--no-progress", "--force"]
-
-
-def installed(module: str) -> bool:
-    import importlib.util
-
-    return importlib.util.find_spec(module) is not None
 
 
 def surface_facts(path: Path) -> dict[str, Any]:
@@ -503,10 +436,6 @@ def measure(args: argparse.Namespace, out: Path) -> tuple[list[dict[str, Any]],
                 add({**head, "program": peer, "size_factor": factor, **best_of(
                     args.repeat, partial(child, worker_command(spec), PEER_TIMEOUT))})
     return runs, facts
-
-
-def rate(tetrahedra: int, seconds: float) -> float:
-    return tetrahedra / seconds if seconds > 0 else float("inf")
 
 
 def judge(runs: list[dict[str, Any]], surfaces: list[str], levels: list[int],

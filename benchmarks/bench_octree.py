@@ -50,15 +50,14 @@ import argparse
 import json
 import os
 import platform
-import subprocess
 import sys
 import tempfile
-import threading
 import time
-from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 from typing import Any
+
+from child_process import best_of, child, clock, installed, rate
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -91,10 +90,6 @@ PEER_MODULES = {"gmsh-hxt": "gmsh", "gmsh-delaunay": "gmsh", "tetgen": "tetgen"}
 
 
 # --- workers (run in child processes) ---------------------------------------------------------
-def _clock() -> tuple[float, float]:
-    return time.perf_counter(), time.process_time()
-
-
 def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
     import resource
     from fractions import Fraction
@@ -108,7 +103,7 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
     region = kind((Fraction(1, 2),) * 3, Fraction(3, 10))
     domain = unit_cube()
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    wall, cpu = _clock()
+    wall, cpu = clock()
     run = generate(domain, refinement=RefineWhere(LEVEL, region=region), trace=False)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     return {"tetrahedra": run.mesh.tetrahedron_count, "vertices": run.mesh.vertex_count,
@@ -163,7 +158,7 @@ def work_gmsh(spec: dict[str, Any]) -> dict[str, Any]:
                        "Mesh.MeshSizeFromCurvature"):
             gmsh.option.setNumber(option, 0)
         gmsh.option.setNumber("Mesh.Algorithm3D", GMSH_ALGORITHMS[spec["peer"]])
-        wall, cpu = _clock()
+        wall, cpu = clock()
         gmsh.model.mesh.generate(3)
         wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
         types, tags, _ = gmsh.model.mesh.getElements(3)
@@ -225,7 +220,7 @@ def work_tetgen(spec: dict[str, Any]) -> dict[str, Any]:
         grid = pyvista.UnstructuredGrid({pyvista.CellType.TETRA: tets}, points)
         grid.point_data["target_size"] = target
         options["bgmesh"] = grid
-    wall, cpu = _clock()
+    wall, cpu = clock()
     nodes, elements, *_ = mesher.tetrahedralize(quality=True, minratio=2.0,
                                                 steinerleft=-1, **options)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
@@ -258,64 +253,6 @@ def worker(spec: dict[str, Any]) -> None:
 
 
 # --- running children -------------------------------------------------------------------------
-def child(command: list[str], timeout: float | None) -> dict[str, Any]:
-    """Run ``command``; its wall time (launch to exit), CPU time and peak memory from its
-    own rusage (``os.wait4``: not mixed with other children's), its stdout as JSON (the
-    whole output, or its last line)."""
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-        [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])]))
-    expired: list[bool] = []
-
-    def expire(process: subprocess.Popen[str]) -> None:
-        expired.append(True)
-        process.kill()
-
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        started = time.perf_counter()
-        process = subprocess.Popen(command, stdout=out, stderr=err, text=True, env=env)
-        timer = threading.Timer(timeout, expire, (process,)) if timeout else None
-        if timer is not None:
-            timer.start()
-        _, status, usage = os.wait4(process.pid, 0)
-        wall = time.perf_counter() - started
-        if timer is not None:
-            timer.cancel()
-        process.returncode = os.waitstatus_to_exitcode(status)
-        out.seek(0)
-        err.seek(0)
-        stdout, stderr = out.read(), err.read()
-    if expired:
-        return {"status": f"did not finish in {timeout:.0f} s"}
-    if process.returncode != 0:
-        last = (stderr.strip().splitlines() or ["?"])[-1]
-        return {"status": f"failed, exit {process.returncode} ({last[:80]})"}
-    report: dict[str, Any] = {"status": "ok"}
-    try:
-        report.update(json.loads(stdout))
-    except json.JSONDecodeError:
-        lines = stdout.strip().splitlines() or ["{}"]
-        try:
-            report.update(json.loads(lines[-1]))
-        except json.JSONDecodeError:
-            return {"status": f"no JSON report ({lines[-1][:80]})"}
-    report["process_seconds"] = wall
-    report["process_cpu_seconds"] = usage.ru_utime + usage.ru_stime
-    report["process_max_rss_mb"] = usage.ru_maxrss / 1024
-    return report
-
-
-def best_of(repeat: int, run: Callable[[], dict[str, Any]]) -> dict[str, Any]:
-    best: dict[str, Any] | None = None
-    for _ in range(repeat):
-        report = run()
-        if report.get("status") != "ok":
-            return report
-        if best is None or report["process_seconds"] < best["process_seconds"]:
-            best = report
-    assert best is not None
-    return best
-
-
 def worker_command(spec: dict[str, Any]) -> list[str]:
     return [sys.executable, str(Path(__file__).resolve()), "--worker", json.dumps(spec)]
 
@@ -328,12 +265,6 @@ def geomexact_command(variant: str, output: Path) -> list[str]:
     return [*program, "octree", "--refine-sphere", "0.5", "0.5", "0.5", "0.3",
             *(["--surface"] if variant == "surface" else []), "--level", str(LEVEL),
             "-o", str(output), "--json", "--no-progress", "--force"]
-
-
-def installed(module: str) -> bool:
-    import importlib.util
-
-    return importlib.util.find_spec(module) is not None
 
 
 def measure(args: argparse.Namespace, out: Path) -> list[dict[str, Any]]:
@@ -373,10 +304,6 @@ def measure(args: argparse.Namespace, out: Path) -> list[dict[str, Any]]:
             add({"variant": variant, "program": peer, **best_of(
                 args.repeat, partial(child, worker_command(spec), PEER_TIMEOUT))})
     return runs
-
-
-def rate(tetrahedra: int, seconds: float) -> float:
-    return tetrahedra / seconds if seconds > 0 else float("inf")
 
 
 def judge(runs: list[dict[str, Any]], variants: list[str]) -> list[dict[str, Any]]:

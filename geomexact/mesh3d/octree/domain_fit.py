@@ -129,6 +129,17 @@ _FACES = ((1, 2, 3), (0, 3, 2), (0, 1, 3), (0, 2, 1))
 """The outward faces of a positive tetrahedron (a, b, c, d), by position."""
 
 
+def _dirty_neighbours(tetrahedra: Any, clean: Any) -> dict[int, set[int]]:
+    """Each vertex of a tetrahedron that is not clean -> its neighbours along the edges
+    of such tetrahedra."""
+    neighbours: dict[int, set[int]] = {}
+    for i, j in _TETRAHEDRON_EDGES:
+        for u, v in tetrahedra[~clean][:, [i, j]].tolist():
+            neighbours.setdefault(u, set()).add(v)
+            neighbours.setdefault(v, set()).add(u)
+    return neighbours
+
+
 def _sides(points: Sequence[Point3], tetrahedra: Any, clean: Any,
            index: SurfaceIndex) -> tuple[Any, int]:
     """(side per vertex, rays cast)."""
@@ -147,12 +158,7 @@ def _sides(points: Sequence[Point3], tetrahedra: Any, clean: Any,
         side = index.side(points[label])
         rays += 1
         sides[(labels == label) & in_clean] = side
-    dirty = tetrahedra[~clean]
-    neighbours: dict[int, set[int]] = {}
-    for i, j in _TETRAHEDRON_EDGES:
-        for u, v in dirty[:, [i, j]].tolist():
-            neighbours.setdefault(u, set()).add(v)
-            neighbours.setdefault(v, set()).add(u)
+    neighbours = _dirty_neighbours(tetrahedra, clean)
     for vertex in neighbours:
         if sides[vertex] == 2 and index.on_surface(points[vertex]):
             sides[vertex] = ON
@@ -186,12 +192,7 @@ def _warped(points: list[Point3], tetrahedra: Any, clean: Any, sides: dict[int, 
     tetrahedron around it stays positive (exact ``orient3d``).  Vertices in id order, not
     the ``frozen`` ones; ``points`` and ``sides`` are updated in place.  Returns the
     vertices moved."""
-    dirty = tetrahedra[~clean]
-    neighbours: dict[int, set[int]] = {}
-    for i, j in _TETRAHEDRON_EDGES:
-        for u, v in dirty[:, [i, j]].tolist():
-            neighbours.setdefault(u, set()).add(v)
-            neighbours.setdefault(v, set()).add(u)
+    neighbours = _dirty_neighbours(tetrahedra, clean)
     order = np.argsort(tetrahedra.ravel(), kind="stable")
     owners = order // 4
     starts = np.searchsorted(tetrahedra.ravel()[order], np.arange(len(points) + 1))
