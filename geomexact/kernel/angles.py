@@ -32,21 +32,20 @@ _EXACT_COS2_BITS: Final = 64
 _SMALLEST_NORMAL: Final = 2.0**-1022  # relative accuracy 2^-64 of an inexact threshold's cos^2
 
 
+_RATIONAL_COS2: Final[dict[Rational, Rational]] = {
+    mpq(0): mpq(1), mpq(30): mpq(3, 4), mpq(45): mpq(1, 2), mpq(60): mpq(1, 4), mpq(90): mpq(0),
+    mpq(120): mpq(1, 4), mpq(135): mpq(1, 2), mpq(150): mpq(3, 4)}
+"""cos^2 of the angles (degrees, modulo 180) where it is rational."""
+
+
 def _cos2_exact(degrees: Rational) -> Rational | None:
-    """cos^2 of ``degrees`` when it is rational (sympy), else None.
+    """cos^2 of ``degrees`` when it is rational, else None.
 
     cos^2(theta) = (1 + cos 2theta)/2, and by Niven's theorem the cosine of a rational
-    number of degrees is rational only when it is 0, +-1/2 or +-1: in (0, 180) that is
-    theta in {30, 45, 60, 90, 120, 135, 150}.  sympy evaluates exactly these cases to
-    rationals and leaves the others symbolic.
+    number of degrees is rational only when it is 0, +-1/2 or +-1: modulo 180 that is
+    theta in {0, 30, 45, 60, 90, 120, 135, 150}, a table (no computer algebra to load).
     """
-    import sympy  # type: ignore[import-untyped]
-
-    turn = sympy.Rational(int(degrees.numerator), int(degrees.denominator)) / 180
-    value = sympy.cos(sympy.pi * turn) ** 2
-    if value.is_Rational:
-        return mpq(int(value.p), int(value.q))
-    return None
+    return _RATIONAL_COS2.get(mpq(degrees) % 180)
 
 
 def _cos2_safe(degrees: Rational, cos_sign: int) -> Rational:
