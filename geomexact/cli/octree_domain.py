@@ -151,7 +151,9 @@ def command_octree_domain(args: argparse.Namespace) -> int:
     index = surface_index(merged_surface(surfaces))
     boundary = sorted({v for face in mesh.boundary_faces() for v in face})
     off_surface = [v for v in boundary if not index.on_surface(mesh.point(v))]
-    problems = [str(v) for v in violations] + [
+    empty = ["no tetrahedron lies inside the surfaces: the leaves are too coarse for the "
+             "domain"] if mesh.tetrahedron_count == 0 else []
+    problems = empty + [str(v) for v in violations] + [
         f"boundary vertex {v} is not on a surface" for v in off_surface[:3]] + list(
         run.fit.pinches) + [f"tetrahedron {row} of the octree could not be cut" for row in
                             run.fit.unfit[:3]]

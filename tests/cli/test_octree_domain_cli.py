@@ -172,3 +172,12 @@ def test_quality_improvement_is_traced_from_the_fitted_mesh(
     assert (tmp_path / "r.ele").read_bytes() == out.read_bytes()
     code, _, err = run(capsys, "octree", "--improve-quality", "15")
     assert code == 2 and "--domain" in err
+
+
+def test_leaves_too_coarse_for_the_domain_write_nothing(capsys: pytest.CaptureFixture[str],
+                                                        tmp_path: Path) -> None:
+    path = write_obj(tmp_path / "c.obj", cube())
+    code, out, err = run(capsys, "octree", "--domain", path, "--level", "0", "-o",
+                         tmp_path / "c.ele")
+    assert code == 1 and "too coarse" in out and "nothing was written" in err
+    assert not any(tmp_path.glob("c.e*")) and not (tmp_path / "c.node").exists()
