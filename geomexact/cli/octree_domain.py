@@ -16,7 +16,11 @@ import numpy as np
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.memory import BYTES_PER_TETRAHEDRON, active_budget
-from geomexact.cli.octree import control_volumes_or_refuse, run_report
+from geomexact.cli.octree_command import (
+    box_of_arguments,
+    control_volumes_or_refuse,
+    run_report,
+)
 from geomexact.cli.progress import progress_bar
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
@@ -121,8 +125,6 @@ def command_octree_domain(args: argparse.Namespace) -> int:
     surfaces = _surfaces(args.domain)
     box = None
     if args.box is not None:
-        from geomexact.cli.octree import box_of_arguments
-
         box = box_of_arguments(args)
     active_budget().refuse_beyond(
         f"the domain of {', '.join(args.domain)} to level {level}",
