@@ -49,6 +49,7 @@ if TYPE_CHECKING:
     from geomexact.kernel.predicates3d import insphere, orient3d
     from geomexact.mesh2d import (
         PSLG,
+        AnyOf,
         AverageAreaFactor,
         Circle,
         Construction,
@@ -150,6 +151,7 @@ _HOMES: dict[str, str] = {
 
 __all__ = [
     "PSLG",
+    "AnyOf",
     "AverageAreaFactor",
     "Circle",
     "CircleLocation",

@@ -102,16 +102,27 @@ def step_limit(text: str) -> int | Literal["auto"] | None:
 
 
 def _refine_criterion(args: argparse.Namespace) -> Any:
+    """The criterion of the goal options: one, or several combined (a triangle is refined
+    while it fails any: the minimum angle first, then the area, then the edge length, as
+    Triangle's ``-q`` with ``-a``).  ``--factor`` stops the whole run, so it stands alone."""
     from geomexact.kernel.numbers import parse_rational
     from geomexact.mesh2d.refinement import criteria
 
-    if args.max_area is not None:
-        return criteria.MaxArea(parse_rational(args.max_area))
+    given = [name for name in ("min_angle", "max_area", "max_edge")
+             if getattr(args, name) is not None]
     if args.factor is not None:
+        if given:
+            raise UsageProblem(f"--factor stops the run when the region's mean area is "
+                               f"reached: it does not combine with "
+                               f"{', '.join('--' + n.replace('_', '-') for n in given)}")
         return criteria.AverageAreaFactor(parse_rational(args.factor))
-    if args.min_angle is not None:
-        return criteria.MinAngle(parse_rational(args.min_angle))
-    return criteria.MaxEdgeLength(parse_rational(args.max_edge))
+    if not given:
+        raise UsageProblem("give a goal: --min-angle, --max-area, --max-edge (any of them "
+                           "together) or --factor")
+    kinds: dict[str, Any] = {"min_angle": criteria.MinAngle, "max_area": criteria.MaxArea,
+                             "max_edge": criteria.MaxEdgeLength}
+    members = [kinds[name](parse_rational(getattr(args, name))) for name in given]
+    return members[0] if len(members) == 1 else criteria.AnyOf(tuple(members))
 
 
 def _polygon_region_vertices(path: str, format: str | None, verbose: bool) -> list[Any]:
@@ -410,7 +421,9 @@ def add_parser(commands: Subcommands) -> None:
     refine_.add_argument("input", metavar="INPUT",
                          help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
     refine_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
-    goal = refine_.add_mutually_exclusive_group(required=True)
+    goal = refine_.add_argument_group(
+        "goal", "one or more of --min-angle, --max-area, --max-edge (a triangle is refined "
+        "while it fails any, like Triangle's -q30a0.01), or --factor alone")
     goal.add_argument("--max-area", metavar="A", help="largest triangle area allowed")
     goal.add_argument("--factor", metavar="F",
                       help="refine the largest triangles until the region's mean area is at "

@@ -115,6 +115,9 @@ if TYPE_CHECKING:
         refine as refine,
     )
     from geomexact.mesh2d.refinement.criteria import (
+        AnyOf as AnyOf,
+    )
+    from geomexact.mesh2d.refinement.criteria import (
         AverageAreaFactor as AverageAreaFactor,
     )
     from geomexact.mesh2d.refinement.criteria import (
@@ -205,6 +208,7 @@ _HOMES: dict[str, str] = {
     "MaxArea": "geomexact.mesh2d.refinement.criteria",
     "MaxEdgeLength": "geomexact.mesh2d.refinement.criteria",
     "MinAngle": "geomexact.mesh2d.refinement.criteria",
+    "AnyOf": "geomexact.mesh2d.refinement.criteria",
     "Circle": "geomexact.mesh2d.refinement.regions",
     "Polygon": "geomexact.mesh2d.refinement.regions",
     "Rectangle": "geomexact.mesh2d.refinement.regions",

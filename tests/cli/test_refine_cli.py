@@ -330,15 +330,16 @@ def test_bad_values_are_one_line_errors(
 
 @pytest.mark.parametrize(
     "argv",
-    [[], ["--max-area", "1", "--min-angle", "30"], ["--max-area", "1", "--method", "newest"],
+    [[], ["--max-area", "1", "--factor", "0.5"], ["--max-area", "1", "--method", "newest"],
      ["--max-area", "1", "--circle", "0", "0", "1", "--rectangle", "0", "0", "1", "1"]],
 )
 def test_usage_errors(capsys: pytest.CaptureFixture[str], square: Path,
                       argv: list[str]) -> None:
-    """No criterion, two criteria, an unknown method, two regions: usage error, exit 2."""
+    """No criterion, a factor with another goal (the goals --min-angle, --max-area and
+    --max-edge combine), an unknown method, two regions: usage error, exit 2."""
     code, _, err = run(capsys, "refine", square, *argv)
     assert code == 2
-    assert "usage:" in err
+    assert "usage:" in err or "give a goal" in err or "does not combine" in err
 
 
 def test_a_polygon_mesh_cannot_be_refined(

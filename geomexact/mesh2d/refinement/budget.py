@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.mesh2d.refinement.criteria import (
+    AnyOf,
     AverageAreaFactor,
     Criterion,
     MaxArea,
@@ -57,6 +58,8 @@ def estimated_triangles(mesh: Mesh2, criterion: Criterion) -> int:
     (module docstring); 0 when the criterion gives no size."""
     if isinstance(criterion, AverageAreaFactor):
         return _ceiling(mpq(mesh.triangle_count) / criterion.factor)
+    if isinstance(criterion, AnyOf):
+        return max(estimated_triangles(mesh, member) for member in criterion.criteria)
     if not isinstance(criterion, (MaxArea, MaxEdgeLength)):
         return 0
     area2 = mpq(0)

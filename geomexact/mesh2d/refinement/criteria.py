@@ -19,7 +19,7 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, Protocol, runtime_checkable
 
 import attrs
@@ -32,6 +32,7 @@ from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Comparison
 
 __all__ = [
+    "AnyOf",
     "AverageAreaFactor",
     "CallableCriterion",
     "Criterion",
@@ -270,6 +271,59 @@ class CallableCriterion(_Local):
     def parameters(self) -> dict[str, Any]:
         name = self.name or getattr(self.test, "__qualname__", repr(self.test))
         return {"kind": "callable", "name": name}
+
+
+def _members(value: Sequence[Criterion]) -> tuple[Criterion, ...]:
+    members = tuple(as_criterion(member) for member in value)
+    if len(members) < 2:
+        raise PreconditionError("AnyOf", f"combine two or more criteria, not {len(members)}")
+    if any(member.target_mean_area(mpq(1), 1) is not None for member in members):
+        raise PreconditionError("AnyOf", "a region-wide criterion (an average-area factor) "
+                                "stops the whole run: it does not combine with others")
+    if sum(member.angle_threshold is not None for member in members) > 1:
+        raise PreconditionError("AnyOf", "combine at most one minimum angle")
+    return members
+
+
+@attrs.frozen(slots=True)
+class AnyOf:
+    """Bad while the triangle fails any of ``criteria`` (on single triangles; at most one
+    minimum angle): Triangle's ``-q`` with ``-a``.  Key: (the position of the first
+    criterion it fails, that criterion's key), so the triangles failing an earlier
+    criterion are refined first, each group in its own order."""
+
+    criteria: tuple[Criterion, ...] = attrs.field(converter=_members)
+
+    @property
+    def angle_threshold(self) -> AngleThreshold | None:
+        for member in self.criteria:
+            if member.angle_threshold is not None:
+                return member.angle_threshold
+        return None
+
+    def rate(self, a: Point2, b: Point2, c: Point2, /) -> tuple[int, Any] | None:
+        for position, member in enumerate(self.criteria):
+            key = member.rate(a, b, c)
+            if key is not None:
+                return (position, key)
+        return None
+
+    def rate_beyond_angle(self, a: Point2, b: Point2, c: Point2, /) -> tuple[int, Any] | None:
+        """:meth:`rate` over the criteria other than the minimum angle: what still asks
+        for a triangle whose small angle cannot be improved (it lies in a sharp input
+        corner)."""
+        for position, member in enumerate(self.criteria):
+            if member.angle_threshold is None:
+                key = member.rate(a, b, c)
+                if key is not None:
+                    return (position, key)
+        return None
+
+    def target_mean_area(self, total: Rational, count: int, /) -> Rational | None:
+        return None
+
+    def parameters(self) -> dict[str, Any]:
+        return {"kind": "any_of", "criteria": [member.parameters() for member in self.criteria]}
 
 
 def as_criterion(value: Criterion | Callable[[Point2, Point2, Point2], object]) -> Criterion:

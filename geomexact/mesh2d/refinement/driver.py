@@ -14,7 +14,7 @@ from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Comparison, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.longest_edge import _before, is_constraint_edge
-from geomexact.mesh2d.refinement.criteria import Criterion
+from geomexact.mesh2d.refinement.criteria import AnyOf, Criterion
 from geomexact.mesh2d.refinement.queue import WorkQueue
 from geomexact.mesh2d.refinement.regions import Region, Whole
 from geomexact.mesh2d.snapshot import Attributes, Edge, Mesh2, Triangle
@@ -158,8 +158,14 @@ class Refinement:
         if key is None:
             return
         if self.threshold is not None and self.unimprovable(a, b, c):
-            self.left[(a, b, c)] = "sharp-corner"
-            return
+            # a combined criterion may still ask for it (too large): refine it for that
+            beyond = (self.criterion.rate_beyond_angle(self.point(a), self.point(b),
+                                                       self.point(c))
+                      if isinstance(self.criterion, AnyOf) else None)
+            if beyond is None:
+                self.left[(a, b, c)] = "sharp-corner"
+                return
+            key = beyond
         if self.passes:
             key = self.pass_number + 1
         self.queue.push(key, (a, b, c))

@@ -39,7 +39,7 @@ import attrs
 from geomexact.kernel.numbers import mpq
 from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
-from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, MaxArea, MinAngle
+from geomexact.mesh2d.refinement.criteria import AnyOf, AverageAreaFactor, MaxArea, MinAngle
 from geomexact.mesh2d.refinement.driver import LeftReason, Progress
 from geomexact.mesh2d.refinement.regions import Whole
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
@@ -101,6 +101,8 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
         return (f"it runs method 'bisection', and 'centroid' or 'quasi' with centroid "
                 f"'area', not method {options['method']!r} with centroid "
                 f"{options['centroid']!r}")
+    if isinstance(criterion, AnyOf):
+        return "it runs one criterion at a time, not a combination (AnyOf)"
     if criterion.angle_threshold is not None and type(criterion) is not MinAngle:
         return "the only minimum-angle criterion it runs is MinAngle"
     if type(criterion) is not AverageAreaFactor and (
