@@ -126,3 +126,15 @@ def test_the_command_takes_the_goals_together(capsys: pytest.CaptureFixture[str]
         assert code == 2 and "does not combine" in err
         code, _, err = run(capsys, "refine", path)
         assert code == 2 and "give a goal" in err
+
+
+@pytest.mark.parametrize("method", ["centroid", "quasi", "bisection"])
+def test_every_engine_gives_the_same_trace(method: str) -> None:
+    mesh = _square()
+    criterion = AnyOf((MinAngle(25), MaxArea(mpq(1, 50)))) if method != "bisection" else \
+        AnyOf((MaxEdgeLength(mpq(1, 4)), MaxArea(mpq(1, 50))))
+    runs = [refine(mesh, criterion, method=method, engine=engine)  # type: ignore[arg-type]
+            for engine in ("reference", "python")]
+    assert runs[0].mesh == runs[1].mesh
+    assert runs[0].trace.steps == runs[1].trace.steps
+    assert runs[0].trace.digests == runs[1].trace.digests
