@@ -17,6 +17,12 @@ Workloads:
   then min angle θ: geomexact centroid and quasi methods (from its constrained Delaunay
   triangulation, timed: refinement only) against Triangle ``pq<θ>`` (from the PSLG:
   triangulation and refinement).
+* ``both-square``, ``both-superior``, ``both-pikachu`` (issue 26): quality and size in one
+  run -- geomexact ``AnyOf((MinAngle(30), MaxArea(A)))`` by Lepp-centroid (the command's
+  ``refine --min-angle 30 --max-area A``) against Triangle ``-pq30aA`` (``-rq30aA`` on the
+  pikachu mesh, ``../shared/data/polylla-refinement/pikachu_triangle.off``); both report
+  their largest area and smallest angle (outside geomexact's left sharp corners), so the
+  counts compare meshes that meet the same two bounds.
 * ``random1500-30`` (any ``random1500-<θ>``): the Polylla refinement mesh
   ``../shared/data/polylla-refinement/1500random.off`` (1,502 random points, Delaunay;
   decimal coordinates, so off the dyadic grid) to min angle θ: geomexact centroid and
@@ -91,6 +97,15 @@ def min_angle_degrees(points: list[tuple[float, float]], triangles: list[Any]) -
 
 
 # --- workers (run in child processes) ---------------------------------------------------------
+def max_area(points: list[tuple[float, float]], triangles: list[Any]) -> float:
+    """The largest triangle area (doubles)."""
+    largest = 0.0
+    for a, b, c in triangles:
+        (ax, ay), (bx, by), (cx, cy) = points[a], points[b], points[c]
+        largest = max(largest, abs((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)) / 2)
+    return largest
+
+
 def timed(run: Any, repeat: int) -> tuple[Any, float, float]:
     best_wall = best_cpu = math.inf
     result = None
@@ -109,9 +124,18 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
     from geomexact.mesh2d.delaunay.triangulation import triangulate
     from geomexact.mesh2d.refinement.api import refine
 
-    if spec["input"] == "square":
+    if "both" in spec:
+        from geomexact import io
+        from geomexact.mesh2d.refinement.criteria import AnyOf
+
+        start = (unit_square() if spec["input"] == "square" else
+                 triangulate(superior_pslg()).mesh if spec["input"] == "superior" else
+                 io.read(spec["path"]))
+        criterion: Any = AnyOf((MinAngle(30), MaxArea(spec["area"])))
+        options = {"method": "centroid"}
+    elif spec["input"] == "square":
         start = unit_square()
-        criterion: Any = MaxArea(spec["area"])
+        criterion = MaxArea(spec["area"])
         options = {"method": "bisection", "delaunay": spec["delaunay"],
                    "engine": spec.get("refine_engine", "auto")}
     elif spec["input"] == "off":
@@ -136,7 +160,9 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
         "cpu": cpu,
         "left": len(result.stats.left),
     }
-    if spec["input"] in ("superior", "off"):
+    if "both" in spec:
+        report["max_area"] = max_area(points, mesh.triangles())
+    if spec["input"] in ("superior", "off") or "both" in spec:
         left = set(result.stats.left)
         report["min_angle"] = min_angle_degrees(points, mesh.triangles())
         report["min_angle_outside_left"] = min_angle_degrees(
@@ -168,9 +194,10 @@ def work_triangle(spec: dict[str, Any]) -> dict[str, Any]:
                               spec["repeat"])
     report = {"triangles": len(output["triangles"]), "vertices": len(output["vertices"]),
               "wall": wall, "cpu": cpu, "status": "complete"}
-    if spec["input"] in ("superior", "off"):
-        report["min_angle"] = min_angle_degrees(
-            [tuple(p) for p in output["vertices"].tolist()], output["triangles"].tolist())
+    if spec["input"] in ("superior", "off") or "both" in spec:
+        points = [tuple(p) for p in output["vertices"].tolist()]
+        report["min_angle"] = min_angle_degrees(points, output["triangles"].tolist())
+        report["max_area"] = max_area(points, output["triangles"].tolist())
     return report
 
 
@@ -246,6 +273,27 @@ def random1500_runs(degrees: int, repeat: int) -> list[dict[str, Any]]:
     return runs
 
 
+PIKACHU = RANDOM1500.parent / "pikachu_triangle.off"
+BOTH_AREAS = {"square": "0.001", "superior": "0.0001", "pikachu": "100000"}
+
+
+def both_runs(name: str, repeat: int) -> list[dict[str, Any]]:
+    """Quality and size together: geomexact AnyOf against Triangle -pq30a / -rq30a."""
+    source = name.split("-", 1)[1]
+    area = BOTH_AREAS[source]
+    if source == "pikachu" and not PIKACHU.exists():
+        return [{"workload": name, "program": "geomexact", "status": f"{PIKACHU} absent"}]
+    kind = {"square": "square", "superior": "superior", "pikachu": "off"}[source]
+    common = {"input": kind, "path": str(PIKACHU), "area": area, "repeat": repeat}
+    runs = [{"workload": name, "program": f"geomexact --min-angle 30 --max-area {area}",
+             **measure({"engine": "geomexact", "both": True, **common}, None)}]
+    switches = ("rq30a" if kind == "off" else "pq30a") + area
+    runs.append({"workload": name, "program": f"triangle -{switches}",
+                 **measure({"engine": "triangle", "both": True, "switches": switches,
+                            **common}, TRIANGLE_TIME_LIMIT)})
+    return runs
+
+
 def min_angle_verdicts(runs: list[dict[str, Any]]) -> list[str]:
     """Each min-angle run against Triangle's ``q`` run of the same workload."""
     lines = []
@@ -300,7 +348,7 @@ def main() -> int:
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--only", nargs="+", metavar="WORKLOAD",
                         help="square-1e-5, square-1e-6, superior-30 … superior-35, "
-                             "random1500-30")
+                             "random1500-30, both-square, both-superior, both-pikachu")
     parser.add_argument("--repeat", type=int, default=3, help="best of N (default 3)")
     parser.add_argument("--repeat-large", type=int, default=1,
                         help="best of N for square-1e-6 (default 1)")
@@ -310,7 +358,8 @@ def main() -> int:
         worker(json.loads(args.worker))
         return 0
     workloads = args.only or ["square-1e-5", "square-1e-6",
-                              *(f"superior-{d}" for d in range(30, 36)), "random1500-30"]
+                              *(f"superior-{d}" for d in range(30, 36)), "random1500-30",
+                              "both-square", "both-superior", "both-pikachu"]
     runs: list[dict[str, Any]] = []
     for workload in workloads:
         if workload == "square-1e-5":
@@ -321,6 +370,8 @@ def main() -> int:
             runs += superior_runs(int(workload.split("-")[1]), args.repeat)
         elif workload.startswith("random1500-"):
             runs += random1500_runs(int(workload.split("-")[1]), args.repeat)
+        elif workload in ("both-square", "both-superior", "both-pikachu"):
+            runs += both_runs(workload, args.repeat)
         else:
             parser.error(f"unknown workload {workload}")
         if not args.json:
