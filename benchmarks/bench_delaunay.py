@@ -25,7 +25,8 @@ Workloads (fixed seed, so runs are comparable):
 
 Competitors, in the same run, on the same points:
 
-* ``geomexact``: :func:`geomexact.mesh2d.delaunay.triangulation.triangulate_points` / :func:`triangulate`, the
+* ``geomexact``: :func:`geomexact.mesh2d.delaunay.triangulation.triangulate_points` /
+  :func:`triangulate`, the
   whole construction (snapshot *and* replayable trace).  Turning the input floats into exact
   points is not timed (every competitor gets its input ready-made).
 * ``triangle``: the ``triangle`` package (Shewchuk's Triangle): ``"Q"`` for points, ``"pQ"``
@@ -59,9 +60,9 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from geomexact import __version__, io
-from geomexact.mesh2d.delaunay.triangulation import triangulate, triangulate_points
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, point2
+from geomexact.mesh2d.delaunay.triangulation import triangulate, triangulate_points
 from geomexact.mesh2d.pslg import PSLG
 
 TARGET_SECONDS_1E4 = 0.4

@@ -120,9 +120,9 @@ def timed(run: Any, repeat: int) -> tuple[Any, float, float]:
 
 
 def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
-    from geomexact.mesh2d.refinement.criteria import MaxArea, MinAngle
     from geomexact.mesh2d.delaunay.triangulation import triangulate
     from geomexact.mesh2d.refinement.api import refine
+    from geomexact.mesh2d.refinement.criteria import MaxArea, MinAngle
 
     if "both" in spec:
         from geomexact import io

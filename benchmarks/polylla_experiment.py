@@ -1,7 +1,8 @@
 """Polylla and its convex decomposition on Delaunay meshes of growing point sets.
 
 For each kind of point set (uniform random, semi-uniform, Poisson-disk) and size, the
-Delaunay triangulation is built (``geomexact.mesh2d.delaunay.triangulation.triangulate``), then Polylla, then
+Delaunay triangulation is built
+(``geomexact.mesh2d.delaunay.triangulation.triangulate``), then Polylla, then
 the convex decomposition with and without criterion 1.  One table row per mesh: points,
 triangles, polygons, non-convex polygons, edges inserted (criterion 1 on / off), polygons
 after, and the seconds of Polylla and of the decomposition (criterion 1 on).  The shared
@@ -31,9 +32,9 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from geomexact import Mesh2, io, point2
-from geomexact.mesh2d.polygonal.convex import convex_decomposition
-from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.kernel.points import Point2
+from geomexact.mesh2d.delaunay.triangulation import triangulate
+from geomexact.mesh2d.polygonal.convex import convex_decomposition
 from geomexact.mesh2d.polygonal.polylla_meshing import polylla_run
 
 PROJECT = Path(__file__).resolve().parent.parent
