@@ -101,7 +101,7 @@ def step_limit(text: str) -> int | Literal["auto"] | None:
     return non_negative(text)
 
 
-def _refine_criterion(args: argparse.Namespace) -> Any:
+def _refine_criterion(args: argparse.Namespace, region_areas: Any = None) -> Any:
     """The criterion of the goal options: one, or several combined (a triangle is refined
     while it fails any: the minimum angle first, then the area, then the edge length, as
     Triangle's ``-q`` with ``-a``).  ``--factor`` stops the whole run, so it stands alone."""
@@ -111,18 +111,38 @@ def _refine_criterion(args: argparse.Namespace) -> Any:
     given = [name for name in ("min_angle", "max_area", "max_edge")
              if getattr(args, name) is not None]
     if args.factor is not None:
+        if region_areas is not None:
+            given.append("region_areas")
         if given:
             raise UsageProblem(f"--factor stops the run when the region's mean area is "
                                f"reached: it does not combine with "
                                f"{', '.join('--' + n.replace('_', '-') for n in given)}")
         return criteria.AverageAreaFactor(parse_rational(args.factor))
-    if not given:
-        raise UsageProblem("give a goal: --min-angle, --max-area, --max-edge (any of them "
-                           "together) or --factor")
+    if not given and region_areas is None:
+        raise UsageProblem("give a goal: --min-angle, --max-area, --max-edge, "
+                           "--region-areas (any of them together) or --factor")
     kinds: dict[str, Any] = {"min_angle": criteria.MinAngle, "max_area": criteria.MaxArea,
                              "max_edge": criteria.MaxEdgeLength}
     members = [kinds[name](parse_rational(getattr(args, name))) for name in given]
+    if region_areas is not None:
+        members.append(region_areas)
     return members[0] if len(members) == 1 else criteria.AnyOf(tuple(members))
+
+
+def _region_areas(args: argparse.Namespace, value: Any) -> Any:
+    """With ``--region-areas``: the maximum areas of the input PSLG's regions (Triangle's
+    ``-a`` without a number); a usage problem when it has none."""
+    if not args.region_areas:
+        return None
+    from geomexact.mesh2d.refinement.criteria import region_areas_of
+
+    areas = [seed for seed in value.regions if seed.max_area is not None] if isinstance(
+        value, PSLG) else []
+    if not areas:
+        raise UsageProblem(f"{args.input}: --region-areas needs a PSLG whose region list "
+                           "gives maximum areas (a .poly region line 'number x y attribute "
+                           "area'), and this input has none")
+    return region_areas_of(value)
 
 
 def _polygon_region_vertices(path: str, format: str | None, verbose: bool) -> list[Any]:
@@ -229,7 +249,7 @@ def command_refine(args: argparse.Namespace) -> int:
     from geomexact.mesh2d.refinement.api import refine
 
     loaded = load(args.input, args.format, args.verbose)
-    criterion = _refine_criterion(args)
+    criterion = _refine_criterion(args, _region_areas(args, loaded.value))
     region = _refine_region(args)
     method, method_note = _refine_method(args)
     notes = [method_note] if method_note else []
@@ -422,8 +442,9 @@ def add_parser(commands: Subcommands) -> None:
                          help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
     refine_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
     goal = refine_.add_argument_group(
-        "goal", "one or more of --min-angle, --max-area, --max-edge (a triangle is refined "
-        "while it fails any, like Triangle's -q30a0.01), or --factor alone")
+        "goal", "one or more of --min-angle, --max-area, --max-edge, --region-areas (a "
+        "triangle is refined while it fails any, like Triangle's -q30a0.01), or --factor "
+        "alone")
     goal.add_argument("--max-area", metavar="A", help="largest triangle area allowed")
     goal.add_argument("--factor", metavar="F",
                       help="refine the largest triangles until the region's mean area is at "
@@ -432,6 +453,9 @@ def add_parser(commands: Subcommands) -> None:
                       help="smallest angle allowed, in degrees (0 < DEG < 60; centroid or "
                            "quasi method, or bisection with --max-steps)")
     goal.add_argument("--max-edge", metavar="L", help="longest edge allowed")
+    goal.add_argument("--region-areas", action="store_true",
+                      help="the largest area of each region of a .poly input, from its "
+                           "region list (Triangle's -a without a number)")
     where = refine_.add_mutually_exclusive_group()
     where.add_argument("--circle", nargs=3, metavar=("X", "Y", "R"),
                        help="refine only triangles with a vertex in this disk")

@@ -59,7 +59,7 @@ from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.engine_names import ENGINES, Engine, engine_named
 from geomexact.mesh2d.refinement.budget import default_budget
-from geomexact.mesh2d.refinement.criteria import Criterion, as_criterion
+from geomexact.mesh2d.refinement.criteria import Criterion, as_criterion, rate_with_attributes
 from geomexact.mesh2d.refinement.driver import (
     TIP_DEPTH,
     LeftReason,
@@ -430,7 +430,8 @@ def _waiting(
         corners = [mesh.point(vertex) for vertex in triangle]
         if triangle in skip or not (whole or any(region.contains(p) for p in corners)):
             continue
-        if criterion.rate(*corners) is not None:
+        if rate_with_attributes(criterion, corners[0], corners[1], corners[2],
+                                mesh.triangle_attributes.get(triangle)) is not None:
             found.append(triangle)
     return tuple(found)
 

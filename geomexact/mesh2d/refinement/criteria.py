@@ -19,8 +19,8 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from typing import Any, Protocol, runtime_checkable
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import attrs
 
@@ -30,6 +30,7 @@ from geomexact.kernel.comparisons import compare_squared_lengths
 from geomexact.kernel.numbers import Rational, format_rational, mpq, to_rational
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Comparison
+from geomexact.mesh2d.pslg import PSLG
 
 __all__ = [
     "AnyOf",
@@ -39,8 +40,11 @@ __all__ = [
     "MaxArea",
     "MaxEdgeLength",
     "MinAngle",
+    "RegionAreas",
     "as_criterion",
     "doubled_area",
+    "rate_with_attributes",
+    "region_areas_of",
     "smallest_angle_cos2",
 ]
 
@@ -295,6 +299,18 @@ class AnyOf:
     criteria: tuple[Criterion, ...] = attrs.field(converter=_members)
 
     @property
+    def needs_attributes(self) -> bool:
+        return any(getattr(member, "needs_attributes", False) for member in self.criteria)
+
+    def rate_attributed(self, a: Point2, b: Point2, c: Point2,
+                        attributes: tuple[Rational, ...] | None, /) -> tuple[int, Any] | None:
+        for position, member in enumerate(self.criteria):
+            key = rate_with_attributes(member, a, b, c, attributes)
+            if key is not None:
+                return (position, key)
+        return None
+
+    @property
     def angle_threshold(self) -> AngleThreshold | None:
         for member in self.criteria:
             if member.angle_threshold is not None:
@@ -308,13 +324,15 @@ class AnyOf:
                 return (position, key)
         return None
 
-    def rate_beyond_angle(self, a: Point2, b: Point2, c: Point2, /) -> tuple[int, Any] | None:
+    def rate_beyond_angle(self, a: Point2, b: Point2, c: Point2,
+                          attributes: tuple[Rational, ...] | None = None, /
+                          ) -> tuple[int, Any] | None:
         """:meth:`rate` over the criteria other than the minimum angle: what still asks
         for a triangle whose small angle cannot be improved (it lies in a sharp input
         corner)."""
         for position, member in enumerate(self.criteria):
             if member.angle_threshold is None:
-                key = member.rate(a, b, c)
+                key = rate_with_attributes(member, a, b, c, attributes)
                 if key is not None:
                     return (position, key)
         return None
@@ -324,6 +342,65 @@ class AnyOf:
 
     def parameters(self) -> dict[str, Any]:
         return {"kind": "any_of", "criteria": [member.parameters() for member in self.criteria]}
+
+
+def _areas(value: Iterable[tuple[Rational, Rational]]) -> tuple[tuple[Rational, Rational], ...]:
+    found: dict[Rational, Rational] = {}
+    for attribute, area in value:
+        attribute, area = to_rational(attribute), _positive_area(area)
+        if found.get(attribute, area) != area:
+            raise PreconditionError("RegionAreas", f"two regions with attribute "
+                                    f"{format_rational(attribute)} ask for different "
+                                    "maximum areas: give each region its own attribute")
+        found[attribute] = area
+    if not found:
+        raise PreconditionError("RegionAreas", "no region has a maximum area")
+    return tuple(sorted(found.items()))
+
+
+@attrs.frozen(slots=True)
+class RegionAreas(_Local):
+    """Bad when the triangle is larger than the maximum area of its region: Triangle's
+    ``-a`` without a number, the areas of a ``.poly`` region list.  A triangle's region is
+    its first attribute (set by the region seeds when the PSLG is triangulated, inherited
+    by the triangles refinement makes); a triangle of no listed region is never bad.  Key:
+    −(doubled area).  Rated with the triangle's attributes
+    (:meth:`rate_attributed`): ``rate`` alone cannot tell the region and accepts."""
+
+    areas: tuple[tuple[Rational, Rational], ...] = attrs.field(converter=_areas)
+    needs_attributes: ClassVar[bool] = True
+
+    def rate(self, a: Point2, b: Point2, c: Point2, /) -> Rational | None:
+        return None
+
+    def rate_attributed(self, a: Point2, b: Point2, c: Point2,
+                        attributes: tuple[Rational, ...] | None, /) -> Rational | None:
+        if not attributes:
+            return None
+        area = dict(self.areas).get(attributes[0])
+        if area is None:
+            return None
+        twice = doubled_area(a, b, c)
+        return -twice if twice > 2 * area else None
+
+    def parameters(self) -> dict[str, Any]:
+        return {"kind": "region_areas",
+                "areas": {format_rational(k): format_rational(v) for k, v in self.areas}}
+
+
+def region_areas_of(pslg: PSLG) -> RegionAreas:
+    """The maximum areas of ``pslg``'s region seeds (by regional attribute)."""
+    return RegionAreas(tuple((seed.attribute, seed.max_area) for seed in pslg.regions
+                             if seed.max_area is not None))
+
+
+def rate_with_attributes(criterion: Criterion, a: Point2, b: Point2, c: Point2,
+                         attributes: tuple[Rational, ...] | None) -> Any | None:
+    """``criterion``'s key of the triangle abc with these attributes (a criterion that
+    needs attributes reads them; the others rate the points)."""
+    if getattr(criterion, "needs_attributes", False):
+        return criterion.rate_attributed(a, b, c, attributes)  # type: ignore[attr-defined]
+    return criterion.rate(a, b, c)
 
 
 def as_criterion(value: Criterion | Callable[[Point2, Point2, Point2], object]) -> Criterion:

@@ -14,7 +14,7 @@ from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Comparison, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.longest_edge import _before, is_constraint_edge
-from geomexact.mesh2d.refinement.criteria import AnyOf, Criterion
+from geomexact.mesh2d.refinement.criteria import AnyOf, Criterion, rate_with_attributes
 from geomexact.mesh2d.refinement.queue import WorkQueue
 from geomexact.mesh2d.refinement.regions import Region, Whole
 from geomexact.mesh2d.snapshot import Attributes, Edge, Mesh2, Triangle
@@ -104,6 +104,7 @@ class Refinement:
         self.legalize_insertions = delaunay and method != "quasi"
         self.on_step = on_step
         self.threshold = criterion.angle_threshold
+        self.criterion_attributes = bool(getattr(criterion, "needs_attributes", False))
         self.created: list[Triangle] = []
         self.removed: list[Triangle] = []
         self.queue = WorkQueue()
@@ -160,7 +161,8 @@ class Refinement:
         if self.threshold is not None and self.unimprovable(a, b, c):
             # a combined criterion may still ask for it (too large): refine it for that
             beyond = (self.criterion.rate_beyond_angle(self.point(a), self.point(b),
-                                                       self.point(c))
+                                                       self.point(c),
+                                                       self.attributes((a, b, c)))
                       if isinstance(self.criterion, AnyOf) else None)
             if beyond is None:
                 self.left[(a, b, c)] = "sharp-corner"
@@ -171,8 +173,12 @@ class Refinement:
         self.queue.push(key, (a, b, c))
 
     def rating(self, a: int, b: int, c: int) -> Any | None:
-        """The criterion's key of the triangle (a, b, c), or None when it is good."""
+        """The criterion's key of the triangle (a, b, c), or None when it is good (read
+        with its attributes when the criterion needs them: a region's maximum area)."""
         point = self.point
+        if self.criterion_attributes:
+            return rate_with_attributes(self.criterion, point(a), point(b), point(c),
+                                        self.attributes((a, b, c)))
         return self.criterion.rate(point(a), point(b), point(c))
 
     def different_attributes(self, u: int, v: int, w: int, x: int) -> bool:

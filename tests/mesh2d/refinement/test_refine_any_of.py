@@ -138,3 +138,72 @@ def test_every_engine_gives_the_same_trace(method: str) -> None:
     assert runs[0].mesh == runs[1].mesh
     assert runs[0].trace.steps == runs[1].trace.steps
     assert runs[0].trace.digests == runs[1].trace.digests
+
+
+TWO_REGIONS = """# two squares side by side, the right one with a small maximum area
+6 2 0 1
+1 0 0 1
+2 1 0 1
+3 2 0 1
+4 2 1 1
+5 1 1 1
+6 0 1 1
+7 1
+1 1 2 1
+2 2 3 1
+3 3 4 1
+4 4 5 1
+5 5 6 1
+6 6 1 1
+7 2 5 1
+0
+2
+1 0.5 0.5 1 0.1
+2 1.5 0.5 2 0.001
+"""
+
+
+def _largest_by_region(mesh: Mesh2) -> dict[object, object]:
+    largest: dict[object, object] = {}
+    for triangle in mesh.iter_triangles():
+        attribute = mesh.triangle_attributes.get(triangle)
+        area = doubled_area(*(mesh.point(v) for v in triangle)) / 2
+        largest[attribute] = max(largest.get(attribute, 0), area)  # type: ignore[call-overload]
+    return largest
+
+
+def test_region_areas_from_a_poly_region_list(tmp_path: Path) -> None:
+    """Triangle's -a without a number: each region to its own maximum area, alone or with
+    a minimum angle."""
+    from geomexact.mesh2d.refinement.criteria import RegionAreas, region_areas_of
+
+    path = tmp_path / "two.poly"
+    path.write_text(TWO_REGIONS)
+    pslg = io.read(path)
+    assert isinstance(pslg, PSLG)
+    areas = region_areas_of(pslg)
+    assert areas.areas == ((1, mpq(1, 10)), (2, mpq(1, 1000)))
+    mesh = triangulate(pslg).mesh
+    for criterion in (areas, AnyOf((MinAngle(25), areas))):
+        result = refine(mesh, criterion, method="centroid")
+        largest = _largest_by_region(result.mesh)
+        assert largest[(1,)] <= mpq(1, 10) and largest[(2,)] <= mpq(1, 1000)  # type: ignore[operator]
+        assert replay(mesh, result.trace) == result.mesh
+    with pytest.raises(PreconditionError, match="different maximum areas"):
+        RegionAreas(((1, mpq(1, 10)), (1, mpq(1, 5))))
+
+
+def test_the_command_reads_region_areas(capsys: pytest.CaptureFixture[str],
+                                        tmp_path: Path) -> None:
+    path = tmp_path / "two.poly"
+    path.write_text(TWO_REGIONS)
+    code, text, err = run(capsys, "refine", path, "--region-areas", "--min-angle", "25", "-o",
+                          tmp_path / "out.ele", "--json", "--no-progress")
+    assert code == 0, err
+    assert json.loads(text)["criterion"]["kind"] == "any_of"
+    largest = _largest_by_region(io.read(tmp_path / "out.ele"))  # type: ignore[arg-type]
+    assert largest[(2,)] <= mpq(1, 1000)  # type: ignore[operator]
+    plain = tmp_path / "plain.poly"
+    plain.write_text(TWO_REGIONS.replace(" 0.1\n", " -1\n").replace(" 0.001\n", " -1\n"))
+    code, _, err = run(capsys, "refine", plain, "--region-areas")
+    assert code == 2 and "needs a PSLG whose region list" in err

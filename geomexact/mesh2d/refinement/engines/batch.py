@@ -236,6 +236,8 @@ class BatchRefinement(BatchTriangulation, Refinement):
 
     def rating(self, a: int, b: int, c: int) -> Any | None:
         """:meth:`Refinement.rating`, in floats for ``MaxArea`` on grid triangles."""
+        if self.criterion_attributes:
+            return super().rating(a, b, c)
         points, grid, max_area2 = self.points, self.grid, self.max_area2
         pa, pb, pc = points[a], points[b], points[c]
         if max_area2 is not None and grid[a] and grid[b] and grid[c]:
