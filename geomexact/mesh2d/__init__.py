@@ -129,6 +129,9 @@ if TYPE_CHECKING:
     from geomexact.mesh2d.refinement.criteria import (
         MinAngle as MinAngle,
     )
+    from geomexact.mesh2d.refinement.criteria import (
+        RegionAreas as RegionAreas,
+    )
     from geomexact.mesh2d.refinement.regions import (
         Circle as Circle,
     )
@@ -209,6 +212,7 @@ _HOMES: dict[str, str] = {
     "MaxEdgeLength": "geomexact.mesh2d.refinement.criteria",
     "MinAngle": "geomexact.mesh2d.refinement.criteria",
     "AnyOf": "geomexact.mesh2d.refinement.criteria",
+    "RegionAreas": "geomexact.mesh2d.refinement.criteria",
     "Circle": "geomexact.mesh2d.refinement.regions",
     "Polygon": "geomexact.mesh2d.refinement.regions",
     "Rectangle": "geomexact.mesh2d.refinement.regions",
