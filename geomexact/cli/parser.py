@@ -73,9 +73,32 @@ def triangle_switch_hint(words: Sequence[str]) -> str | None:
             known = [f"-{c}: {_TRIANGLE_SWITCHES[c]}" for c in dict.fromkeys(letters)
                      if c in _TRIANGLE_SWITCHES]
             if known:
+                suggestion = _refine_suggestion(word[1:])
                 return (f"geomexact: {word} looks like Triangle's switches; here: "
-                        + "; ".join(known) + " (see geomexact COMMAND --help)")
+                        + "; ".join(known) + " (see geomexact COMMAND --help)"
+                        + (f"; try: geomexact refine INPUT {suggestion}" if suggestion
+                           else ""))
     return None
+
+
+def _refine_suggestion(switches: str) -> str:
+    """The refine options of Triangle's ``q`` and ``a`` switches (``q30a0.01`` ->
+    ``--min-angle 30 --max-area 0.01``; ``q`` alone is Triangle's 20°, ``a`` alone the
+    region list's areas), or empty when it has neither."""
+    options = []
+    position = 0
+    while position < len(switches):
+        letter = switches[position]
+        end = position + 1
+        while end < len(switches) and (switches[end].isdigit() or switches[end] == "."):
+            end += 1
+        number = switches[position + 1:end]
+        if letter == "q":
+            options.append(f"--min-angle {number or '20'}")
+        elif letter == "a":
+            options.append(f"--max-area {number}" if number else "--region-areas")
+        position = end
+    return " ".join(options)
 
 
 class _Parser(argparse.ArgumentParser):

@@ -331,3 +331,15 @@ def test_a_negative_number_is_not_taken_for_a_switch() -> None:
     from geomexact.cli.parser import triangle_switch_hint
 
     assert triangle_switch_hint(["octree", "--box", "-1", "-2.5", "0", "1", "1", "1"]) is None
+
+
+def test_triangle_switches_become_a_refine_command() -> None:
+    from geomexact.cli.parser import triangle_switch_hint
+
+    hint = triangle_switch_hint(["-pq30a0.01"])
+    assert hint is not None
+    assert hint.endswith("try: geomexact refine INPUT --min-angle 30 --max-area 0.01")
+    hint = triangle_switch_hint(["-pqa"])
+    assert hint is not None and hint.endswith("--min-angle 20 --region-areas")
+    hint = triangle_switch_hint(["-pc"])
+    assert hint is not None and "try:" not in hint
