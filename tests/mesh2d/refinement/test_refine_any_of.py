@@ -130,14 +130,37 @@ def test_the_command_takes_the_goals_together(capsys: pytest.CaptureFixture[str]
 
 @pytest.mark.parametrize("method", ["centroid", "quasi", "bisection"])
 def test_every_engine_gives_the_same_trace(method: str) -> None:
+    """The reference ops, the Python engine and (for the minimum angle with the area,
+    the combination the command makes) the compiled kernel: one trace, step by step."""
     mesh = _square()
     criterion = AnyOf((MinAngle(25), MaxArea(mpq(1, 50)))) if method != "bisection" else \
         AnyOf((MaxEdgeLength(mpq(1, 4)), MaxArea(mpq(1, 50))))
+    engines = ["reference", "python", *(["compiled"] if method != "bisection" else [])]
     runs = [refine(mesh, criterion, method=method, engine=engine)  # type: ignore[arg-type]
-            for engine in ("reference", "python")]
-    assert runs[0].mesh == runs[1].mesh
-    assert runs[0].trace.steps == runs[1].trace.steps
-    assert runs[0].trace.digests == runs[1].trace.digests
+            for engine in engines]
+    for other in runs[1:]:
+        assert other.mesh == runs[0].mesh
+        assert other.trace.steps == runs[0].trace.steps
+        assert other.trace.digests == runs[0].trace.digests
+        assert other.stats.left == runs[0].stats.left
+
+
+@pytest.mark.parametrize("method", ["centroid", "quasi"])
+@pytest.mark.parametrize("height", [20, 60, 300])
+def test_the_compiled_kernel_runs_angle_and_area_as_the_python_engine(method: str,
+                                                                       height: int) -> None:
+    """Sharp input corners (left for the angle, refined for the area), off-grid
+    coordinates (the area rated in Python inside the kernel): the same trace."""
+    points = [point2(0, 0), point2(10, 0), point2(12, 1), point2(10, mpq(height, 100)),
+              point2(mpq(1, 3), mpq(7, 3))]
+    mesh = triangulate(PSLG(vertices=points, segments=[(0, 1, 1), (1, 2, 1), (2, 3, 1),
+                                                       (3, 4, 1), (4, 0, 1)])).mesh
+    criterion = AnyOf((MinAngle(27), MaxArea(mpq(1, 3))))
+    compiled = refine(mesh, criterion, method=method, engine="compiled")  # type: ignore[arg-type]
+    python = refine(mesh, criterion, method=method, engine="python")  # type: ignore[arg-type]
+    assert compiled.trace.steps == python.trace.steps
+    assert compiled.trace.digests == python.trace.digests
+    assert compiled.stats.left == python.stats.left and compiled.mesh == python.mesh
 
 
 TWO_REGIONS = """# two squares side by side, the right one with a small maximum area

@@ -102,8 +102,10 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
                 f"'area', not method {options['method']!r} with centroid "
                 f"{options['centroid']!r}")
     if isinstance(criterion, AnyOf):
-        return "it runs one criterion at a time, not a combination (AnyOf)"
-    if criterion.angle_threshold is not None and type(criterion) is not MinAngle:
+        if not _angle_then_area(criterion):
+            return ("the only combination it runs is AnyOf((MinAngle, MaxArea)), the angle "
+                    "first")
+    elif criterion.angle_threshold is not None and type(criterion) is not MinAngle:
         return "the only minimum-angle criterion it runs is MinAngle"
     if type(criterion) is not AverageAreaFactor and (
         criterion.target_mean_area(mpq(1), 1) is not None
@@ -114,6 +116,13 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
     if len(mesh.vertex_attributes):
         return "it runs no mesh with vertex attributes (new vertices get them interpolated)"
     return None
+
+
+def _angle_then_area(criterion: AnyOf) -> bool:
+    """True for ``AnyOf((MinAngle(θ), MaxArea(A)))`` (``refine --min-angle --max-area``)."""
+    members = criterion.criteria
+    return (len(members) == 2 and type(members[0]) is MinAngle
+            and type(members[1]) is MaxArea)
 
 
 def supports(mesh: Mesh2, **options: Any) -> bool:
@@ -131,6 +140,11 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
     criterion, region = options["criterion"], options["region"]
     on_step: Callable[[Any], None] | None = options["on_step"]
     doubled = 2 * criterion.area if type(criterion) is MaxArea else None
+    angle: Any = criterion if type(criterion) is MinAngle else None
+    area_rate = None
+    if isinstance(criterion, AnyOf):  # AnyOf((MinAngle, MaxArea)): checked above
+        angle, area = criterion.criteria
+        doubled, area_rate = 2 * area.area, area.rate  # type: ignore[attr-defined]
     # the kernel counts steps in int64: a larger limit is never reached anyway
     limit = None if max_steps is None or max_steps >= 1 << 62 else max_steps
     assert _lepp_kernel is not None
@@ -139,7 +153,8 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
         limit, on_step, Progress, doubled, type(criterion) is AverageAreaFactor,
         method=options["method"], constraint_midpoints=bool(options["constraint_midpoints"]),
         centroid=rounded_area_centroid,
-        threshold=criterion.threshold if type(criterion) is MinAngle else None,
+        threshold=None if angle is None else angle.threshold,
+        area_rate=area_rate,
     )
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)

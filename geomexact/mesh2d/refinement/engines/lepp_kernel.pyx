@@ -6,7 +6,8 @@ Contract: :class:`Kernel` runs exactly the loop of
 ``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` for the methods ``"bisection"``,
 ``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; centroid kind ``"area"``,
 with or without constraint midpoints), a criterion rating single triangles (no angle
-threshold) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
+threshold), ``MinAngle``, ``AnyOf((MinAngle, MaxArea))`` (the angle first: entries carry
+their group) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
 triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the
 same digest after every step, the same counters, and seals the same ``Mesh2``
 (``geomexact.mesh2d.refinement.engines.compiled`` checks the subset and is the only caller).
@@ -163,6 +164,8 @@ cdef struct Entry:
     int64_t a
     int64_t b
     int64_t c
+    # AnyOf((MinAngle, MaxArea)): 0 for a triangle queued for its angle, 1 for its area
+    int group
 
 cdef struct Record:
     int64_t u
@@ -300,6 +303,8 @@ cdef class Kernel:
     # a MinAngle criterion (rated in C): its AngleThreshold, cos2 as a double (maybe nan)
     # and the sign of cos θ; the left triangles and why; the input's tip limits
     cdef bint min_angle
+    cdef bint combined
+    cdef object area_rate
     cdef object threshold
     cdef double cos2f
     cdef int cos_sign
@@ -324,7 +329,7 @@ cdef class Kernel:
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
                  on_step, progress, max_area_doubled, bint average=False,
                  method="bisection", bint constraint_midpoints=True, centroid=None,
-                 threshold=None):
+                 threshold=None, area_rate=None):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
         grid triangles), else None (``criterion.rate`` rates every triangle).
         ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
@@ -407,12 +412,16 @@ cdef class Kernel:
         self.contains = region.contains
         self.rate = criterion.rate
         self.min_angle = threshold is not None
+        # AnyOf((MinAngle, MaxArea)): the angle first, then the area (area_rate: the
+        # MaxArea's rate, for triangles off the grid)
+        self.combined = self.min_angle and max_area_doubled is not None
+        self.area_rate = area_rate
         self.threshold = threshold
         self.left = {}
         self.tip_grid = {}
         if self.min_angle:
-            if max_area_doubled is not None or average:
-                raise ValueError("a minimum angle is rated alone")
+            if average or (self.combined and area_rate is None):
+                raise ValueError("a minimum angle is rated alone or with a MaxArea")
             self.cos2f = threshold.cos2_float
             self.cos_sign = threshold.cos_sign
             # Refinement.tip_limit reads the start mesh: its half-edges and outgoing hints
@@ -889,6 +898,7 @@ cdef class Kernel:
         entry.a = a
         entry.b = b
         entry.c = c
+        entry.group = 0
         if self.min_angle:
             return self._consider_angle(&entry)
         if self.max_area:
@@ -966,14 +976,45 @@ cdef class Kernel:
         else:
             p, q, r = b, c, a
         if self._angle(q, p, r) != -1:
-            return 0
+            return self._consider_area(entry) if self.combined else 0
         if self._unimprovable(a, b, c):
+            if self.combined and self._consider_area(entry):
+                return 1  # too large still: queued for its area
             self.left[(a, b, c)] = SHARP_CORNER
             return 0
         entry.ikey = 0
         entry.py = -1
         self._angle_rank(entry, p, q, r)
         return self._push(entry)
+
+    cdef int _consider_area(self, Entry *entry) except -1:
+        """AnyOf's second criterion, ``MaxArea``: queue the entry in group 1 when its
+        triangle is too large (key −(doubled area): in grid units on the grid, else the
+        MaxArea's own exact key); 1 when queued."""
+        cdef Vertex *va = &self.vs[entry.a]
+        cdef Vertex *vb = &self.vs[entry.b]
+        cdef Vertex *vc = &self.vs[entry.c]
+        cdef gx_i128 area2
+        entry.group = 1
+        if va.at.grid and vb.at.grid and vc.at.grid:
+            area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
+            if area2 <= self.area_limit:
+                return 0
+            entry.ikey = -area2
+            entry.rank = 0.0
+            entry.py = -1
+            self._push(entry)
+            return 1
+        points = self.points
+        key = self.area_rate(points[entry.a], points[entry.b], points[entry.c])
+        if key is None:
+            return 0
+        entry.ikey = 0
+        entry.rank = _rank(key)
+        entry.py = len(self.pykeys)
+        self.pykeys.append(key)
+        self._push(entry)
+        return 1
 
     cdef int _angle_rank(self, Entry *entry, int64_t p, int64_t q, int64_t r) except -1:
         """Set ``rank`` and ``rad``: −cos² of the angle at p between q and r lies within
@@ -1191,8 +1232,11 @@ cdef class Kernel:
         return tuple(self.left[t] for t in self.left_triangles())
 
     cdef inline int _less(self, Entry *x, Entry *y) except -1:
-        """(key, triangle) of x < that of y, keys compared exactly."""
-        if self.min_angle:
+        """(key, triangle) of x < that of y, keys compared exactly (AnyOf: its group,
+        then the group's key)."""
+        if x.group != y.group:
+            return x.group < y.group
+        if self.min_angle and x.group == 0:
             # the certified intervals decide, else the exact keys
             if x.rank + x.rad < y.rank - y.rad:
                 return True
