@@ -415,7 +415,7 @@ cdef class Kernel:
         # AnyOf((MinAngle, MaxArea)): the angle first, then the area (area_rate: the
         # MaxArea's rate, for triangles off the grid)
         self.combined = self.min_angle and max_area_doubled is not None
-        self.area_rate = area_rate
+        self.area_rate = criterion.rate if area_rate is None else area_rate
         self.threshold = threshold
         self.left = {}
         self.tip_grid = {}
@@ -888,10 +888,6 @@ cdef class Kernel:
     cdef int _consider(self, int64_t a, int64_t b, int64_t c) except -1:
         """Queue the canonical triangle (a, b, c) when it is bad (the caller checked the
         region, except at the start)."""
-        cdef Vertex *va
-        cdef Vertex *vb
-        cdef Vertex *vc
-        cdef gx_i128 area2
         cdef Entry entry
         if not self.whole and not self._in_region(a, b, c):
             return 0
@@ -901,27 +897,22 @@ cdef class Kernel:
         entry.group = 0
         if self.min_angle:
             return self._consider_angle(&entry)
-        if self.max_area:
-            va = &self.vs[a]
-            vb = &self.vs[b]
-            vc = &self.vs[c]
-            if va.at.grid and vb.at.grid and vc.at.grid:
-                area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
-                if area2 <= self.area_limit:
-                    return 0
-                entry.ikey = -area2
-                entry.rank = 0.0
-                entry.py = -1
-                return self._push(&entry)
+        if self.max_area:  # MaxArea, AverageAreaFactor: grid triangles rated in C
+            self._consider_area(&entry)
+            return 0
         points = self.points
         key = self.rate(points[a], points[b], points[c])
         if key is None:
             return 0
+        return self._push_key(&entry, key)
+
+    cdef int _push_key(self, Entry *entry, object key) except -1:
+        """Queue the entry with a Python key (its float rank for most comparisons)."""
         entry.ikey = 0
         entry.rank = _rank(key)
         entry.py = len(self.pykeys)
         self.pykeys.append(key)
-        return self._push(&entry)
+        return self._push(entry)
 
     # -- the minimum angle (MinAngle.rate and the small-angle rules of Refinement) ---------
     cdef int _angle(self, int64_t a, int64_t b, int64_t c) except -2:
@@ -988,9 +979,10 @@ cdef class Kernel:
         return self._push(entry)
 
     cdef int _consider_area(self, Entry *entry) except -1:
-        """AnyOf's second criterion, ``MaxArea``: queue the entry in group 1 when its
-        triangle is too large (key −(doubled area): in grid units on the grid, else the
-        MaxArea's own exact key); 1 when queued."""
+        """An area criterion (``MaxArea``, ``AverageAreaFactor``, or AnyOf's second
+        criterion): queue the entry in group 1 when its triangle is too large (key
+        −(doubled area): in grid units on the grid, else the criterion's own exact key);
+        1 when queued."""
         cdef Vertex *va = &self.vs[entry.a]
         cdef Vertex *vb = &self.vs[entry.b]
         cdef Vertex *vc = &self.vs[entry.c]
@@ -1009,11 +1001,7 @@ cdef class Kernel:
         key = self.area_rate(points[entry.a], points[entry.b], points[entry.c])
         if key is None:
             return 0
-        entry.ikey = 0
-        entry.rank = _rank(key)
-        entry.py = len(self.pykeys)
-        self.pykeys.append(key)
-        self._push(entry)
+        self._push_key(entry, key)
         return 1
 
     cdef int _angle_rank(self, Entry *entry, int64_t p, int64_t q, int64_t r) except -1:
