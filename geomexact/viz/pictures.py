@@ -144,6 +144,27 @@ def _lines(xy: np.ndarray, edges: np.ndarray, **style: Any) -> LineCollection:
                           **style)
 
 
+MIN_EDGE_PIXELS = 3
+"""Below this median edge length on the picture, a triangle mesh's edges are left out
+(they would paint every face over) and a plain fill becomes the smallest-angle fill."""
+
+
+def _edge_pixels(ax: Any, xy: np.ndarray, triangles: np.ndarray) -> float:
+    """The median length, in pixels of ``ax``, of the first edges of (up to 20,000 of) the
+    triangles, the whole mesh fitted in the axes."""
+    finite = xy[np.isfinite(xy).all(axis=1)]
+    if not len(finite):
+        return float("inf")
+    extent = float(max(np.ptp(finite[:, 0]), np.ptp(finite[:, 1]))) * 1.06
+    box = ax.get_window_extent()
+    pixels = min(box.width, box.height)
+    sample = triangles[:: max(1, len(triangles) // 20_000)]
+    lengths = np.hypot(*(xy[sample[:, 1]] - xy[sample[:, 0]]).T)
+    if extent <= 0 or not len(lengths):
+        return float("inf")
+    return float(np.median(lengths) / extent * pixels)
+
+
 def draw(
     ax: Any,
     value: Viewable | Scene,
@@ -158,7 +179,9 @@ def draw(
     """Draw ``value`` into the matplotlib axes ``ax``; return its scene.
 
     Triangle meshes: edges, boundary (dark, thicker), constrained edges (red); filled
-    plainly or by ``color_by`` (``"min_angle"`` in 10° bands, ``"area"`` on a log scale,
+    plainly or by ``color_by`` (a mesh whose edges would be under
+    :data:`MIN_EDGE_PIXELS` on the picture: no edges, and filled by smallest angle unless
+    ``color_by`` says otherwise) (``"min_angle"`` in 10° bands, ``"area"`` on a log scale,
     ``"region"`` by the first triangle attribute), with a colour bar.  Polygon meshes:
     non-convex polygons filled in orange.  PSLGs: vertices, segments, holes (×) and region
     seeds (+).  ``highlight_triangles`` are filled in orange, ``removed_triangles`` outlined
@@ -175,6 +198,11 @@ def draw(
     faces_drawn = False
     if scene.kind == "triangles" and scene.triangle_count:
         triangles = _ids(scene.triangles, 3)
+        # edges shorter than a few pixels only paint the faces over: leave them out, and
+        # show the faces' quality instead of a plain fill
+        dense = _edge_pixels(ax, xy, triangles) < MIN_EDGE_PIXELS
+        if dense and color_by == "none":
+            color_by = "min_angle"
         collection = PolyCollection(_polygons(xy[triangles]), edgecolors="none", linewidths=0)
         values = None
         if color_by == "min_angle":
@@ -208,7 +236,12 @@ def draw(
         if values is not None and colorbar:
             ax.figure.colorbar(collection, ax=ax, shrink=0.8, label=label)
         edges, boundary = _triangle_edges(triangles)
-        ax.add_collection(_lines(xy, edges, colors=EDGE_COLOR, linewidths=0.35))
+        if dense:
+            ax.text(1.0, 0.0, f"edges under {MIN_EDGE_PIXELS} px left out",
+                    transform=ax.transAxes, fontsize=8, color="#555555", ha="right",
+                    va="bottom")
+        else:
+            ax.add_collection(_lines(xy, edges, colors=EDGE_COLOR, linewidths=0.35))
         ax.add_collection(_lines(xy, boundary, colors=BOUNDARY_COLOR, linewidths=1.0))
         faces_drawn = True
     elif scene.kind == "polygons" and scene.polygon_count:
