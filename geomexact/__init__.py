@@ -36,6 +36,7 @@ if TYPE_CHECKING:
         TransientSealedError,
         Violation,
     )
+    from geomexact.io.arrays import from_arrays, to_arrays, triangulate_arrays
     from geomexact.io.trace_file import read_trace, write_trace
     from geomexact.kernel.numbers import format_rational, mpq, parse_rational, to_rational
     from geomexact.kernel.points import Point2, Point3, point2, point3
@@ -146,6 +147,9 @@ _HOMES: dict[str, str] = {
     "replay": "geomexact.trace.playback",
     "read_trace": "geomexact.io.trace_file",
     "write_trace": "geomexact.io.trace_file",
+    "from_arrays": "geomexact.io.arrays",
+    "to_arrays": "geomexact.io.arrays",
+    "triangulate_arrays": "geomexact.io.arrays",
     **{name: home for name, home in _MESH2D_HOMES.items() if name in _FACADE_2D},
 }
 """Public name -> the module that defines it (the 2D ones as in :mod:`geomexact.mesh2d`)."""
@@ -204,6 +208,7 @@ __all__ = [
     "first_divergence",
     "flip",
     "format_rational",
+    "from_arrays",
     "incircle",
     "insert_centroid",
     "insert_in_edge",
@@ -230,11 +235,13 @@ __all__ = [
     "refine",
     "replay",
     "signed_area",
+    "to_arrays",
     "to_rational",
     "total_area",
     "trace_of",
     "triangle_area",
     "triangulate",
+    "triangulate_arrays",
     "triangulate_points",
     "validate",
     "validate_polygon_mesh",

@@ -455,3 +455,9 @@ def test_meshing_a_part(folder: Path) -> None:
     run_console(consoles[1])
     assert (folder / "mos.vtu").stat().st_size > 10_000
     run_console(consoles[0])  # skips without ../shared/data
+
+
+def test_coming_from(folder: Path) -> None:
+    """The arrays session for users of the triangle package."""
+    done = run_page("coming-from.md")
+    assert done["doctests"] >= 4
