@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from helpers.command import run
 from helpers.device_cases import MOS_DEVICE
+from helpers.paths import SHARED_DATA
 from helpers.surface_cases import cube, notched_box, torus, write_obj, write_off
 
 from geomexact import io
@@ -21,7 +22,7 @@ from geomexact.kernel.numbers import parse_rational
 from geomexact.mesh3d.measures import total_volume
 from geomexact.mesh3d.surface.value import triangle_surface
 
-SURFACES = Path(__file__).resolve().parents[3] / "shared" / "data" / "surfaces"
+SURFACES = SHARED_DATA / "surfaces"
 
 
 @pytest.fixture()

@@ -11,3 +11,10 @@ SUPERIOR = PROJECT / "geomexact" / "data" / "superior.poly"
 SHARED_DATA = Path(os.environ.get("GEOMEXACT_SHARED_DATA") or PROJECT.parent / "shared" / "data")
 """Third-party data: ``../shared/data``, or ``$GEOMEXACT_SHARED_DATA`` (set it to a missing
 folder to run the suite as a clone without ``../shared`` does)."""
+
+
+def read_superior() -> object:
+    """The bundled Lake Superior PSLG (``geomexact/data/superior.poly``), read exactly."""
+    from geomexact import io
+
+    return io.read(SUPERIOR, format="poly")

@@ -6,13 +6,13 @@ returns arrays that meet both bounds."""
 from __future__ import annotations
 
 from fractions import Fraction
-from importlib import resources
 
 import numpy as np
 import pytest
+from helpers.paths import read_superior
 from hypothesis import given, settings
 
-from geomexact import io, mpq
+from geomexact import mpq
 from geomexact.errors import FormatError, PreconditionError
 from geomexact.io.arrays import from_arrays, to_arrays, triangulate_arrays
 from geomexact.mesh2d.delaunay.triangulation import triangulate
@@ -25,9 +25,7 @@ from geomexact.strategies import pslgs, triangulations
 
 
 def _superior() -> PSLG:
-    source = resources.files("geomexact") / "data" / "superior.poly"
-    with resources.as_file(source) as path:
-        value = io.read(path)
+    value = read_superior()
     assert isinstance(value, PSLG)
     return value
 

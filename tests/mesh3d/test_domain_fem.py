@@ -5,16 +5,15 @@ surface); the L2 error falls at second order as the octree is refined everywhere
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
+from helpers.paths import SHARED_DATA
 from helpers.poisson import p1_l2_error, rates
 
 from geomexact.io.surface_files import read_surface
 from geomexact.mesh3d.octree.domain import generate_domain
 from geomexact.mesh3d.surface.checks import oriented_outward
 
-SURFACES = Path(__file__).resolve().parents[3] / "shared" / "data" / "surfaces"
+SURFACES = SHARED_DATA / "surfaces"
 
 
 @pytest.mark.skipif(not SURFACES.is_dir(), reason="../shared/data/surfaces is absent")

@@ -8,10 +8,10 @@ from __future__ import annotations
 import random
 from collections import Counter
 from fractions import Fraction
-from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.paths import SHARED_DATA
 from helpers.surface_cases import notched_box, octahedron
 
 from geomexact.kernel.numbers import mpq
@@ -25,7 +25,7 @@ from geomexact.mesh3d.surface.queries import INSIDE, ON, OUTSIDE, surface_index
 from geomexact.mesh3d.surface.value import TriangleSurface, triangle_surface
 from geomexact.mesh3d.validation import validate3
 
-SURFACES = Path(__file__).resolve().parents[3] / "shared" / "data" / "surfaces"
+SURFACES = SHARED_DATA / "surfaces"
 
 
 def _domain_box(surface: TriangleSurface) -> Box:

@@ -9,10 +9,11 @@ import re
 from pathlib import Path
 
 import pytest
+from helpers.paths import SHARED_DATA
 
 DOCS = Path(__file__).resolve().parents[2] / "docs"
 GUIDE = DOCS / "meshing-a-part.md"
-SHARED = Path(__file__).resolve().parents[3] / "shared" / "data"
+SHARED = SHARED_DATA
 
 
 def test_pictures_exist_are_small_and_linked() -> None:

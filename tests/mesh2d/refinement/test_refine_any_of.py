@@ -7,11 +7,11 @@ CLI takes the goals together."""
 from __future__ import annotations
 
 import json
-from importlib import resources
 from pathlib import Path
 
 import pytest
 from helpers.command import run
+from helpers.paths import SHARED_DATA, SUPERIOR, read_superior
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -32,7 +32,7 @@ from geomexact.mesh2d.refinement.criteria import (
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.trace.playback import replay
 
-SHARED = Path(__file__).resolve().parents[4] / "shared" / "data"
+SHARED = SHARED_DATA
 
 
 def _problems(mesh: Mesh2, angle: MinAngle, area: object, left: object) -> list[str]:
@@ -50,9 +50,7 @@ def _problems(mesh: Mesh2, angle: MinAngle, area: object, left: object) -> list[
 
 
 def _superior() -> Mesh2:
-    source = resources.files("geomexact") / "data" / "superior.poly"
-    with resources.as_file(source) as path:
-        pslg = io.read(path, format="poly")
+    pslg = read_superior()
     assert isinstance(pslg, PSLG)
     return triangulate(pslg).mesh
 
@@ -113,19 +111,18 @@ def test_what_does_not_combine_is_refused() -> None:
 
 def test_the_command_takes_the_goals_together(capsys: pytest.CaptureFixture[str],
                                               tmp_path: Path) -> None:
-    source = resources.files("geomexact") / "data" / "superior.poly"
-    with resources.as_file(source) as path:
-        out = tmp_path / "s.ele"
-        code, text, err = run(capsys, "refine", path, "--min-angle", "30", "--max-area",
-                              "0.25", "-o", out, "--json", "--no-progress")
-        assert code == 0, err
-        report = json.loads(text)
-        assert report["criterion"]["kind"] == "any_of"
-        assert report["max_area"] <= 0.25 and report["status"] == "complete"
-        code, _, err = run(capsys, "refine", path, "--min-angle", "30", "--factor", "0.5")
-        assert code == 2 and "does not combine" in err
-        code, _, err = run(capsys, "refine", path)
-        assert code == 2 and "give a goal" in err
+    path = SUPERIOR
+    out = tmp_path / "s.ele"
+    code, text, err = run(capsys, "refine", path, "--min-angle", "30", "--max-area",
+                          "0.25", "-o", out, "--json", "--no-progress")
+    assert code == 0, err
+    report = json.loads(text)
+    assert report["criterion"]["kind"] == "any_of"
+    assert report["max_area"] <= 0.25 and report["status"] == "complete"
+    code, _, err = run(capsys, "refine", path, "--min-angle", "30", "--factor", "0.5")
+    assert code == 2 and "does not combine" in err
+    code, _, err = run(capsys, "refine", path)
+    assert code == 2 and "give a goal" in err
 
 
 @pytest.mark.parametrize("method", ["centroid", "quasi", "bisection"])

@@ -5,11 +5,11 @@ angles 20°…35° with the centroid and quasi-Delaunay methods."""
 
 from __future__ import annotations
 
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers.paths import read_superior
 
 from geomexact import Mesh2, io, is_delaunay, replay, total_area, validate
 from geomexact.kernel.angles import angle_degrees
@@ -128,9 +128,7 @@ def test_polylla_meshes_min_angle_30(shared_data: Path, name: str, method: Any) 
 @pytest.fixture(scope="module")
 def superior() -> Mesh2:
     """The constrained Delaunay triangulation of the bundled Lake Superior PSLG."""
-    source = resources.files("geomexact") / "data" / "superior.poly"
-    with resources.as_file(source) as path:
-        pslg = io.read(path, format="poly")
+    pslg = read_superior()
     assert isinstance(pslg, PSLG)
     return triangulate(pslg).mesh
 

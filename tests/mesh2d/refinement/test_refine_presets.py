@@ -11,8 +11,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers.paths import read_superior
 
-from geomexact import io
 from geomexact.cli import main
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import mpq
@@ -31,9 +31,7 @@ from geomexact.trace.playback import replay
 
 @pytest.fixture(scope="module")
 def superior() -> Mesh2:
-    source = resources.files("geomexact") / "data" / "superior.poly"
-    with resources.as_file(source) as path:
-        pslg = io.read(path, format="poly")
+    pslg = read_superior()
     assert isinstance(pslg, PSLG)
     return triangulate(pslg).mesh
 
