@@ -4,6 +4,7 @@ PSLG (exit 1 on violations)."""
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from geomexact.cli.arguments import (
     Subcommands,
@@ -15,10 +16,16 @@ from geomexact.cli.arguments import (
 from geomexact.cli.errors import UsageProblem, cli_wording, print_warning
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.info import materials_report, print_materials
-from geomexact.cli.loading import Loaded, load, seed_warnings, triangulation_problems
+from geomexact.cli.loading import (
+    Loaded,
+    load,
+    seed_warnings,
+    surface_instead,
+    triangulation_problems,
+)
 from geomexact.cli.reporting import print_json, violation_reports
 from geomexact.cli.summaries import cells_by_kind
-from geomexact.errors import PreconditionError, Violation
+from geomexact.errors import FormatError, PreconditionError, Violation
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import (
     PolygonMesh,
@@ -37,12 +44,42 @@ _LISTED = 10
 """At most this many vertices are named in a note."""
 
 
+def _check_surface(args: argparse.Namespace, surface: Any) -> int:
+    """``check`` of a triangulated surface (a 3D OBJ, STL, PLY, OFF): the exact checks a
+    domain's surface must pass (:func:`~geomexact.mesh3d.surface.checks.surface_problems`);
+    exit 1 listing every problem."""
+    from geomexact.mesh3d.surface.checks import surface_problems
+
+    violations = surface_problems(surface)
+    if args.json:
+        print_json({"file": args.file, "kind": "triangle_surface", "valid": not violations,
+                    "vertices": surface.vertex_count, "triangles": surface.triangle_count,
+                    "violations": violation_reports(violations), "warnings": []})
+    elif violations:
+        print(f"{args.file}: not the surface of a domain, {len(violations)} problem(s)")
+        for violation in violations[:20]:
+            print(f"  {violation}")
+        if len(violations) > 20:
+            print(f"  … and {len(violations) - 20} more (--json lists them all)")
+    else:
+        print(f"{args.file}: valid ({surface.vertex_count} vertices, "
+              f"{surface.triangle_count} triangles: closed, manifold, oriented outward, not "
+              "self-intersecting)")
+    return EXIT_FAILED if violations else EXIT_OK
+
+
 def command_check(args: argparse.Namespace) -> int:
     """Validate a triangle mesh (:func:`geomexact.mesh2d.validation`), a tetrahedral or
     mixed-cell mesh (``validate3``, ``validate_mixed``), a polygon mesh
     (:func:`geomexact.mesh2d.polygonal.polygon_mesh.validate_polygon_mesh`, with its geometric
     checks) or a PSLG (:func:`pslg_violations`); exit 1 listing every violation."""
-    loaded = load(args.file, args.format, args.verbose)
+    try:
+        loaded = load(args.file, args.format, args.verbose)
+    except (FormatError, UsageProblem) as error:
+        surface = surface_instead(args.file, args.format, error)
+        if surface is None:
+            raise
+        return _check_surface(args, surface)
     value = loaded.value
     warnings: list[str] = []
     counts: dict[str, int | dict[str, int]]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
 from geomexact.cli.arguments import (
@@ -12,10 +13,12 @@ from geomexact.cli.arguments import (
     add_json_flag,
     add_verbose_flag,
 )
+from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
-from geomexact.cli.loading import Loaded, load, material_cells
+from geomexact.cli.loading import Loaded, load, material_cells, surface_instead
 from geomexact.cli.reporting import print_json, print_table
-from geomexact.cli.summaries import materials_summary, summary_of
+from geomexact.cli.summaries import materials_summary, summary_of, surface_summary
+from geomexact.errors import FormatError
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 
@@ -49,9 +52,21 @@ def _describe(loaded: Loaded) -> dict[str, Any]:
     }
 
 
+def _report(path: str, format: str | None, verbose: bool) -> dict[str, Any]:
+    """A file's report: a mesh's, or a triangulated surface's (a 3D OBJ, STL, PLY, OFF)."""
+    try:
+        return _describe(load(path, format, verbose))
+    except (FormatError, UsageProblem) as error:
+        surface = surface_instead(path, format, error)
+        if surface is None:
+            raise
+        return {"file": path, "format": Path(path).suffix.lower().lstrip("."),
+                "kind": "triangle_surface", **surface_summary(surface), "notes": []}
+
+
 def command_info(args: argparse.Namespace) -> int:
     """Statistics of each file."""
-    reports = [_describe(load(path, args.format, args.verbose)) for path in args.files]
+    reports = [_report(path, args.format, args.verbose) for path in args.files]
     if args.json:
         print_json(reports[0] if len(reports) == 1 else {"files": reports})
         return EXIT_OK

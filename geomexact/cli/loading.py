@@ -4,6 +4,7 @@ line of each item; and triangulating a PSLG input with errors that name those li
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 from typing import Any
 
 import attrs
@@ -237,3 +238,17 @@ def seed_warnings(loaded: Loaded, construction: Construction) -> list[str]:
             f"domain{', or in a hole carved before' if pslg.holes else ''}); ignored"
         )
     return warnings
+
+
+def surface_instead(path: str, format: str | None, error: Exception) -> Any:
+    """A closed (or open) triangulated surface in ``path`` when the mesh readers refused it
+    (a 3D OBJ, STL, PLY or OFF: a part's surface, not a planar mesh), read exactly; None
+    when ``path`` is not a surface file either (the caller re-raises ``error``)."""
+    from geomexact.io.surface_files import SURFACE_FORMATS, read_surface
+
+    if format is not None or Path(path).suffix.lower() not in SURFACE_FORMATS:
+        return None
+    try:
+        return read_surface(path)
+    except FormatError:
+        return None

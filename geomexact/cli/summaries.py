@@ -126,3 +126,27 @@ def summary_of(value: Writable) -> dict[str, Any]:
     if isinstance(value, MixedMeshData):
         return {**mixed_summary(value.mesh), "cell_data": sorted(value.cell_data)}
     return polygon_mesh_summary(value)
+
+
+def surface_summary(surface: Any) -> dict[str, Any]:
+    """Counts, whether it bounds a domain (closed, manifold, oriented, not
+    self-intersecting: the exact checks), the problems by kind, the exact enclosed volume
+    and bounds of a triangulated surface."""
+    from geomexact.mesh3d.surface.checks import surface_problems
+
+    problems = surface_problems(surface)
+    kinds: dict[str, int] = {}
+    for problem in problems:
+        kinds[problem.kind] = kinds.get(problem.kind, 0) + 1
+    low, high = surface.bounds()
+    return {
+        "vertices": surface.vertex_count,
+        "triangles": surface.triangle_count,
+        "closed": "boundary-edge" not in kinds,
+        "bounds_a_domain": not problems,
+        "problems": kinds,
+        "enclosed_volume": format_rational(surface.enclosed_volume()),
+        "enclosed_volume_approx": float(surface.enclosed_volume()),
+        "bounding_box": {"low": [format_rational(v) for v in low],
+                         "high": [format_rational(v) for v in high]},
+    }
