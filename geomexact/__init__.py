@@ -37,6 +37,7 @@ if TYPE_CHECKING:
         Violation,
     )
     from geomexact.io.arrays import from_arrays, to_arrays, triangulate_arrays
+    from geomexact.io.surface_files import read_surface
     from geomexact.io.trace_file import read_trace, write_trace
     from geomexact.kernel.numbers import format_rational, mpq, parse_rational, to_rational
     from geomexact.kernel.points import Point2, Point3, point2, point3
@@ -101,6 +102,27 @@ if TYPE_CHECKING:
         validate_polygon_mesh,
         vertices_mesh,
     )
+    from geomexact.mesh3d.cuboid.boxes import Box
+    from geomexact.mesh3d.mixed.snapshot import MixedMesh3
+    from geomexact.mesh3d.mixed.validation import validate_mixed
+    from geomexact.mesh3d.octree.device import generate_device
+    from geomexact.mesh3d.octree.domain import generate_domain
+    from geomexact.mesh3d.octree.pipeline import generate, generate_cells
+    from geomexact.mesh3d.octree.stages import (
+        BoxGrid,
+        DerefineWhere,
+        MixedPartition,
+        PolyhedralPartition,
+        RefineWhere,
+    )
+    from geomexact.mesh3d.octree.tree import Octree
+    from geomexact.mesh3d.quality_improvement import QualityCriterion, improve_quality
+    from geomexact.mesh3d.snapshot import Mesh3
+    from geomexact.mesh3d.surface.checks import check_surface, oriented_outward
+    from geomexact.mesh3d.surface.value import TriangleSurface, triangle_surface
+    from geomexact.mesh3d.transient import Transient3, mesh3_from_tetrahedra
+    from geomexact.mesh3d.validation import validate3
+    from geomexact.mesh3d.voronoi import control_volumes
     from geomexact.trace.playback import first_divergence, replay
     from geomexact.trace.record import Trace, trace_of
     from geomexact.trace.step import Step
@@ -147,6 +169,31 @@ _HOMES: dict[str, str] = {
     "replay": "geomexact.trace.playback",
     "read_trace": "geomexact.io.trace_file",
     "write_trace": "geomexact.io.trace_file",
+    "Mesh3": "geomexact.mesh3d.snapshot",
+    "Transient3": "geomexact.mesh3d.transient",
+    "mesh3_from_tetrahedra": "geomexact.mesh3d.transient",
+    "validate3": "geomexact.mesh3d.validation",
+    "MixedMesh3": "geomexact.mesh3d.mixed.snapshot",
+    "validate_mixed": "geomexact.mesh3d.mixed.validation",
+    "Box": "geomexact.mesh3d.cuboid.boxes",
+    "Octree": "geomexact.mesh3d.octree.tree",
+    "generate": "geomexact.mesh3d.octree.pipeline",
+    "generate_cells": "geomexact.mesh3d.octree.pipeline",
+    "generate_domain": "geomexact.mesh3d.octree.domain",
+    "generate_device": "geomexact.mesh3d.octree.device",
+    "RefineWhere": "geomexact.mesh3d.octree.stages",
+    "BoxGrid": "geomexact.mesh3d.octree.stages",
+    "DerefineWhere": "geomexact.mesh3d.octree.stages",
+    "MixedPartition": "geomexact.mesh3d.octree.stages",
+    "PolyhedralPartition": "geomexact.mesh3d.octree.stages",
+    "TriangleSurface": "geomexact.mesh3d.surface.value",
+    "triangle_surface": "geomexact.mesh3d.surface.value",
+    "check_surface": "geomexact.mesh3d.surface.checks",
+    "oriented_outward": "geomexact.mesh3d.surface.checks",
+    "read_surface": "geomexact.io.surface_files",
+    "control_volumes": "geomexact.mesh3d.voronoi",
+    "improve_quality": "geomexact.mesh3d.quality_improvement",
+    "QualityCriterion": "geomexact.mesh3d.quality_improvement",
     "from_arrays": "geomexact.io.arrays",
     "to_arrays": "geomexact.io.arrays",
     "triangulate_arrays": "geomexact.io.arrays",
@@ -158,12 +205,15 @@ __all__ = [
     "PSLG",
     "AnyOf",
     "AverageAreaFactor",
+    "Box",
+    "BoxGrid",
     "Circle",
     "CircleLocation",
     "Comparison",
     "Construction",
     "ConvexDecomposition",
     "ConvexDecompositionError",
+    "DerefineWhere",
     "DoubleRangeError",
     "EdgeLabels",
     "FormatError",
@@ -173,20 +223,27 @@ __all__ = [
     "MaxArea",
     "MaxEdgeLength",
     "Mesh2",
+    "Mesh3",
     "MinAngle",
     "MissingDependencyError",
+    "MixedMesh3",
+    "MixedPartition",
+    "Octree",
     "Orientation",
     "OverwriteError",
     "Point2",
     "Point3",
     "Polygon",
     "PolygonMesh",
+    "PolyhedralPartition",
     "PolyllaError",
     "PolyllaRun",
     "PreconditionError",
+    "QualityCriterion",
     "RationalParseError",
     "Rectangle",
     "RefineStats",
+    "RefineWhere",
     "RegionAreas",
     "Result",
     "SegmentError",
@@ -195,7 +252,9 @@ __all__ = [
     "Trace",
     "TraceError",
     "Transient2",
+    "Transient3",
     "TransientSealedError",
+    "TriangleSurface",
     "Violation",
     "__version__",
     "apply",
@@ -203,12 +262,19 @@ __all__ = [
     "canonical_triangle",
     "check",
     "check_polygon_mesh",
+    "check_surface",
+    "control_volumes",
     "convex_decomposition",
     "empty_mesh",
     "first_divergence",
     "flip",
     "format_rational",
     "from_arrays",
+    "generate",
+    "generate_cells",
+    "generate_device",
+    "generate_domain",
+    "improve_quality",
     "incircle",
     "insert_centroid",
     "insert_in_edge",
@@ -219,6 +285,7 @@ __all__ = [
     "legalize",
     "lepp",
     "make_delaunay",
+    "mesh3_from_tetrahedra",
     "mesh_from_triangles",
     "mesh_stats",
     "mesh_summary",
@@ -226,11 +293,13 @@ __all__ = [
     "non_delaunay_edges",
     "orient2d",
     "orient3d",
+    "oriented_outward",
     "parse_rational",
     "point2",
     "point3",
     "polylla",
     "polylla_run",
+    "read_surface",
     "read_trace",
     "refine",
     "replay",
@@ -240,10 +309,13 @@ __all__ = [
     "total_area",
     "trace_of",
     "triangle_area",
+    "triangle_surface",
     "triangulate",
     "triangulate_arrays",
     "triangulate_points",
     "validate",
+    "validate3",
+    "validate_mixed",
     "validate_polygon_mesh",
     "vertices_mesh",
     "write_trace",
