@@ -241,14 +241,16 @@ def seed_warnings(loaded: Loaded, construction: Construction) -> list[str]:
 
 
 def surface_instead(path: str, format: str | None, error: Exception) -> Any:
-    """A closed (or open) triangulated surface in ``path`` when the mesh readers refused it
-    (a 3D OBJ, STL, PLY or OFF: a part's surface, not a planar mesh), read exactly; None
-    when ``path`` is not a surface file either (the caller re-raises ``error``)."""
+    """A triangulated surface in ``path`` when the mesh readers refused it and it is not
+    planar (a 3D OBJ, STL, PLY or OFF: a part's surface), read exactly; None otherwise
+    (the caller re-raises ``error``)."""
     from geomexact.io.surface_files import SURFACE_FORMATS, read_surface
 
     if format is not None or Path(path).suffix.lower() not in SURFACE_FORMATS:
         return None
     try:
-        return read_surface(path)
+        surface = read_surface(path)
     except FormatError:
         return None
+    # a planar file the mesh readers refused is a bad planar mesh: their error stands
+    return surface if any(point.z != 0 for point in surface.points) else None

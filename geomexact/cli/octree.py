@@ -40,7 +40,7 @@ from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 
 CELL_FINALS = ("mixed", "polyhedral")
-STAGES = ("initial", "refinement", "improvement", "final", "conformity")
+STAGES = ("initial", "refinement", "improvement", "final", "conformity", "write")
 
 
 def _exact(text: str) -> Any:
@@ -211,7 +211,7 @@ def _octree(args: argparse.Namespace) -> int:
 
     def on_stage(name: str) -> None:
         if bar is not None:
-            bar(STAGES.index(name), len(STAGES))
+            bar(STAGES.index(name), len(STAGES), stage=name)
 
     run: Any
     if cell_final:
@@ -220,8 +220,7 @@ def _octree(args: argparse.Namespace) -> int:
                              **stages)
     else:
         run = generate(domain, trace=bool(args.trace), on_stage=on_stage, **stages)
-    if bar is not None:
-        bar(len(STAGES), len(STAGES))
+    on_stage("write")
     volumes = control_volumes_or_refuse(run.mesh) if args.voronoi else None
     written: list[Path] = []
     if args.start and run.start is not None:
@@ -249,6 +248,8 @@ def _octree(args: argparse.Namespace) -> int:
 
         write_control_volumes(args.voronoi, run.mesh, volumes, overwrite=args.force)
         written.append(Path(args.voronoi))
+    if bar is not None:
+        bar(len(STAGES), len(STAGES), stage="done")
     report: dict[str, Any] = {
         "box": [format_rational(v) for v in (*domain.low, *domain.high)],
         "grid": list(args.grid),

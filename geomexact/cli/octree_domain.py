@@ -29,7 +29,7 @@ from geomexact.kernel.numbers import format_rational
 from geomexact.mesh3d.snapshot import Mesh3
 
 STAGES = ("surfaces", "index", "initial", "refinement", "improvement", "final", "conformity",
-          "fit", "enclosed volume", "quality", "trace")
+          "fit", "enclosed volume", "quality", "trace", "check", "write")
 DEFAULT_LEVEL = 5
 
 
@@ -134,7 +134,7 @@ def command_octree_domain(args: argparse.Namespace) -> int:
 
     def on_stage(name: str) -> None:
         if bar is not None and name in STAGES:
-            bar(STAGES.index(name), len(STAGES))
+            bar(STAGES.index(name), len(STAGES), stage=name)
 
     try:
         criterion = (None if args.improve_quality is None
@@ -146,8 +146,7 @@ def command_octree_domain(args: argparse.Namespace) -> int:
                               trace=bool(args.trace), on_stage=on_stage)
     except ValueError as error:  # pragma: no cover - a PreconditionError is one
         raise UsageProblem(str(error)) from None
-    if bar is not None:
-        bar(len(STAGES), len(STAGES))
+    on_stage("check")
     mesh = run.mesh
     violations = validate3(mesh)
     index = surface_index(merged_surface(surfaces))
@@ -162,6 +161,7 @@ def command_octree_domain(args: argparse.Namespace) -> int:
     volumes = None
     if args.voronoi and not problems:
         volumes = control_volumes_or_refuse(mesh)
+    on_stage("write")
     written: list[Path] = []
     if not problems:
         if args.start and run.start is not None:
@@ -183,6 +183,8 @@ def command_octree_domain(args: argparse.Namespace) -> int:
 
             write_control_volumes(args.voronoi, mesh, volumes, overwrite=args.force)
             written.append(Path(args.voronoi))
+    if bar is not None:
+        bar(len(STAGES), len(STAGES), stage="done")
     volume = total_volume(mesh)
     xyz = np.array([[p.fx, p.fy, p.fz] for p in mesh.point_list()], dtype=np.float64)
     quality = quality_summary(xyz, np.array(mesh.tetrahedra(), dtype=np.int64).reshape(-1, 4))

@@ -18,16 +18,20 @@ class ProgressBar:
         self.started = time.perf_counter()
         self.last = 0.0
 
-    def __call__(self, done: int, total: int) -> None:
+    def __call__(self, done: int, total: int, stage: str | None = None) -> None:
+        """Show ``done`` of ``total``; with ``stage``, the stage's name instead of a rate
+        (a command made of stages: each one is drawn, however short)."""
         now = time.perf_counter()
-        if done < total and now - self.last < 0.1:
+        if stage is None and done < total and now - self.last < 0.1:
             return
         self.last = now
         width = 30
         filled = width * done // total if total else width
         rate = done / (now - self.started) if now > self.started else 0.0
+        shown = (f"{min(done + 1, total)}/{total} {stage}" if stage is not None
+                 else f"{done}/{total} ({rate:,.0f}/s)")
         self.stream.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] "
-                          f"{done}/{total} ({rate:,.0f}/s)")
+                          f"{shown:<40}")
         if done >= total:
             self.stream.write("\n")
         self.stream.flush()

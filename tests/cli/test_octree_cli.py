@@ -231,8 +231,12 @@ def test_off_output_is_the_geomview_off_of_tetrahedra(
     faces = lines[2 + report["vertices"]:]
     assert len(faces) == 4 * report["tetrahedra"]
     assert all(face.split()[0] == "3" and len(face.split()) == 8 for face in faces)
-    assert main(["info", str(out)]) == 2  # not read back: the OFF reader is planar
-    assert "planar" in capsys.readouterr().err
+    # read back as a triangle surface (a 3D OFF): four faces a tetrahedron, interior
+    # faces twice, so not the surface of a domain
+    capsys.readouterr()
+    assert main(["info", str(out), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["kind"] == "triangle_surface" and report["bounds_a_domain"] is False
 
 
 def test_trace_and_start_replay_to_the_same_digest(
