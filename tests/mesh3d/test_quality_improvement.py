@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.mesh3d_cases import kuhn_tetrahedra
 from helpers.surface_cases import notched_box, octahedron
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -284,23 +285,7 @@ GRID = [(x, y, z) for x in range(3) for y in range(3) for z in range(3)]
 
 
 def _grid_tetrahedra() -> list[tuple[int, int, int, int]]:
-    from itertools import permutations
-
-    def vertex(i: int, j: int, k: int) -> int:
-        return (i * 3 + j) * 3 + k
-
-    found = []
-    for i in range(2):
-        for j in range(2):
-            for k in range(2):
-                for axes in permutations(range(3)):
-                    corner = [i, j, k]
-                    path = [vertex(*corner)]
-                    for axis in axes:
-                        corner[axis] += 1
-                        path.append(vertex(*corner))
-                    found.append(tuple(path))
-    return found  # type: ignore[return-value]
+    return kuhn_tetrahedra(2, 2, 2)
 
 
 @st.composite
