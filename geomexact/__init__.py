@@ -37,6 +37,7 @@ if TYPE_CHECKING:
         Violation,
     )
     from geomexact.io.arrays import from_arrays, to_arrays, triangulate_arrays
+    from geomexact.io.meshio_objects import from_meshio, to_meshio
     from geomexact.io.surface_files import read_surface
     from geomexact.io.trace_file import read_trace, write_trace
     from geomexact.kernel.numbers import format_rational, mpq, parse_rational, to_rational
@@ -197,6 +198,8 @@ _HOMES: dict[str, str] = {
     "from_arrays": "geomexact.io.arrays",
     "to_arrays": "geomexact.io.arrays",
     "triangulate_arrays": "geomexact.io.arrays",
+    "from_meshio": "geomexact.io.meshio_objects",
+    "to_meshio": "geomexact.io.meshio_objects",
     **{name: home for name, home in _MESH2D_HOMES.items() if name in _FACADE_2D},
 }
 """Public name -> the module that defines it (the 2D ones as in :mod:`geomexact.mesh2d`)."""
@@ -270,6 +273,7 @@ __all__ = [
     "flip",
     "format_rational",
     "from_arrays",
+    "from_meshio",
     "generate",
     "generate_cells",
     "generate_device",
@@ -305,6 +309,7 @@ __all__ = [
     "replay",
     "signed_area",
     "to_arrays",
+    "to_meshio",
     "to_rational",
     "total_area",
     "trace_of",

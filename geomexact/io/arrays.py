@@ -31,7 +31,7 @@ from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.mesh3d.transient import mesh3_from_tetrahedra
 
-__all__ = ["from_arrays", "to_arrays", "triangulate_arrays"]
+__all__ = ["from_arrays", "number_array", "to_arrays", "triangulate_arrays"]
 
 SOURCE = "arrays"
 """How errors name an input given as arrays."""
@@ -40,7 +40,9 @@ SOURCE = "arrays"
 Numbers = Literal["double", "nearest", "exact"]
 
 
-def _numbers(values: Any, numbers: Numbers) -> Any:
+def number_array(values: Any, numbers: Numbers) -> Any:
+    """Rows of numbers as an array: float64 (``"double"``: refused unless every value is
+    exactly a double; ``"nearest"``: rounded on purpose) or ``mpq`` objects (``"exact"``)."""
     rows = [list(row) for row in values]
     if numbers == "exact":
         array = np.empty((len(rows), len(rows[0]) if rows else 0), dtype=object)
@@ -68,19 +70,19 @@ def to_arrays(value: Mesh2 | PSLG | Mesh3, *, numbers: Numbers = "double"
         ids = sorted(value.vertices)
         index = {vertex: i for i, vertex in enumerate(ids)}
         arrays: dict[str, Any] = {
-            "vertices": _numbers(([value.vertices[v].x, value.vertices[v].y] for v in ids),
+            "vertices": number_array(([value.vertices[v].x, value.vertices[v].y] for v in ids),
                                  numbers).reshape(-1, 2)}
         triangles = value.triangles()
         arrays["triangles"] = np.array([[index[v] for v in t] for t in triangles],
                                        dtype=np.int64).reshape(-1, 3)
         if len(value.triangle_attributes):
-            arrays["triangle_attributes"] = _numbers(
+            arrays["triangle_attributes"] = number_array(
                 (value.triangle_attributes.get(t, ()) for t in triangles), numbers)
         if len(value.vertex_markers):
             arrays["vertex_markers"] = np.array([value.vertex_markers.get(v, 0) for v in ids],
                                                 dtype=np.int64)
         if len(value.vertex_attributes):
-            arrays["vertex_attributes"] = _numbers(
+            arrays["vertex_attributes"] = number_array(
                 (value.vertex_attributes.get(v, ()) for v in ids), numbers)
         if len(value.segments):
             edges = sorted(value.segments.items())
@@ -89,7 +91,7 @@ def to_arrays(value: Mesh2 | PSLG | Mesh3, *, numbers: Numbers = "double"
             arrays["segment_markers"] = np.array([m for _, m in edges], dtype=np.int64)
         return arrays
     if isinstance(value, PSLG):
-        arrays = {"vertices": _numbers(([p.x, p.y] for p in value.vertices),
+        arrays = {"vertices": number_array(([p.x, p.y] for p in value.vertices),
                                        numbers).reshape(-1, 2)}
         if value.segments:
             arrays["segments"] = np.array([[u, v] for u, v, _ in value.segments],
@@ -97,9 +99,9 @@ def to_arrays(value: Mesh2 | PSLG | Mesh3, *, numbers: Numbers = "double"
             arrays["segment_markers"] = np.array([m for _, _, m in value.segments],
                                                  dtype=np.int64)
         if value.holes:
-            arrays["holes"] = _numbers(([p.x, p.y] for p in value.holes), numbers)
+            arrays["holes"] = number_array(([p.x, p.y] for p in value.holes), numbers)
         if value.regions:
-            arrays["regions"] = _numbers(
+            arrays["regions"] = number_array(
                 ([r.point.x, r.point.y, r.attribute,
                   r.max_area if r.max_area is not None else
                   None if numbers == "exact" else float("nan")] for r in value.regions),
@@ -107,11 +109,11 @@ def to_arrays(value: Mesh2 | PSLG | Mesh3, *, numbers: Numbers = "double"
         if value.vertex_markers:
             arrays["vertex_markers"] = np.array(value.vertex_markers, dtype=np.int64)
         if value.vertex_attributes:
-            arrays["vertex_attributes"] = _numbers(value.vertex_attributes, numbers)
+            arrays["vertex_attributes"] = number_array(value.vertex_attributes, numbers)
         return arrays
     if isinstance(value, Mesh3):
         points = value.point_list()
-        return {"vertices": _numbers(([p.x, p.y, p.z] for p in points), numbers).reshape(-1, 3),
+        return {"vertices": number_array(([p.x, p.y, p.z] for p in points), numbers).reshape(-1, 3),
                 "tetrahedra": np.array(value.tetrahedra(), dtype=np.int64).reshape(-1, 4)}
     raise PreconditionError("to_arrays", f"arrays hold a Mesh2, a PSLG or a Mesh3, not a "
                             f"{type(value).__name__}")

@@ -81,8 +81,8 @@ _MESHIO_FORMATS: dict[str, tuple[str, ...]] = {
     ".obj": ("obj",),
     ".ply": ("ply",),
 }
-_IGNORED_CELLS = ("vertex", "line", "line3")
-_BOUNDARY_CELLS = ("vertex", "line", "line3", "triangle", "triangle6", "quad", "quad8",
+IGNORED_CELLS = ("vertex", "line", "line3")
+BOUNDARY_CELLS = ("vertex", "line", "line3", "triangle", "triangle6", "quad", "quad8",
                    "quad9", "polygon")
 """Cells of a tetrahedral file that are not solids (its boundary's faces, edges and
 points): ignored with a note; any other cell but a tetrahedron is refused."""
@@ -95,7 +95,7 @@ _WRITE_OPTIONS: dict[str, dict[str, Any]] = {
 }
 
 
-def _meshio() -> Any:
+def meshio_module() -> Any:
     """The meshio module (heavy: imported only when the bridge is used; the "meshio"
     extra installs it)."""
     try:
@@ -208,7 +208,7 @@ def _meshio_read(path: Path, notes: list[str]) -> Any:
     ``meshio.read`` itself prints and calls ``sys.exit`` when a file does not parse, so
     the format's own reader is called; only an extension outside :data:`EXTENSIONS` goes
     through ``meshio.read``."""
-    meshio = _meshio()
+    meshio = meshio_module()
 
     name = str(path)
     modules = _MESHIO_FORMATS.get(path.suffix.lower())
@@ -246,10 +246,10 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     notes: list[str] = []
     data = _meshio_read(path, notes)
     if is_mixed_file(data.cells):
-        return mixed_of_meshio(name, _points3(name, data), data.cells, _BOUNDARY_CELLS,
+        return mixed_of_meshio(name, points3(name, data), data.cells, BOUNDARY_CELLS,
                                notes), notes
     if any(block.type == "tetra" for block in data.cells):
-        return _tetrahedral(name, data, notes), notes
+        return tetrahedral_of_meshio(name, data, notes), notes
     raw_points = data.points
     if raw_points.ndim != 2 or raw_points.shape[1] not in (2, 3):
         raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 2|3")
@@ -278,7 +278,7 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
             triangles.extend(
                 (int(a), int(b), int(c)) for a, b, c in block.data.tolist()
             )
-        elif block.type in _IGNORED_CELLS:
+        elif block.type in IGNORED_CELLS:
             notes.append(f"ignored {len(block.data)} {block.type} cells")
         else:
             raise FormatError(
@@ -301,7 +301,7 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
     return mesh, notes
 
 
-def _points3(name: str, data: Any) -> list[Point3]:
+def points3(name: str, data: Any) -> list[Point3]:
     """The ``n x 3`` points of a meshio mesh, each double as its exact binary value."""
     raw_points = data.points
     if raw_points.ndim != 2 or raw_points.shape[1] != 3:
@@ -315,11 +315,11 @@ def _points3(name: str, data: Any) -> list[Point3]:
     return points
 
 
-def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
+def tetrahedral_of_meshio(name: str, data: Any, notes: list[str]) -> Mesh3:
     """The ``tetra`` cells of a meshio mesh as a :class:`Mesh3` (exact 3D points), oriented
     by :func:`~geomexact.io.tetrahedron_orientation.orient_tetrahedra`; FormatErrors name
     the tetrahedron and its cell (its index among all the file's cells, from 0)."""
-    points = _points3(name, data)
+    points = points3(name, data)
     tetrahedra: list[tuple[int, int, int, int]] = []
     cells: list[int] = []  # the cell of each tetrahedron
     first_cell = 0
@@ -334,7 +334,7 @@ def _tetrahedral(name: str, data: Any, notes: list[str]) -> Mesh3:
                 (int(a), int(b), int(c), int(d)) for a, b, c, d in block.data.tolist()
             )
             cells.extend(range(first_cell, first_cell + len(block.data)))
-        elif block.type in _BOUNDARY_CELLS:
+        elif block.type in BOUNDARY_CELLS:
             notes.append(f"ignored {len(block.data)} {block.type} cells")
         else:  # a solid cell that is not a tetrahedron: dropping it would lose volume
             raise FormatError(
@@ -443,7 +443,7 @@ def write_meshio(
         )
     if isinstance(value, (MixedMesh3, MixedMeshData)):
         return _write_mixed(path, value, overwrite=overwrite)
-    meshio = _meshio()
+    meshio = meshio_module()
     import numpy
 
     if path.exists() and not overwrite:
@@ -468,7 +468,7 @@ def _write_through_meshio(path: Path, mesh: Any, *, overwrite: bool,
     """meshio writes ``mesh`` into a scratch directory beside ``path`` (in
     ``file_format``, else the one the extension names), then the bytes are moved into
     place atomically; any meshio failure is a FormatError naming ``path``."""
-    meshio = _meshio()
+    meshio = meshio_module()
     suffix = path.suffix.lower()
     options = dict(_WRITE_OPTIONS.get(suffix, {}))
     if file_format is not None:
@@ -524,7 +524,7 @@ def _write_mixed(path: Path, value: MixedMesh3 | MixedMeshData, *,
         text = writer(rows, types, entries, arrays)
         write_bytes_atomic(path, text.encode("utf-8"), overwrite=overwrite)
         return WriteReport((path,), rounded, ())
-    meshio = _meshio()
+    meshio = meshio_module()
     import numpy
 
     blocks = meshio_blocks(mesh)
