@@ -28,6 +28,10 @@ Workloads:
   decimal coordinates, so off the dyadic grid) to min angle θ: geomexact centroid and
   quasi (refinement only; the file read untimed) against Triangle ``rq<θ>`` (refining the
   same triangles, in-process).  Skipped when the file is absent.
+* ``preset-pineda`` (issue 25): Superior's constrained Delaunay triangulation to max area
+  ``PRESET_AREA`` by Lepp-centroid, plain and with ``preset="pineda"`` (the command's
+  ``refine --preset pineda --max-area``): both on the compiled kernel, the preset within
+  ``PRESET_TARGET`` of the plain run (it ran on the Python engine, 6.6x slower).
 
 Every measurement runs in a fresh child process (so each peak memory is its own: the
 child's maximum resident set size) and is the best of ``--repeat`` runs (``--repeat-large``
@@ -61,6 +65,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 TARGETS = {"square-1e-5": 5.0, "square-1e-6": 8.0}
 MIN_ANGLE_TARGET = 10.0
+PRESET_AREA = "0.000002"
+PRESET_TARGET = 1.2
 RANDOM1500 = (Path(__file__).resolve().parent.parent.parent / "shared" / "data"
               / "polylla-refinement" / "1500random.off")
 MEMORY_LIMIT_BYTES = 4 * 1024**3
@@ -124,7 +130,11 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
     from geomexact.mesh2d.refinement.api import refine
     from geomexact.mesh2d.refinement.criteria import MaxArea, MinAngle
 
-    if "both" in spec:
+    if "preset" in spec:
+        start = triangulate(superior_pslg()).mesh
+        criterion = MaxArea(spec["area"])
+        options = {"method": "centroid", "preset": spec["preset"]}
+    elif "both" in spec:
         from geomexact import io
         from geomexact.mesh2d.refinement.criteria import AnyOf
 
@@ -294,6 +304,31 @@ def both_runs(name: str, repeat: int) -> list[dict[str, Any]]:
     return runs
 
 
+def preset_runs(repeat: int) -> list[dict[str, Any]]:
+    """The Pineda preset against the plain run of the same mesh and criterion."""
+    runs = []
+    for preset in (None, "pineda"):
+        spec = {"engine": "geomexact", "input": "superior", "preset": preset,
+                "area": PRESET_AREA, "repeat": repeat}
+        label = f"geomexact centroid{' --preset ' + preset if preset else ''}"
+        runs.append({"workload": "preset-pineda", "program": label,
+                     **measure(spec, None)})
+    return runs
+
+
+def preset_verdicts(runs: list[dict[str, Any]]) -> list[str]:
+    """The preset's run against the plain one (same run, same mesh)."""
+    pair = [run for run in runs if run["workload"] == "preset-pineda" and "wall" in run]
+    if len(pair) != 2:
+        return []
+    plain, preset = pair
+    ratio = preset["wall"] / plain["wall"]
+    verdict = "meets" if ratio <= PRESET_TARGET else "MISSES"
+    return [f"preset-pineda: the preset {verdict} the target: {ratio:.2f}x the plain "
+            f"compiled run ({preset['wall']:.3f} s vs {plain['wall']:.3f} s; target <= "
+            f"{PRESET_TARGET}x), {preset['triangles']:,} vs {plain['triangles']:,} triangles"]
+
+
 def min_angle_verdicts(runs: list[dict[str, Any]]) -> list[str]:
     """Each min-angle run against Triangle's ``q`` run of the same workload."""
     lines = []
@@ -318,7 +353,7 @@ def min_angle_verdicts(runs: list[dict[str, Any]]) -> list[str]:
 
 
 def verdicts(runs: list[dict[str, Any]]) -> list[str]:
-    lines = min_angle_verdicts(runs)
+    lines = min_angle_verdicts(runs) + preset_verdicts(runs)
     for workload, limit in TARGETS.items():
         # the default engine is judged; the pure-Python engine (used where the compiled
         # kernel is not built or does not apply) is reported for reference
@@ -348,7 +383,8 @@ def main() -> int:
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--only", nargs="+", metavar="WORKLOAD",
                         help="square-1e-5, square-1e-6, superior-30 … superior-35, "
-                             "random1500-30, both-square, both-superior, both-pikachu")
+                             "random1500-30, both-square, both-superior, both-pikachu, "
+                             "preset-pineda")
     parser.add_argument("--repeat", type=int, default=3, help="best of N (default 3)")
     parser.add_argument("--repeat-large", type=int, default=1,
                         help="best of N for square-1e-6 (default 1)")
@@ -359,7 +395,8 @@ def main() -> int:
         return 0
     workloads = args.only or ["square-1e-5", "square-1e-6",
                               *(f"superior-{d}" for d in range(30, 36)), "random1500-30",
-                              "both-square", "both-superior", "both-pikachu"]
+                              "both-square", "both-superior", "both-pikachu",
+                              "preset-pineda"]
     runs: list[dict[str, Any]] = []
     for workload in workloads:
         if workload == "square-1e-5":
@@ -372,6 +409,8 @@ def main() -> int:
             runs += random1500_runs(int(workload.split("-")[1]), args.repeat)
         elif workload in ("both-square", "both-superior", "both-pikachu"):
             runs += both_runs(workload, args.repeat)
+        elif workload == "preset-pineda":
+            runs += preset_runs(args.repeat)
         else:
             parser.error(f"unknown workload {workload}")
         if not args.json:
