@@ -110,11 +110,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 KERNEL_RUNS: tuple[tuple[str, str], ...] = (
-    ("lepp", "refine --method bisection, centroid or quasi (centroid and quasi with "
-             "--centroid area), to --max-area, --factor, --max-edge or --min-angle, in "
-             "any region, with or without --no-delaunay and --plain-centroids, in the "
-             "worst-first order, on meshes without triangle attributes; and replay of the "
-             "traces it records; any other run uses the Python engine"),
+    ("lepp", "refine --method bisection, centroid or quasi (with every --centroid), to "
+             "--max-area, --factor, --max-edge or --min-angle (or --min-angle with "
+             "--max-area), in any region, with or without --no-delaunay and "
+             "--plain-centroids, with every --preset and rule (--order, "
+             "--second-longest-rule, --factor-stop), on meshes without triangle or vertex "
+             "attributes; and replay of the traces it records; any other run uses the "
+             "Python engine"),
     ("delaunay", "the Delaunay triangulation of the points in triangulate (and in refine of "
                  "a PSLG), then its segments (recovered by flips), the Lawson pass and the "
                  "carving of the exterior and holes; crossing segments to split and region "

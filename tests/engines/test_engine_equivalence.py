@@ -48,6 +48,7 @@ from geomexact.mesh2d.delaunay.triangulation import (
 from geomexact.mesh2d.pslg import PSLG, RegionSeed
 from geomexact.mesh2d.refinement.api import Progress, Result, refine
 from geomexact.mesh2d.refinement.criteria import (
+    AnyOf,
     AverageAreaFactor,
     CallableCriterion,
     Criterion,
@@ -653,6 +654,46 @@ class RefinementSuite:
                   constraint_midpoints=midpoints, region=region, max_steps=limit)
 
     @every_engine
+    @given(
+        meshes_with_traces(max_steps=10),
+        st.sampled_from(["centroid", "quasi"]),
+        st.sampled_from(["area", "vertices", "midpoint"]),
+        st.sampled_from(["worst-first", "passes"]),
+        st.sampled_from(["bisect-second", "centroid", "bisect-longest"]),
+        st.sampled_from(["action", "target"]),
+        st.sampled_from(["max_area", "factor", "angle", "both"]),
+        REGIONS,
+    )
+    def test_random_meshes_preset_rules(
+        self, case: tuple[Mesh2, Mesh2, Any], method: Any, centroid: Any, order: Any,
+        rule: Any, stop: Any, kind: str, region: Region,
+    ) -> None:
+        """Every rule of the presets (issue 25: all compiled), on random meshes."""
+        _, start, _ = case
+        criterion: Criterion = {
+            "max_area": MaxArea(total_area(start) / 30),
+            "factor": AverageAreaFactor(mpq(1, 3)),
+            "angle": MinAngle(27),
+            "both": AnyOf((MinAngle(27), MaxArea(total_area(start) / 20))),
+        }[kind]
+        self.same(start, criterion, method=method, centroid=centroid, order=order,
+                  second_longest_rule=rule, factor_stop=stop, region=region,
+                  max_steps=40 if kind in ("angle", "both") else None)
+
+    def test_presets_on_superior(self) -> None:
+        """The presets' rules at 30° and with a factor on Lake Superior."""
+        mellado = {"centroid": "vertices", "order": "passes"}
+        self.same(superior(), MinAngle(30), method="centroid", **mellado)
+        self.same(superior(), MinAngle(30), method="quasi", **mellado)
+        self.same(superior(), AnyOf((MinAngle(30), MaxArea("0.01"))), method="centroid",
+                  **mellado)
+        self.same(superior(), AverageAreaFactor("1/4"), method="centroid",
+                  second_longest_rule="centroid", factor_stop="target")
+        self.same(superior(), MinAngle(28), method="quasi", centroid="midpoint")
+        self.same(superior(), MaxArea("0.002"), method="centroid",
+                  second_longest_rule="bisect-longest")
+
+    @every_engine
     @given(meshes_with_traces(max_steps=10), st.booleans(), REGIONS,
            st.sampled_from([None, 0, 3, 25]), st.sampled_from(["area", "edge"]))
     def test_random_meshes_bisection(self, case: tuple[Mesh2, Mesh2, Any], delaunay: bool,
@@ -1162,8 +1203,7 @@ def test_auto_runs_the_kernel_only_where_it_applies(monkeypatch: pytest.MonkeyPa
 
 @pytest.mark.parametrize(("criterion", "options", "reason"), [
     (OtherAngle(30), {"method": "centroid"}, "the only minimum-angle criterion"),
-    (MaxArea("0.1"), {"method": "centroid", "centroid": "vertices"}, "centroid 'area'"),
-    (MaxArea("0.1"), {"method": "quasi", "centroid": "area-exact"}, "centroid 'area'"),
+    (AnyOf((MaxArea("0.1"), MinAngle(30))), {"method": "centroid"}, "the angle first"),
     (Wide("0.5"), {}, "region-wide criterion"),
 ])
 def test_compiled_refuses_what_it_does_not_run(criterion: Criterion, options: dict[str, Any],

@@ -87,9 +87,11 @@ def test_a_step_that_cannot_be_applied_is_refused(bad: Step) -> None:
 def test_steps_it_does_not_record_go_to_the_reference() -> None:
     start = square()
     t = start.transient()
+    from geomexact.kernel.points import point2
     from geomexact.mesh2d import ops
 
-    ops.insert_centroid_in(t, 0, 2)
+    a, b = t.point(0), t.point(2)  # insert_in_edge: recorded by no refinement engine
+    ops.insert_in_edge_in(t, 0, 2, point2((a.x + b.x) / 2, (a.y + b.y) / 2))
     for _ in range(BATCH_STEPS):
         ops.bisect_in(t, *min(t.iter_edges()))
     trace = Trace(start.digest, t.steps, t.step_digests)
@@ -100,3 +102,20 @@ def test_steps_it_does_not_record_go_to_the_reference() -> None:
 def test_min_angle_runs_replay_too() -> None:
     run = refine(superior(), MinAngle(25), method="centroid")
     assert replay(run.start, run.trace) == run.mesh
+
+
+@pytest.mark.parametrize("centroid", ["vertices", "area-exact"])
+def test_exact_centroid_steps_replay_in_the_kernel(centroid: str) -> None:
+    """insert_vertex_centroid (Mellado's preset) and insert_centroid replay compiled, the
+    same mesh as the reference, and a tampered digest is refused (issue 25)."""
+    steps = None if centroid == "vertices" else 8  # exact area centroids grow fast
+    run = refine(superior(), MinAngle(30), method="centroid", centroid=centroid,
+                 order="passes", max_steps=steps)
+    ops = {step.op for step in run.trace.steps}
+    assert ("insert_vertex_centroid" if centroid == "vertices" else "insert_centroid") in ops
+    replayed = run.start.replayed_by_engine(run.trace.steps, run.trace.digests)
+    assert replayed is not None and replayed == run.mesh
+    assert replayed == reference_replay(run.start, run.trace)
+    digests = list(run.trace.digests)
+    digests[-1] ^= 1
+    assert run.start.replayed_by_engine(run.trace.steps, digests) is None

@@ -163,9 +163,9 @@ def test_outside_the_subset_returns_none() -> None:
     start = square()
     for method in ("centroid", "quasi"):
         assert run_compiled(start, None, **options(MaxArea("0.1"), method=method)) is not None
-        for centroid in ("area-exact", "vertices"):
+        for centroid in ("area-exact", "vertices", "midpoint"):  # every kind (issue 25)
             assert run_compiled(start, None, **options(
-                MaxArea("0.1"), method=method, centroid=centroid)) is None
+                MaxArea("0.1"), method=method, centroid=centroid)) is not None
         assert run_compiled(start, 5, **options(MinAngle(30), method=method)) is not None
         # a minimum-angle criterion of another type (its rate may differ): declined
         assert run_compiled(start, 5, **options(OtherAngle(30), method=method)) is None

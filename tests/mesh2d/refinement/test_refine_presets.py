@@ -112,25 +112,24 @@ def test_factor_stop_per_target_finishes_the_target(notch: Mesh2) -> None:
 
 @pytest.mark.parametrize("options", [
     {"order": "passes"}, {"second_longest_rule": "bisect-longest"},
-    {"factor_stop": "target"},
+    {"factor_stop": "target"}, {"centroid": "vertices"}, {"centroid": "midpoint"},
 ])
-def test_the_kernel_declines_the_rules_it_does_not_run(
-    notch: Mesh2, options: dict[str, Any]
-) -> None:
-    """unsupported() names the rule; engine="compiled" refuses; "auto" falls back."""
+def test_the_kernel_runs_every_rule(notch: Mesh2, options: dict[str, Any]) -> None:
+    """Issue 25: every rule of the presets runs compiled (it declined them), with the
+    Python engine's steps, digests and result."""
     full = {"criterion": AverageAreaFactor(mpq(1, 4)), "region": Whole(),
             "method": "centroid", "delaunay": True, "centroid": "area",
             "constraint_midpoints": True, "on_step": None, **options}
-    reason = unsupported(notch, **full)
-    assert reason is not None
-    if AVAILABLE:
-        with pytest.raises(PreconditionError, match="compiled"):
-            refine(notch, AverageAreaFactor(mpq(1, 4)), method="centroid",
-                   engine="compiled", **options)
-    auto = refine(notch, AverageAreaFactor(mpq(1, 4)), method="centroid", **options)
+    if not AVAILABLE:
+        pytest.skip("the compiled kernel is not built")
+    assert unsupported(notch, **full) is None
+    compiled = refine(notch, AverageAreaFactor(mpq(1, 4)), method="centroid",
+                      engine="compiled", **options)
     python = refine(notch, AverageAreaFactor(mpq(1, 4)), method="centroid",
                     engine="python", **options)
-    assert auto.trace.steps == python.trace.steps
+    assert compiled.trace.steps == python.trace.steps
+    assert compiled.trace.digests == python.trace.digests
+    assert compiled.mesh.digest == python.mesh.digest
 
 
 def test_trace_records_the_preset_and_changed_rules_only(notch: Mesh2) -> None:
@@ -173,14 +172,13 @@ def test_command_preset_and_rule_flags(
 
 def test_quasi_with_midpoint_insertion(superior: Mesh2, notch: Mesh2) -> None:
     """centroid="midpoint": no centroid step, only bisections and flips; ends on Superior
-    at 25° with every angle at least 25° (or left); both Python engines agree."""
+    at 25° with every angle at least 25° (or left); every engine agrees (the compiled
+    one runs it: issue 25)."""
     result = refine(superior, MinAngle(25), method="quasi", centroid="midpoint")
     assert result.status == "complete" and result.stats.centroids == 0
     assert result.mesh.triangle_count == 1819
     assert {step.op for step in result.trace.steps} == {"bisect", "flip"}
+    engines = ("reference", "python", "compiled") if AVAILABLE else ("reference", "python")
     runs = [refine(notch, MinAngle(25), method="quasi", centroid="midpoint", engine=engine)
-            for engine in ("reference", "python")]
-    assert runs[0].trace.steps == runs[1].trace.steps
-    assert unsupported(notch, criterion=MinAngle(25), region=Whole(), method="quasi",
-                       delaunay=True, centroid="midpoint", constraint_midpoints=True,
-                       on_step=None) is not None
+            for engine in engines]
+    assert all(run.trace.steps == runs[0].trace.steps for run in runs)

@@ -9,9 +9,13 @@ Python engine — or None when the kernel is not built or the run is outside its
 (:func:`unsupported` says why):
 
 * method ``"bisection"``, with or without Delaunay legalization; methods ``"centroid"``
-  and ``"quasi"`` with ``centroid="area"`` (the rounded area centroid, computed by
-  :func:`geomexact.mesh2d.refinement.centroids.rounded_area_centroid` and recorded as
-  ``insert_in_quadrilateral``), with or without ``delaunay`` and ``constraint_midpoints``;
+  and ``"quasi"`` with every centroid kind (``"area"``: the rounded area centroid,
+  computed by :func:`geomexact.mesh2d.refinement.centroids.rounded_area_centroid` and
+  recorded as ``insert_in_quadrilateral``; ``"vertices"``, ``"area-exact"``: the exact
+  centroids, ``insert_vertex_centroid``/``insert_centroid``; ``"midpoint"``), with or
+  without ``delaunay``;
+* every rule of the presets (:mod:`geomexact.mesh2d.refinement.presets`): both orders,
+  the three second-longest rules and both factor stops;
 * a criterion on single triangles: ``MinAngle`` (the exact type), rated in C (the angle
   opposite the shortest edge against the threshold by ``compare_angle``'s float filter,
   the key −cos² exact), with the small-angle rules of ``Refinement`` (sharp corners left,
@@ -56,9 +60,7 @@ AVAILABLE: bool = _lepp_kernel is not None
 OPTIONS = frozenset({"criterion", "region", "method", "delaunay", "centroid",
                      "constraint_midpoints", "on_step", "order", "second_longest_rule",
                      "factor_stop"})
-"""The options of ``refine()`` the kernel knows (``order``, ``second_longest_rule`` and
-``factor_stop`` only at the values checked in :func:`unsupported`); any other option makes
-it decline."""
+"""The options of ``refine()`` the kernel knows; any other option makes it decline."""
 
 
 @attrs.frozen(slots=True)
@@ -88,22 +90,8 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
     if unknown:
         return f"it implements no option {', '.join(map(repr, unknown))}"
     criterion = options["criterion"]
-    if options.get("order", "worst-first") != "worst-first":
-        return "it runs the worst-first order only, not passes"
-    if options.get("second_longest_rule") == "bisect-longest":
-        return "it runs no second-longest rule 'bisect-longest'"
-    if options.get("factor_stop", "action") != "action" and (
-            type(criterion) is AverageAreaFactor):
-        # the rule decides only when an average-area factor is reached; any other
-        # criterion runs the same under either value
-        return "it checks an average-area factor after every action only"
-    if not (
-        options["method"] == "bisection"
-        or (options["method"] in ("centroid", "quasi") and options["centroid"] == "area")
-    ):
-        return (f"it runs method 'bisection', and 'centroid' or 'quasi' with centroid "
-                f"'area', not method {options['method']!r} with centroid "
-                f"{options['centroid']!r}")
+    if options["method"] not in ("bisection", "centroid", "quasi"):
+        return f"it runs no method {options['method']!r}"
     if isinstance(criterion, AnyOf):
         if not _angle_then_area(criterion):
             return ("the only combination it runs is AnyOf((MinAngle, MaxArea)), the angle "
@@ -158,6 +146,10 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
         centroid=rounded_area_centroid,
         threshold=None if angle is None else angle.threshold,
         area_rate=area_rate,
+        centroid_kind=options.get("centroid") or "area",
+        order=options.get("order", "worst-first"),
+        second_longest_rule=options.get("second_longest_rule"),
+        factor_stop=options.get("factor_stop", "action"),
     )
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)
@@ -174,7 +166,8 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
     )
 
 
-REPLAYED_OPS = frozenset({"bisect", "flip", "insert_in_quadrilateral"})
+REPLAYED_OPS = frozenset({"bisect", "flip", "insert_in_quadrilateral",
+                          "insert_vertex_centroid", "insert_centroid"})
 """The steps the kernel replays: those it records."""
 
 

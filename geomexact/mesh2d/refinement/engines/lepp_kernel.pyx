@@ -4,8 +4,9 @@
 
 Contract: :class:`Kernel` runs exactly the loop of
 ``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` for the methods ``"bisection"``,
-``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; centroid kind ``"area"``,
-with or without constraint midpoints), a criterion rating single triangles (no angle
+``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; every centroid kind and
+every rule of the presets: both orders, the three second-longest rules, both factor
+stops), a criterion rating single triangles (no angle
 threshold), ``MinAngle``, ``AnyOf((MinAngle, MaxArea))`` (the angle first: entries carry
 their group) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
 triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the
@@ -52,6 +53,7 @@ from geomexact.kernel import digest as _digest
 from geomexact.kernel import comparisons as _comparisons
 from geomexact.kernel import filter_bounds as _bounds
 from geomexact.kernel.angles import compare_angle as _compare_angle
+from geomexact.mesh2d.ops import quadrilateral_area_centroid, quadrilateral_vertex_centroid
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
 from geomexact.mesh2d.refinement.criteria import smallest_angle_cos2 as _smallest_angle_cos2
@@ -172,7 +174,8 @@ cdef struct Record:
     int64_t v
     gx_u128 digest
     int64_t extra      # insert_in_quadrilateral: the new vertex
-    int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral
+    int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral,
+                       # 3 insert_vertex_centroid, 4 insert_centroid
 
 cdef object GRID_LIMIT = 1 << 60
 
@@ -286,6 +289,13 @@ cdef class Kernel:
     # insertions (delaunay and not quasi); quasi_flips: quasi with delaunay
     cdef int method
     cdef bint legalize, quasi_flips, constraint_midpoints, grid_centroids
+    # the rules of presets (Refinement): the centroid's step (2 insert_in_quadrilateral,
+    # 3 insert_vertex_centroid, 4 insert_centroid; -1 the midpoint of the terminal edge),
+    # the "passes" order (keys are pass numbers), the literal second-longest rule, and when
+    # an average-area factor is checked (after every action, else after every target)
+    cdef int centroid_op
+    cdef bint passes, bisect_longest, stop_per_action
+    cdef int64_t pass_number
     cdef object unit  # 2**F
     cdef object inv_unit  # mpq(1, 2**F)
     cdef gx_i128 area_limit
@@ -329,7 +339,8 @@ cdef class Kernel:
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
                  on_step, progress, max_area_doubled, bint average=False,
                  method="bisection", bint constraint_midpoints=True, centroid=None,
-                 threshold=None, area_rate=None):
+                 threshold=None, area_rate=None, centroid_kind="area", order="worst-first",
+                 second_longest_rule=None, factor_stop="action"):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
         grid triangles), else None (``criterion.rate`` rates every triangle).
         ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
@@ -341,7 +352,12 @@ cdef class Kernel:
         as ``insert_in_quadrilateral`` (required for the methods other than bisection).
         ``threshold``: the ``AngleThreshold`` of a ``MinAngle`` criterion, rated in C
         (``criterion.rate`` is then unused), with the small-angle rules of
-        ``Refinement``."""
+        ``Refinement``.  ``centroid_kind`` (``"area"``: ``centroid``, recorded as
+        ``insert_in_quadrilateral``; ``"area-exact"``, ``"vertices"``: the exact
+        centroids of ``geomexact.mesh2d.ops``, recorded as ``insert_centroid`` and
+        ``insert_vertex_centroid``; ``"midpoint"``: the terminal edge bisected),
+        ``order``, ``second_longest_rule`` and ``factor_stop``: the rules of
+        ``geomexact.mesh2d.refinement.presets``."""
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
         cdef int64_t[:, ::1] triangles
@@ -401,14 +417,31 @@ cdef class Kernel:
             self.method = 2
         else:
             raise ValueError(f"unknown method {method!r}")
-        if self.method and centroid is None:
+        if self.method and centroid is None and centroid_kind == "area":
             raise ValueError("the centroid and quasi methods need a centroid function")
         self.legalize = delaunay and self.method != 2
         self.quasi_flips = delaunay and self.method == 2
         self.constraint_midpoints = constraint_midpoints
+        if second_longest_rule is not None:
+            self.constraint_midpoints = second_longest_rule != "centroid"
+        self.bisect_longest = second_longest_rule == "bisect-longest"
+        self.passes = order == "passes"
+        if order not in ("worst-first", "passes"):
+            raise ValueError(f"unknown order {order!r}")
+        self.pass_number = -1
+        self.stop_per_action = factor_stop == "action"
+        self.centroid_op = 2
+        if centroid_kind == "area-exact":
+            centroid, self.centroid_op = quadrilateral_area_centroid, 4
+        elif centroid_kind == "vertices":
+            centroid, self.centroid_op = quadrilateral_vertex_centroid, 3
+        elif centroid_kind == "midpoint":
+            self.centroid_op = -1
+        elif centroid_kind != "area":
+            raise ValueError(f"unknown centroid kind {centroid_kind!r}")
         self.centroid = centroid
         # rounded_area_centroid computed on grid quadrilaterals in integers
-        self.grid_centroids = centroid is rounded_area_centroid
+        self.grid_centroids = centroid is rounded_area_centroid and self.centroid_op == 2
         self.contains = region.contains
         self.rate = criterion.rate
         self.min_angle = threshold is not None
@@ -1221,7 +1254,11 @@ cdef class Kernel:
 
     cdef inline int _less(self, Entry *x, Entry *y) except -1:
         """(key, triangle) of x < that of y, keys compared exactly (AnyOf: its group,
-        then the group's key)."""
+        then the group's key; the "passes" order: the pass, then the triangle)."""
+        if self.passes:
+            if x.ikey != y.ikey:
+                return x.ikey < y.ikey
+            return _triangle_less(x, y)
         if x.group != y.group:
             return x.group < y.group
         if self.min_angle and x.group == 0:
@@ -1271,6 +1308,12 @@ cdef class Kernel:
 
     cdef int _push(self, Entry *entry) except -1:
         cdef Py_ssize_t i, parent
+        if self.passes:  # Refinement.consider: the key is the next pass, whatever the rating
+            entry.group = 0
+            entry.ikey = self.pass_number + 1
+            entry.py = -1
+            entry.rank = 0.0
+            entry.rad = 0.0
         if self.nheap == self.cap_heap:
             grow_array(<void **>&self.heap, &self.cap_heap, sizeof(Entry))
         i = self.nheap
@@ -1357,6 +1400,10 @@ cdef class Kernel:
     cdef object _step(self, Record *record):
         """The Step of a record."""
         u, v = record.u, record.v
+        if record.op == 3:
+            return make_step(Step, &_STEP_LAYOUT, "insert_vertex_centroid", (u, v))
+        if record.op == 4:
+            return make_step(Step, &_STEP_LAYOUT, "insert_centroid", (u, v))
         if record.op == 2:
             point = <tuple>self.points[record.extra]
             x, y = (<tuple>point)[0], (<tuple>point)[1]
@@ -1445,21 +1492,23 @@ cdef class Kernel:
         return 0
 
     cdef int64_t _join_in_quadrilateral(self, int64_t u, int64_t v, int64_t w, int64_t x,
-                                        int64_t n) except -2:
+                                        int64_t n, int op=2) except -2:
         """(u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n) for the new
-        vertex n, recorded as ``insert_in_quadrilateral``; returns n."""
+        vertex n, recorded as ``op`` (``_step``: ``insert_in_quadrilateral`` by default);
+        returns n."""
         self._remove_edge(u, v, w, x)
         self._triangle(u, x, n)
         self._triangle(x, v, n)
         self._triangle(v, w, n)
         self._triangle(w, u, n)
         self.triangles += 2
-        self._record(2, u, v, n)
+        self._record(op, u, v, n)
         return n
 
     cdef int64_t _centroid(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
-        """``BatchRefinement.centroid`` with ``centroid="area"`` on the interior edge
-        (u, v) with apexes w, x: the new vertex, or -1 at the step limit (no change)."""
+        """``BatchRefinement.centroid`` on the interior edge (u, v) with apexes w, x
+        (the rounded area centroid on the grid or by the float path where they decide,
+        else ``centroid``): the new vertex, or -1 at the step limit (no change)."""
         cdef int64_t n
         cdef int64_t at[2]
         if self.limit >= 0 and self.nrec >= self.limit:
@@ -1477,7 +1526,7 @@ cdef class Kernel:
             points = self.points
             point = self.centroid(points[u], points[v], points[w], points[x])
             n = self._add_point(point)
-        return self._join_in_quadrilateral(u, v, w, x, n)
+        return self._join_in_quadrilateral(u, v, w, x, n, self.centroid_op)
 
     cdef int _remove_edge(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
         """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
@@ -1560,9 +1609,13 @@ cdef class Kernel:
                 else:
                     p, q = r, p
                 if self._constraint(p, q):
+                    if self.bisect_longest:
+                        return self._insert_midpoint(u, v)  # Mellado: the longest edge
                     if self.min_angle and self._protected(p, q):
                         return 1  # refused: the target is left
                     return self._insert_midpoint(p, q)
+        if self.centroid_op < 0:  # Mellado's centroid=false: bisect the terminal edge
+            return self._insert_midpoint(u, v)
         n = self._centroid(u, v, w, x)
         if n < 0:
             return -1
@@ -1619,6 +1672,8 @@ cdef class Kernel:
         if self.tracking and self._mean_reached():
             return "complete"
         while self._pop(&target):
+            if self.passes:
+                self.pass_number = <int64_t>target.ikey
             a, b, c = target.a, target.b, target.c
             if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                 continue
@@ -1670,7 +1725,7 @@ cdef class Kernel:
                             self.left[(a, b, c)] = PROTECTED_TIP
                             break
                     self._drain()
-                    if self.tracking and self._mean_reached():
+                    if self.stop_per_action and self.tracking and self._mean_reached():
                         return "complete"
                     if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                         break
@@ -1697,10 +1752,12 @@ cdef class Kernel:
                         if self._legalize(n, star, 4) < 0:
                             return "step-limit"
                 self._drain()
-                if self.tracking and self._mean_reached():
+                if self.stop_per_action and self.tracking and self._mean_reached():
                     return "complete"  # the region-wide target is met (CriterionMet)
                 if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
                     break
+            if not self.stop_per_action and self.tracking and self._mean_reached():
+                return "complete"  # factor_stop "target": checked after each target
         return "complete"
 
     def finish(self, start):
@@ -1785,25 +1842,33 @@ cdef class Kernel:
     cdef bint _has_vertex(self, object vertex):
         return type(vertex) is int and 0 <= vertex < self.nv
 
-    cdef int64_t _insert_point(self, int64_t u, int64_t v, object point) except -2:
-        """``insert_in_quadrilateral(u, v, x, y)`` with its preconditions (the edge
-        interior and unconstrained, the point strictly inside the four new triangles):
-        the new vertex, or -1 (nothing changed) when a precondition fails."""
+    cdef int64_t _insert_point(self, int64_t u, int64_t v, object point,
+                               int op=2) except -2:
+        """``insert_in_quadrilateral(u, v, x, y)`` (op 2), or with ``point`` None
+        ``insert_vertex_centroid(u, v)`` (op 3) or ``insert_centroid(u, v)`` (op 4), with
+        the preconditions of the op (the edge interior and unconstrained, the point
+        strictly inside the four new triangles): the new vertex, or -1 (nothing changed)
+        when a precondition fails."""
         cdef int64_t w, x, n
         w = gx_map_get(&self.apex, gx_edge(u, v), -1)
         x = gx_map_get(&self.apex, gx_edge(v, u), -1)
         if w < 0 or x < 0 or gx_map_get(
                 &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
             return -1
+        if point is None:
+            points = self.points
+            centre = quadrilateral_vertex_centroid if op == 3 else quadrilateral_area_centroid
+            point = centre(points[u], points[v], points[w], points[x])
         n = self._add_point(point)
         if (self._orient(u, x, n) != 1 or self._orient(x, v, n) != 1
                 or self._orient(v, w, n) != 1 or self._orient(w, u, n) != 1):
             return -1  # the caller stops here: the added vertex is never used
-        return self._join_in_quadrilateral(u, v, w, x, n)
+        return self._join_in_quadrilateral(u, v, w, x, n, op)
 
     def replay(self, list steps, list digests, Py_ssize_t count):
-        """Apply the first ``count`` of ``steps`` (``bisect``, ``flip`` and
-        ``insert_in_quadrilateral``, the steps this kernel records), each with the
+        """Apply the first ``count`` of ``steps`` (``bisect``, ``flip``,
+        ``insert_in_quadrilateral``, ``insert_vertex_centroid`` and ``insert_centroid``,
+        the steps this kernel records), each with the
         preconditions of its reference op in ``geomexact.mesh2d.ops`` checked first, and
         compare the digest after it with ``digests``; stop at the first step that is of
         another op, fails a precondition or gives another digest.  Returns the number of
@@ -1842,6 +1907,12 @@ cdef class Kernel:
                 if type(args[2]) is int or type(args[3]) is int:
                     return i  # coordinates are recorded as rationals
                 if self._insert_point(args[0], args[1], point2(args[2], args[3])) < 0:
+                    return i
+            elif op in ("insert_vertex_centroid", "insert_centroid") and len(args) == 2:
+                if not (self._has_vertex(args[0]) and self._has_vertex(args[1])):
+                    return i
+                if self._insert_point(args[0], args[1], None,
+                                      3 if op == "insert_vertex_centroid" else 4) < 0:
                     return i
             else:
                 return i
