@@ -32,6 +32,10 @@ Workloads:
   ``PRESET_AREA`` by Lepp-centroid, plain and with ``preset="pineda"`` (the command's
   ``refine --preset pineda --max-area``): both on the compiled kernel, the preset within
   ``PRESET_TARGET`` of the plain run (it ran on the Python engine, 6.6x slower).
+* ``preset-mellado`` (issue 25): 10^5 random integer points (seed 1), Delaunay, to 35° by
+  Lepp-quasi, plain and with ``preset="mellado"`` (vertex centroids, the passes order),
+  both compiled (the preset ran on the Python engine: 112.5 s against 5.9 s); reported,
+  not judged (the preset takes more steps).
 
 Every measurement runs in a fresh child process (so each peak memory is its own: the
 child's maximum resident set size) and is the best of ``--repeat`` runs (``--repeat-large``
@@ -130,7 +134,18 @@ def work_geomexact(spec: dict[str, Any]) -> dict[str, Any]:
     from geomexact.mesh2d.refinement.api import refine
     from geomexact.mesh2d.refinement.criteria import MaxArea, MinAngle
 
-    if "preset" in spec:
+    if "preset" in spec and spec["input"] == "random":
+        import random
+
+        from geomexact import point2
+
+        rng = random.Random(1)
+        start = triangulate(list(dict.fromkeys(
+            point2(rng.randint(0, 10**6), rng.randint(0, 10**6))
+            for _ in range(spec["points"])))).mesh
+        criterion = MinAngle(spec["degrees"])
+        options = {"method": "quasi", "preset": spec["preset"]}
+    elif "preset" in spec:
         start = triangulate(superior_pslg()).mesh
         criterion = MaxArea(spec["area"])
         options = {"method": "centroid", "preset": spec["preset"]}
@@ -316,6 +331,18 @@ def preset_runs(repeat: int) -> list[dict[str, Any]]:
     return runs
 
 
+def mellado_runs(repeat: int) -> list[dict[str, Any]]:
+    """Mellado's preset against the plain quasi run of the same random points."""
+    runs = []
+    for preset in (None, "mellado"):
+        spec = {"engine": "geomexact", "input": "random", "points": 100_000,
+                "degrees": 35, "preset": preset, "repeat": repeat}
+        label = f"geomexact quasi 35°{' --preset ' + preset if preset else ''}"
+        runs.append({"workload": "preset-mellado", "program": label,
+                     **measure(spec, None)})
+    return runs
+
+
 def preset_verdicts(runs: list[dict[str, Any]]) -> list[str]:
     """The preset's run against the plain one (same run, same mesh)."""
     pair = [run for run in runs if run["workload"] == "preset-pineda" and "wall" in run]
@@ -384,7 +411,7 @@ def main() -> int:
     parser.add_argument("--only", nargs="+", metavar="WORKLOAD",
                         help="square-1e-5, square-1e-6, superior-30 … superior-35, "
                              "random1500-30, both-square, both-superior, both-pikachu, "
-                             "preset-pineda")
+                             "preset-pineda, preset-mellado")
     parser.add_argument("--repeat", type=int, default=3, help="best of N (default 3)")
     parser.add_argument("--repeat-large", type=int, default=1,
                         help="best of N for square-1e-6 (default 1)")
@@ -396,7 +423,7 @@ def main() -> int:
     workloads = args.only or ["square-1e-5", "square-1e-6",
                               *(f"superior-{d}" for d in range(30, 36)), "random1500-30",
                               "both-square", "both-superior", "both-pikachu",
-                              "preset-pineda"]
+                              "preset-pineda", "preset-mellado"]
     runs: list[dict[str, Any]] = []
     for workload in workloads:
         if workload == "square-1e-5":
@@ -411,6 +438,8 @@ def main() -> int:
             runs += both_runs(workload, args.repeat)
         elif workload == "preset-pineda":
             runs += preset_runs(args.repeat)
+        elif workload == "preset-mellado":
+            runs += mellado_runs(1)
         else:
             parser.error(f"unknown workload {workload}")
         if not args.json:
