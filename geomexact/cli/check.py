@@ -24,9 +24,7 @@ from geomexact.cli.loading import (
     triangulation_problems,
 )
 from geomexact.cli.reporting import print_json, violation_reports
-from geomexact.cli.summaries import cells_by_kind
 from geomexact.errors import FormatError, PreconditionError, Violation
-from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.polygonal.polygon_mesh import (
     PolygonMesh,
     isolated_polygon_vertices,
@@ -36,9 +34,7 @@ from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.validation import validate
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
-from geomexact.mesh3d.mixed.validation import validate_mixed
 from geomexact.mesh3d.snapshot import Mesh3
-from geomexact.mesh3d.validation import isolated_vertices3, validate3
 
 _LISTED = 10
 """At most this many vertices are named in a note."""
@@ -88,6 +84,9 @@ def command_check(args: argparse.Namespace) -> int:
         counts = {"vertices": value.vertex_count, "triangles": value.triangle_count}
         digest = f", digest {value.digest_text}"
     elif isinstance(value, Mesh3):
+        # imported here, as each kind's checks: the 3D ones run on arrays (NumPy)
+        from geomexact.mesh3d.validation import isolated_vertices3, validate3
+
         violations = validate3(value)
         isolated = isolated_vertices3(value)
         if args.strict:
@@ -98,6 +97,9 @@ def command_check(args: argparse.Namespace) -> int:
         counts = {"vertices": value.vertex_count, "tetrahedra": value.tetrahedron_count}
         digest = f", digest {value.digest_text}"
     elif isinstance(value, MixedMesh3):
+        from geomexact.cli.summaries import cells_by_kind
+        from geomexact.mesh3d.mixed.validation import validate_mixed
+
         violations = validate_mixed(value)
         used = {vertex for cell in value.cell_list() for vertex in cell.vertices}
         unused = [v for v in range(value.vertex_count) if v not in used]
@@ -171,6 +173,8 @@ def pslg_violations(loaded: Loaded, *, strict: bool) -> tuple[list[Violation], l
     item's file and line) and the hole and region seeds it would ignore (warnings, and
     violations too when ``strict``).  Seeds are checked on the triangulation that splits
     segments and merges duplicates when the plain one is refused."""
+    from geomexact.mesh2d.delaunay.triangulation import triangulate
+
     pslg = loaded.value
     assert isinstance(pslg, PSLG)
     violations: list[Violation] = []

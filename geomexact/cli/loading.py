@@ -5,27 +5,29 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import attrs
-import numpy as np
 
 from geomexact import io
 from geomexact.cli.errors import UsageProblem, print_warning
 from geomexact.cli.kinds import Value, kind_name
 from geomexact.cli.memory import BYTES_PER_POINT, active_budget, refuse_large_file
 from geomexact.errors import FormatError, PreconditionError, SegmentError
-from geomexact.io.cell_arrays import material_array, read_cell_arrays
 from geomexact.io.registry import SourceLines, clipped
 from geomexact.kernel.numbers import format_rational
 from geomexact.kernel.points import Point2
-from geomexact.mesh2d.delaunay.triangulation import Construction, triangulate
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.segments import crossing_point
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.mixed.cell_data import MixedMeshData
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from geomexact.mesh2d.delaunay.triangulation import Construction
 
 SHOWN = 10
 """The most offending items a message lists one by one."""
@@ -72,6 +74,9 @@ def material_cells(loaded: Loaded) -> tuple[str, np.ndarray] | None:
     with the mesh's cells), or None (no such array, or not a 3D mesh)."""
     if not isinstance(loaded.value, Mesh3 | MixedMesh3):
         return None
+    # imported here: the cell arrays come through meshio, for 3D files only
+    from geomexact.io.cell_arrays import material_array, read_cell_arrays
+
     return material_array(read_cell_arrays(loaded.path, format=loaded.format,
                                            mesh=loaded.value))
 
@@ -204,6 +209,9 @@ def triangulate_input(loaded: Loaded, *, split_hint: str, **options: Any) -> Con
     """:func:`triangulate` the PSLG of ``loaded`` (``options`` are its own); a refusal
     of the input is a :class:`UsageProblem` naming the file and line of each offending
     item, and each ignored hole or region seed is a warning on stderr."""
+    # imported here: the Delaunay kernel loads NumPy, which reading a mesh does not need
+    from geomexact.mesh2d.delaunay.triangulation import triangulate
+
     pslg = loaded.value
     assert isinstance(pslg, PSLG)
     count = len(pslg.vertices)

@@ -5,7 +5,6 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-import numpy as np
 from gmpy2 import mpq
 
 from geomexact.cli.kinds import Writable
@@ -19,7 +18,6 @@ from geomexact.mesh3d.mixed.cell_data import MixedMeshData
 from geomexact.mesh3d.mixed.cell_geometry import cell_volume
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3, mixed_volume
 from geomexact.mesh3d.snapshot import Mesh3, signed_volume6
-from geomexact.viz.scene3d import kind_counts
 
 
 def mesh3_summary(mesh: Mesh3) -> dict[str, Any]:
@@ -38,6 +36,11 @@ def mesh3_summary(mesh: Mesh3) -> dict[str, Any]:
 def cells_by_kind(mesh: MixedMesh3) -> dict[str, int]:
     """How many cells of each kind present, by the kind's plural name, in the viewer's
     order (``{"pyramids": 2, "hexahedra": 6}``)."""
+    # imported here: the viewer's scene (NumPy) only for a mixed-cell mesh
+    import numpy as np
+
+    from geomexact.viz.scene3d import kind_counts
+
     return kind_counts(np.array([int(cell.kind) for cell in mesh.cell_list()], dtype=np.int64))
 
 

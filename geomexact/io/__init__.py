@@ -23,18 +23,17 @@ listed in the report.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import MappingProxyType
+from typing import Any
+
+import attrs
 
 from geomexact.errors import FormatError, UnsupportedValueError
-from geomexact.io.geomview3d import write_boundary_off, write_tetrahedra_off, write_vect
-from geomexact.io.mellado_text import read_mellado, write_mellado
-from geomexact.io.meshio_bridge import EXTENSIONS as MESHIO_EXTENSIONS
-from geomexact.io.meshio_bridge import read_meshio, write_meshio
-from geomexact.io.off import read_off, write_off
-from geomexact.io.pslg_text import pslg_text_reading, read_pslg_text, write_pslg_text
 from geomexact.io.registry import (
+    MESHIO_EXTENSIONS,
     NUMBER_STYLES,
     Format,
     NumberStyle,
@@ -44,19 +43,6 @@ from geomexact.io.registry import (
     WriteReport,
     bounded,
 )
-from geomexact.io.tetgen import node_dimension, read_tetgen, tetgen_output_paths, write_tetgen
-from geomexact.io.triangle import (
-    node_reading,
-    poly_reading,
-    read_node,
-    read_poly,
-    read_triangle,
-    triangle_output_paths,
-    write_node,
-    write_poly,
-    write_triangle,
-)
-from geomexact.io.triangle_list import read_triangle_list, write_triangle_list
 from geomexact.kernel.collector import collector_paused
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
@@ -66,12 +52,35 @@ from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 
 
+@attrs.frozen(slots=True)
+class _OnFirstUse:
+    """A function of a format's module, imported when first called: a command loads only
+    the formats it reads and writes (NumPy, meshio and the bulk readers are not paid for by
+    ``geomexact info`` on a small OFF file)."""
+
+    module: str
+    name: str
+
+    def __call__(self, *args: Any, **options: Any) -> Any:
+        function = getattr(importlib.import_module(f"geomexact.io.{self.module}"), self.name)
+        return function(*args, **options)
+
+
+read_off, write_off = _OnFirstUse("off", "read_off"), _OnFirstUse("off", "write_off")
+read_triangle = _OnFirstUse("triangle", "read_triangle")
+write_triangle = _OnFirstUse("triangle", "write_triangle")
+read_tetgen, write_tetgen = _OnFirstUse("tetgen", "read_tetgen"), _OnFirstUse(
+    "tetgen", "write_tetgen")
+
+
 def _read_ele(path: Path) -> tuple[Value, list[str]]:
     """An ``.ele`` mesh: TetGen when the ``.node`` beside it says dimension 3, else
     Triangle."""
+    from geomexact.io.tetgen import node_dimension
+
     if node_dimension(path) == 3:
-        return read_tetgen(path)
-    return read_triangle(path)
+        return read_tetgen(path)  # type: ignore[no-any-return]
+    return read_triangle(path)  # type: ignore[no-any-return]
 
 
 def _write_ele(
@@ -79,7 +88,7 @@ def _write_ele(
 ) -> WriteReport:
     """A :class:`Mesh3` as TetGen files, anything else as Triangle files."""
     writer = write_tetgen if isinstance(value, Mesh3) else write_triangle
-    return writer(path, value, overwrite=overwrite, numbers=numbers)
+    return writer(path, value, overwrite=overwrite, numbers=numbers)  # type: ignore[no-any-return]
 
 
 def _write_only(path: Path) -> tuple[Value, list[str]]:
@@ -88,7 +97,11 @@ def _write_only(path: Path) -> tuple[Value, list[str]]:
 
 
 def _ele_outputs(path: Path) -> tuple[Path, ...]:
+    from geomexact.io.tetgen import tetgen_output_paths
+    from geomexact.io.triangle import triangle_output_paths
+
     return tuple(dict.fromkeys(triangle_output_paths(path) + tetgen_output_paths(path)))
+
 
 _FORMATS: tuple[Format, ...] = (
     Format(
@@ -109,22 +122,22 @@ _FORMATS: tuple[Format, ...] = (
         read_tetgen,
         write_tetgen,
         (Mesh3,),
-        tetgen_output_paths,
+        _OnFirstUse("tetgen", "tetgen_output_paths"),
     ),
     Format(
         "node",
         (".node",),
         "Triangle .node alone: a point set (PSLG without segments)",
-        read_node,
-        write_node,
+        _OnFirstUse("triangle", "read_node"),
+        _OnFirstUse("triangle", "write_node"),
         (PSLG,),
     ),
     Format(
         "poly",
         (".poly",),
         "Triangle .poly: a PSLG with segments, holes and regions",
-        read_poly,
-        write_poly,
+        _OnFirstUse("triangle", "read_poly"),
+        _OnFirstUse("triangle", "write_poly"),
         (PSLG,),
     ),
     Format(
@@ -140,24 +153,24 @@ _FORMATS: tuple[Format, ...] = (
         "pslg",
         (".pslg",),
         "line-tagged PSLG text: v/s/h/r records (PSLG) or v/t/n/s records (mesh)",
-        read_pslg_text,
-        write_pslg_text,
+        _OnFirstUse("pslg_text", "read_pslg_text"),
+        _OnFirstUse("pslg_text", "write_pslg_text"),
         (PSLG, Mesh2),
     ),
     Format(
         "trilist",
         (".txt",),
         "one triangle per line 'x1 y1 x2 y2 x3 y3'",
-        read_triangle_list,
-        write_triangle_list,
+        _OnFirstUse("triangle_list", "read_triangle_list"),
+        _OnFirstUse("triangle_list", "write_triangle_list"),
         (Mesh2,),
     ),
     Format(
         "mellado",
         (".mellado",),
         "Mellado's text: Vertices/Triangles/Neighbors sections of v/t/n lines (0-based)",
-        read_mellado,
-        write_mellado,
+        _OnFirstUse("mellado_text", "read_mellado"),
+        _OnFirstUse("mellado_text", "write_mellado"),
         (Mesh2,),
     ),
     Format(
@@ -165,8 +178,8 @@ _FORMATS: tuple[Format, ...] = (
         MESHIO_EXTENSIONS,
         "2D triangle, tetrahedral and mixed-cell meshes through meshio (VTK, VTU, XDMF, "
         "Gmsh, …), doubles; mixed cells to .vtu, .vtk (polyhedra too) and .msh",
-        read_meshio,
-        write_meshio,
+        _OnFirstUse("meshio_bridge", "read_meshio"),
+        _OnFirstUse("meshio_bridge", "write_meshio"),
         (Mesh2, Mesh3, MixedMesh3, MixedMeshData),
     ),
 )
@@ -178,7 +191,7 @@ _FORMATS += (
         "Geomview OFF of a tetrahedral mesh: 4 faces per tetrahedron, coloured by "
         "tetrahedron (write-only)",
         _write_only,
-        write_tetrahedra_off,
+        _OnFirstUse("geomview3d", "write_tetrahedra_off"),
         (Mesh3,),
     ),
     Format(
@@ -186,7 +199,7 @@ _FORMATS += (
         (),
         "Geomview OFF of a tetrahedral mesh's boundary faces (write-only)",
         _write_only,
-        write_boundary_off,
+        _OnFirstUse("geomview3d", "write_boundary_off"),
         (Mesh3,),
     ),
     Format(
@@ -194,7 +207,7 @@ _FORMATS += (
         (".vect",),
         "Geomview VECT wireframe of a tetrahedral mesh's edges (write-only)",
         _write_only,
-        write_vect,
+        _OnFirstUse("geomview3d", "write_vect"),
         (Mesh3,),
     ),
 )
@@ -251,9 +264,9 @@ def read_with_notes(path: str | Path, *, format: str | None = None) -> tuple[Val
 
 
 _SOURCED_READERS: Mapping[str, Callable[[Path], Reading]] = MappingProxyType({
-    "node": node_reading,
-    "poly": poly_reading,
-    "pslg": pslg_text_reading,
+    "node": _OnFirstUse("triangle", "node_reading"),
+    "poly": _OnFirstUse("triangle", "poly_reading"),
+    "pslg": _OnFirstUse("pslg_text", "pslg_text_reading"),
 })
 """The readers that also give the line of each item (:class:`SourceLines`)."""
 

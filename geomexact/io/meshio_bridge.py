@@ -49,6 +49,7 @@ from geomexact.io.mixed_meshio import (
     parts_of,
 )
 from geomexact.io.registry import (
+    MESHIO_EXTENSIONS,
     NumberStyle,
     TriangleTable,
     Value,
@@ -68,7 +69,7 @@ from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3, tetrahedron_faces
 from geomexact.mesh3d.transient import mesh3_from_positive_arrays, mesh3_from_tetrahedra
 
-EXTENSIONS = (".vtk", ".vtu", ".xdmf", ".xmf", ".msh", ".mesh", ".obj", ".ply")
+EXTENSIONS = MESHIO_EXTENSIONS
 # extension -> meshio's formats (modules) to read it with, first one also to write it
 # (meshio's own guess for .msh is the ANSYS format; geomexact means Gmsh)
 _MESHIO_FORMATS: dict[str, tuple[str, ...]] = {

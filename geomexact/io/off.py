@@ -12,23 +12,9 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterator
 from pathlib import Path
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from geomexact.errors import FormatError, RationalParseError, UnsupportedValueError
-from geomexact.io.bulk import (
-    Doubles,
-    IntArray,
-    NotPlain,
-    PlainLines,
-    integer_column,
-    number_column,
-    oriented_rows,
-    row_chunks,
-    rows_text,
-    triangle_array,
-    triangle_tuples,
-)
 from geomexact.io.files import read_lines
 from geomexact.io.registry import (
     BulkOrientation,
@@ -57,11 +43,17 @@ from geomexact.io.registry import (
     token_lines,
     write_files,
 )
-from geomexact.kernel.array_filters import point_doubles
 from geomexact.kernel.numbers import ZERO, Rational, parse_rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.snapshot import Mesh2
+
+if TYPE_CHECKING:
+    from geomexact.io.bulk import Doubles, IntArray
+
+BULK_MIN_BYTES = 1 << 16
+"""Files from this size are read by the bulk reader (NumPy); smaller ones line by line,
+which does not pay NumPy's import (``geomexact info`` on a small file)."""
 
 _BRACES = "{}"
 
@@ -277,7 +269,7 @@ def _vertex_shaped(tokens: list[str]) -> bool:
 def read_off(path: Path) -> tuple[Value, list[str]]:
     """An OFF file as a Mesh2 (all faces triangles) or a PolygonMesh.  The file is
     streamed: a bad line stops the reading there."""
-    bulk = _bulk_off(path)
+    bulk = _bulk_off(path) if _size(path) >= BULK_MIN_BYTES else None
     if bulk is not None:
         return bulk
     name = str(path)
@@ -379,11 +371,31 @@ def read_off(path: Path) -> tuple[Value, list[str]]:
     return PolygonMesh(vertices=points, polygons=polygons), notes
 
 
+def _size(path: Path) -> int:
+    """The file's size in bytes (0 when it cannot be read: the line reader names why)."""
+    try:
+        return path.stat().st_size
+    except OSError:
+        return 0
+
+
 def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
     """:func:`read_off` of a plain triangle OFF file (:mod:`geomexact.io.bulk`): the
     keyword ``OFF``, regular lines ``x y 0`` and ``3 a b c`` of plain numbers, indices in
     range, one orientation; None for anything else (the line reader then reads it, or
     names the error, having read no further than its line)."""
+    import numpy as np
+
+    from geomexact.io.bulk import (
+        NotPlain,
+        PlainLines,
+        integer_column,
+        number_column,
+        oriented_rows,
+        triangle_tuples,
+    )
+    from geomexact.kernel.array_filters import point_doubles
+
     points: list[Point2] = []
     point_lines: list[int | None] = []
     parts: list[IntArray] = []
@@ -520,6 +532,8 @@ def write_off(
 def _mesh_off_text(mesh: Mesh2, number: NumberText) -> Iterator[str]:
     """The OFF text of a mesh in chunks: vertices in id order, triangles canonical and
     sorted, in bulk (:mod:`geomexact.io.bulk`)."""
+    from geomexact.io.bulk import row_chunks, rows_text, triangle_array
+
     count = mesh.vertex_count
     coordinates = number.texts(
         coordinate for point in mesh.point_list() for coordinate in point[:2]

@@ -31,7 +31,6 @@ from typing import Any, Literal, Protocol, TypeAlias
 
 import attrs
 import gmpy2
-import numpy as np
 
 from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
 from geomexact.io.files import open_regular, output_set, read_lines
@@ -47,6 +46,7 @@ from geomexact.kernel.numbers import (
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
+from geomexact.kernel.vectorising import worth_vectorising
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Attributes, Mesh2, empty_mesh
@@ -81,6 +81,11 @@ class Writer(Protocol):
 def single_output(path: Path) -> tuple[Path, ...]:
     """The files a one-file format writes for ``path``: ``path`` itself."""
     return (path,)
+
+
+MESHIO_EXTENSIONS = (".vtk", ".vtu", ".xdmf", ".xmf", ".msh", ".mesh", ".obj", ".ply")
+"""The extensions read and written through meshio
+(:mod:`geomexact.io.meshio_bridge`)."""
 
 
 @attrs.frozen(slots=True)
@@ -660,8 +665,12 @@ def build_mesh(
         )
     triangle_attributes = table.attributes
     built = None
-    if triangle_attributes is None:
-        # imported here: the bulk module builds on the tables of this one
+    if triangle_attributes is None and (
+            rows is not None or worth_vectorising(len(oriented), 0)):
+        # imported here: the bulk module builds on the tables of this one (and NumPy's
+        # import is paid only for a mesh big enough to gain from it)
+        import numpy as np
+
         from geomexact.io.bulk import bulk_mesh2
 
         if rows is None:

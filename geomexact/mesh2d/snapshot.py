@@ -16,14 +16,15 @@ from typing import TYPE_CHECKING, TypeAlias
 
 import attrs
 import immutables
-import numpy as np
-import numpy.typing as npt
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 
 if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
     from geomexact.mesh2d.transient import Transient2
     from geomexact.trace.step import Step
 
@@ -48,7 +49,8 @@ def undirected(u: int, v: int) -> Edge:
     return (u, v) if u < v else (v, u)
 
 
-IdArray: TypeAlias = npt.NDArray[np.int64]
+IdArray: TypeAlias = "npt.NDArray[np.int64]"
+"""Vertex ids as an int64 array (NumPy is imported where arrays are made, not here)."""
 
 
 @attrs.frozen(slots=True, eq=False)

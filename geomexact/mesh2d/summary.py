@@ -12,13 +12,13 @@ from __future__ import annotations
 from typing import Any
 
 from geomexact.kernel.numbers import ZERO
+from geomexact.kernel.vectorising import worth_vectorising
 from geomexact.mesh2d.delaunay.triangulation import is_delaunay
 from geomexact.mesh2d.measures import (
     angle_and_area_report,
     signed_area,
     triangle_angles_degrees,
 )
-from geomexact.mesh2d.mesh_arrays import mesh_arrays
 from geomexact.mesh2d.snapshot import Mesh2
 
 
@@ -29,7 +29,12 @@ def mesh_summary(mesh: Mesh2, *, check_delaunay: bool = True) -> dict[str, Any]:
     ``total_area`` (exact, ``"p/q"`` or decimal text), ``is_delaunay`` (exact; None when
     ``check_delaunay`` is false) and ``digest``.  Angle and area entries are None for a
     mesh without triangles.  O(n log n) in numpy; exact arithmetic only where the floats
-    cannot decide."""
+    cannot decide.  A small mesh is summarised by :func:`scalar_mesh_summary` (the same
+    answers) unless NumPy is loaded already."""
+    if not worth_vectorising(mesh.triangle_count, 0):
+        return scalar_mesh_summary(mesh, check_delaunay=check_delaunay)
+    from geomexact.mesh2d.mesh_arrays import mesh_arrays
+
     arrays = mesh_arrays(mesh)
     if arrays is None:
         return scalar_mesh_summary(mesh, check_delaunay=check_delaunay)

@@ -8,24 +8,25 @@ from __future__ import annotations
 import itertools
 import math
 from collections import Counter
-from typing import Any
-
-import numpy as np
-import numpy.typing as npt
+from typing import TYPE_CHECKING, Any
 
 from geomexact.errors import InvalidMeshError, Violation
-from geomexact.kernel.array_filters import orient2d_signs
-from geomexact.kernel.components import component_labels
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
-from geomexact.mesh2d.mesh_arrays import MeshArrays, mesh_arrays
+from geomexact.kernel.vectorising import worth_vectorising
 from geomexact.mesh2d.segments import meeting_pairs, segments_meet_improperly
 from geomexact.mesh2d.snapshot import Edge, Mesh2, canonical_triangle, full_digest
 
-IntArray = npt.NDArray[np.signedinteger[Any]]
-FloatArray = npt.NDArray[np.float64]
-BoolArray = npt.NDArray[np.bool_]
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from geomexact.mesh2d.mesh_arrays import MeshArrays
+
+    IntArray = npt.NDArray[np.signedinteger[Any]]
+    FloatArray = npt.NDArray[np.float64]
+    BoolArray = npt.NDArray[np.bool_]
 
 
 def validate(
@@ -45,7 +46,9 @@ def validate(
     (Triangle keeps unused duplicates and vertices inside holes) are reported as
     ``isolated-vertex`` only when ``allow_isolated`` is false.
     """
-    if mesh.triangle_count >= _VECTORISED_FROM:
+    if worth_vectorising(mesh.triangle_count, _VECTORISED_FROM):
+        from geomexact.mesh2d.mesh_arrays import mesh_arrays
+
         arrays = mesh_arrays(mesh)
         if arrays is not None:
             return _validate_arrays(mesh, arrays, check_digest=check_digest,
@@ -276,6 +279,10 @@ def _validate_arrays(mesh: Mesh2, arrays: MeshArrays, *, check_digest: bool,
     mesh_arrays` found consistent (vertex ids 0..n-1, every half-edge's vertices exist,
     the three half-edges of each triangle agree, the triangle count): the remaining checks
     on arrays, in the same order and with the same answers."""
+    import numpy as np
+
+    from geomexact.kernel.array_filters import orient2d_signs
+
     found: list[Violation] = []
     points = arrays.points
     n = len(points)
@@ -333,6 +340,8 @@ def _difference_signs(values: FloatArray, exact: BoolArray, first: IntArray,
     """The sign of ``value[second] - value[first]`` (exact coordinates) where the doubles
     decide it, and where they do not.  Rounding to nearest is monotone, so different
     doubles order their rationals; equal doubles that are the exact values are equal."""
+    import numpy as np
+
     a, b = values[first], values[second]
     with np.errstate(invalid="ignore"):
         sign = (b > a).astype(np.int64) - (b < a).astype(np.int64)
@@ -342,6 +351,8 @@ def _difference_signs(values: FloatArray, exact: BoolArray, first: IntArray,
 
 def _quadrants(sx: IntArray, sy: IntArray) -> IntArray:
     """:func:`_quadrant` of directions given by the signs of their components."""
+    import numpy as np
+
     quadrant = np.full(len(sx), 3, dtype=np.int64)
     quadrant[(sy <= 0) & (sx < 0)] = 2
     quadrant[(sx <= 0) & (sy > 0)] = 1
@@ -358,6 +369,8 @@ def _folded_vertex_ids(mesh: Mesh2, arrays: MeshArrays, used: IntArray,
     any other (several fans, an undecided sign, an open fan of exactly four quarter turns)
     by :func:`_wraps` itself.  Called only when every vertex is on at most one boundary
     loop."""
+    import numpy as np
+
     n = len(arrays.points)
     hu, hv, hw = arrays.hu, arrays.hv, arrays.hw
     if not len(hu):
@@ -404,6 +417,10 @@ def _folded_vertex_ids(mesh: Mesh2, arrays: MeshArrays, used: IntArray,
 def _component_count(arrays: MeshArrays) -> int:
     """The number of edge-connected components of the triangles (union by minimum label
     with path halving, on arrays)."""
+    import numpy as np
+
+    from geomexact.kernel.components import component_labels
+
     hu, hv, hw = arrays.hu, arrays.hv, arrays.hw
     if not len(hu):
         return 0

@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING, Any, TypeAlias
 
 import attrs
 import immutables
-import numpy as np
 
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
@@ -98,6 +97,8 @@ class FaceSource:
     def tables(self) -> tuple[immutables.Map[int, Point3], immutables.Map[Face, int],
                               immutables.Map[int, Face]]:
         """(vertices, faces, hints) as persistent maps."""
+        import numpy as np
+
         face_list = list(map(tuple, self.faces.tolist()))
         table: immutables.Map[Face, int] = immutables.Map(
             zip(face_list, self.apexes.tolist(), strict=True))
@@ -225,6 +226,8 @@ class Mesh3:
     def tetrahedron_array(self) -> Any:
         """Every tetrahedron, canonical, sorted, as a read-only (T x 4) int64 numpy array
         (one pass over the face table, vectorised; kept once computed)."""
+        import numpy as np
+
         cached = self._derived.get("tetrahedra")
         if cached is not None:
             return cached
@@ -241,6 +244,8 @@ class Mesh3:
     def _face_arrays(self) -> tuple[Any, Any]:
         """The face table as read-only arrays: (F x 3) canonical faces and their (F,)
         apexes, in no particular order (kept once computed)."""
+        import numpy as np
+
         cached = self._derived.get("faces")
         if cached is not None:
             return cached  # type: ignore[no-any-return]
@@ -264,6 +269,8 @@ class Mesh3:
     def boundary_faces(self) -> list[Face]:
         """The faces with no tetrahedron on their negative side, oriented outward
         (counter-clockwise seen from outside: the reversal of the stored face), sorted."""
+        import numpy as np
+
         faces, _ = self._face_arrays()
         if not len(faces):
             return []
@@ -280,6 +287,8 @@ class Mesh3:
     def interior_faces(self) -> list[Face]:
         """Each face shared by two tetrahedra once, as its sorted vertex triple, sorted
         (one vectorised pass over the face table)."""
+        import numpy as np
+
         faces, _ = self._face_arrays()
         if not len(faces):
             return []
@@ -295,6 +304,8 @@ class Mesh3:
 
     def edges(self) -> list[Edge]:
         """Every edge (min, max), sorted (one vectorised pass over the face table)."""
+        import numpy as np
+
         faces, _ = self._face_arrays()
         if not len(faces):
             return []
@@ -325,6 +336,8 @@ class Mesh3:
 def _row_search(sorted_rows: Any, rows: Any) -> Any:
     """For each of ``rows`` (N x 3), the index where it would be inserted into the
     lexicographically sorted ``sorted_rows`` (M x 3) to keep them sorted."""
+    import numpy as np
+
     top = int(max(sorted_rows.max(initial=0), rows.max(initial=0))) + 1
     if top < 1 << 21:  # three ids in one int64, in the same order
         def key(array: Any) -> Any:

@@ -9,7 +9,6 @@ from collections.abc import Iterable, Sequence
 from typing import Any
 
 import immutables
-import numpy as np
 
 from geomexact.errors import PreconditionError, TransientSealedError
 from geomexact.kernel import digest as _digest
@@ -297,6 +296,8 @@ def mesh3_from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mes
 
 
 def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
+    import numpy as np
+
     array = np.asarray(tetrahedra, dtype=np.int64).reshape(-1, 4)
     count = len(points)
     if array.size and (array.min() < 0 or array.max() >= count):
@@ -335,6 +336,8 @@ def _cells_hash_sum(rows: Any) -> int:
     """The sum mod 2**128 of the cell hashes of the canonical tetrahedra ``rows``: by the
     compiled cuboid kernel when it is built (the same arithmetic in unsigned __int128,
     tested equal), else by :func:`~geomexact.kernel.digest.cell_hash`."""
+    import numpy as np
+
     if not len(rows):
         return 0
     _digest.vertex_key(int(rows.max()))  # the keys of every id, cached
@@ -354,6 +357,8 @@ def _cells_hash_sum(rows: Any) -> int:
 
 def _rotate_to_smallest(faces: Any) -> Any:
     """Each row (a, b, c) rotated to start at its smallest id (``canonical_face``)."""
+    import numpy as np
+
     shift = np.argmin(faces, axis=1)
     columns = (np.arange(3)[None, :] + shift[:, None]) % 3
     return np.take_along_axis(faces, columns, axis=1)
@@ -362,6 +367,8 @@ def _rotate_to_smallest(faces: Any) -> Any:
 def _canonical_rows(tetrahedra: Any) -> Any:
     """Each row as ``canonical_tetrahedron``: the even permutation starting at its smallest
     id, the other three rotated to start at their smallest."""
+    import numpy as np
+
     smallest = np.argmin(tetrahedra, axis=1)
     # the even permutation that brings position p first: (a b c d), (b a d c), (c d a b),
     # (d c b a)

@@ -36,6 +36,27 @@ def test_the_first_use_of_a_name_loads_its_module(tmp_path: Path) -> None:
     assert done.stdout.split() == ["True", "False"]
 
 
+@pytest.mark.parametrize("command", [
+    ["info", "square.off"], ["info", "square.off", "--json"], ["check", "square.off"],
+    ["check", "square.off", "--strict"], ["convert", "square.off", "out.pslg"],
+    ["info", "copy.pslg"],
+])
+def test_small_commands_load_no_numpy(tmp_path: Path, command: list[str]) -> None:
+    """Issue 25, item 5: a command on a small file loads neither NumPy nor a compiled
+    kernel (formats load on first use, small meshes are built and summarised without
+    arrays: the same answers, ``tests/mesh2d/test_mesh_arrays.py``)."""
+    (tmp_path / "square.off").write_text(SQUARE)
+    (tmp_path / "copy.pslg").write_text("v 0 0\nv 1 0\nv 1 1\nv 0 1\nt 0 1 2\nt 0 2 3\n")
+    done = _run("import sys, json\nfrom geomexact.cli import main\ncode = main("
+                f"{command!r})\nprint(json.dumps([code, sorted(sys.modules)]))", tmp_path)
+    code, loaded = json.loads(done.stdout.strip().splitlines()[-1])
+    assert code == 0, done.stderr
+    heavy = {"numpy", "meshio", "matplotlib", "sympy",
+             "geomexact.mesh2d.refinement.engines.lepp_kernel",
+             "geomexact.mesh2d.delaunay.delaunay_kernel"}
+    assert not heavy & set(loaded), sorted(heavy & set(loaded))
+
+
 @pytest.mark.parametrize(
     ("blocked", "command", "extra"),
     [

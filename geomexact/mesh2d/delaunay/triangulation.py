@@ -26,9 +26,8 @@ from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
+from geomexact.kernel.vectorising import worth_vectorising
 from geomexact.mesh2d.batch_store import BatchTriangulation
-from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
-from geomexact.mesh2d.delaunay.compiled import run_compiled
 from geomexact.mesh2d.engine_names import OLD_NAMES, engine_named
 from geomexact.mesh2d.ops import (
     carve_exterior_in,
@@ -101,7 +100,7 @@ def is_delaunay(mesh: Mesh2) -> bool:
     """True when every unconstrained interior edge is locally Delaunay (exact).  A large
     mesh is checked in one vectorised pass (:mod:`geomexact.mesh2d.mesh_arrays`: the numpy
     filters, exact arithmetic where they do not decide), with the same answer."""
-    if mesh.triangle_count >= _VECTORISED_FROM:
+    if worth_vectorising(mesh.triangle_count, _VECTORISED_FROM):
         from geomexact.mesh2d.mesh_arrays import mesh_arrays
 
         arrays = mesh_arrays(mesh)
@@ -439,6 +438,9 @@ def triangulate_points(
     applies the reference ops step by step and reproduces every digest.  ``"fast"`` is
     the old name of ``"auto"``.
     """
+    # imported here: loading the kernel loads NumPy, which reading a mesh does not need
+    from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
+
     name = _delaunay_engine(engine)
     pslg = points if isinstance(points, PSLG) else PSLG(vertices=tuple(points))
     vertices = pslg.vertices
@@ -448,7 +450,7 @@ def triangulate_points(
         plan = _plan_points(pslg, merge_duplicates, seed)
         start, (a, b, c) = plan.start, plan.first
         compiled = (
-            run_compiled(vertices, start, (a, b, c), plan.rest)
+            compiled_delaunay.run_compiled(vertices, start, (a, b, c), plan.rest)
             if name in ("auto", "compiled") else None
         )
         if compiled is None and name == "compiled":
@@ -704,6 +706,8 @@ def _constrained_in_kernel(pslg: PSLG, keep_convex_hull: bool, split_segments: b
     the ops on a transient: the same steps, digests and mesh as the Python path.  None
     when the kernel is not built or declines the run (then the Python path runs, and
     raises what it raises)."""
+    from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
+
     if not compiled_delaunay.AVAILABLE:
         return None
     from geomexact._version import __version__

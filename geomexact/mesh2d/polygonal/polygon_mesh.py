@@ -14,10 +14,8 @@ from functools import cmp_to_key
 from typing import Any
 
 import attrs
-import numpy as np
 
 from geomexact.errors import InvalidMeshError, PreconditionError, Violation
-from geomexact.kernel.array_filters import orient2d_signs, point_doubles
 from geomexact.kernel.numbers import ZERO, Rational, format_rational
 from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import Orientation
@@ -25,7 +23,6 @@ from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.measures import angle_and_area_report, atan2_degrees
 from geomexact.mesh2d.segments import meeting_pairs
 from geomexact.mesh2d.snapshot import Edge, Mesh2, Triangle, canonical_triangle
-from geomexact.mesh2d.validation import validate as validate_triangulation
 
 __all__ = [
     "PolygonMesh",
@@ -177,10 +174,13 @@ def orientation_signs(
     at once; ``orient2d`` itself decides the rest.  O(n)."""
     if len(a) == 0:
         return []
+    # imported here: NumPy only where polygons are checked, not for every reader
+    from geomexact.kernel.array_filters import orient2d_signs, point_doubles
+
     fx, fy = point_doubles(points)
     signs = orient2d_signs(fx, fy, a, b, c)
     result: list[int] = signs.tolist()
-    for i in np.flatnonzero(signs == 0).tolist():
+    for i in [i for i, sign in enumerate(result) if sign == 0]:
         result[i] = int(orient2d(points[a[i]], points[b[i]], points[c[i]]))
     return result
 
@@ -382,6 +382,9 @@ def _check_sources(mesh: PolygonMesh) -> list[Violation]:
 
 
 def _check_triangulation(mesh: PolygonMesh, triangulation: Mesh2) -> list[Violation]:
+    # imported here: the validation's arrays (NumPy) only where a polygon mesh is checked
+    from geomexact.mesh2d.validation import validate as validate_triangulation
+
     found = [Violation("triangulation", str(violation), violation.elements)
              for violation in validate_triangulation(triangulation, check_digest=False)]
     points = mesh.vertices
