@@ -19,6 +19,10 @@ Rows:
   ``info``: ``geomexact info square.off`` (start-up of a command on a tiny file).
 * ``triangulate-1e4``: ``geomexact triangulate points.node -o points.off --json`` on 10^4
   seeded random points of the unit square (decimal coordinates, written back exactly).
+* ``refine-pikachu`` / ``info-pikachu`` (issue 25): ``geomexact refine
+  pikachu_triangle.off --min-angle 30 -o x.off`` (a real 531-triangle mesh,
+  ``../shared/data/polylla-refinement``; skipped when absent) and ``geomexact info`` on
+  it: what a user scripting many small runs waits for (targets 0.25 s and 0.15 s wall).
 
 Each measurement is a fresh child process, the best of ``--repeat`` runs
 (``--repeat-large`` for 1e-6); wall time and CPU time (user + system, from the child's own
@@ -49,6 +53,9 @@ SQUARE_OFF = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"
 RATIO_TARGET = 3.0
 MEMORY_TARGET_BYTES = 1024**3
 IMPORT_TARGET_SECONDS = 0.15
+PIKACHU = ROOT.parent / "shared" / "data" / "polylla-refinement" / "pikachu_triangle.off"
+SMALL_REFINE_TARGET_SECONDS = 0.25
+SMALL_INFO_TARGET_SECONDS = 0.15
 
 PEER = r'''
 import sys
@@ -169,13 +176,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--only", nargs="*", default=None,
                         choices=("refine-1e-5", "refine-1e-6", "import", "help", "info",
-                                 "triangulate-1e4"))
+                                 "triangulate-1e4", "refine-pikachu", "info-pikachu"))
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--repeat-large", type=int, default=1)
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     chosen = args.only or ["import", "help", "info", "triangulate-1e4", "refine-1e-5",
-                           "refine-1e-6"]
+                           "refine-1e-6", "refine-pikachu", "info-pikachu"]
     compile_bytecode()
     rows = []
     with tempfile.TemporaryDirectory() as directory:
@@ -193,6 +200,17 @@ def main() -> None:
             elif name == "info":
                 row = start_row(name, ["-m", "geomexact", "info", "square.off"], work,
                                 max(args.repeat, 5))
+            elif name in ("refine-pikachu", "info-pikachu"):
+                if not PIKACHU.exists():
+                    print(f"{name:<15} skipped: {PIKACHU} absent", flush=True)
+                    continue
+                (work / "pikachu.off").write_bytes(PIKACHU.read_bytes())
+                command = (["refine", "pikachu.off", "--min-angle", "30", "-o", "x.off",
+                            "--force"] if name == "refine-pikachu" else ["info", "pikachu.off"])
+                row = start_row(name, ["-m", "geomexact", *command], work,
+                                max(args.repeat, 5))
+                row["target"] = (SMALL_REFINE_TARGET_SECONDS if name == "refine-pikachu"
+                                 else SMALL_INFO_TARGET_SECONDS)
             else:
                 area = "0.00001" if name == "refine-1e-5" else "0.000001"
                 repeat = args.repeat if name == "refine-1e-5" else args.repeat_large
