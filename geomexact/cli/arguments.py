@@ -4,23 +4,32 @@ options (``--json``, ``-v``, ``--format``, ``--to``) and the argument types."""
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import TypeAlias
 
 from geomexact import io
-from geomexact.cli.exit_codes import EXIT_CODES_HELP
 
 Subcommands: TypeAlias = "argparse._SubParsersAction[argparse.ArgumentParser]"
 """What :meth:`argparse.ArgumentParser.add_subparsers` returns: where commands are added."""
 
 
+def command_epilog(examples: Sequence[str]) -> str:
+    """The end of a command's ``--help``: its examples (two or three command lines), then
+    where the exit codes are (listed once, in ``geomexact --help``)."""
+    if not 2 <= len(examples) <= 3:
+        raise ValueError(f"a command shows two or three examples, not {len(examples)}")
+    lines = "".join(f"  {example}\n" for example in examples)
+    return f"examples:\n{lines}\nexit codes: geomexact help exit-codes\n"
+
+
 def add_command(
-    commands: Subcommands, name: str, run: Callable[[argparse.Namespace], int], summary: str
+    commands: Subcommands, name: str, run: Callable[[argparse.Namespace], int], summary: str,
+    *, examples: Sequence[str],
 ) -> argparse.ArgumentParser:
     """Add command ``name``, running ``run(args)``, described by ``summary`` (its help line
-    and description) and followed in ``--help`` by the exit codes."""
+    and description) and followed in ``--help`` by ``examples`` (:func:`command_epilog`)."""
     sub = commands.add_parser(
-        name, help=summary, description=summary, epilog=EXIT_CODES_HELP,
+        name, help=summary, description=summary, epilog=command_epilog(examples),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub.set_defaults(run=run)

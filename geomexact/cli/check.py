@@ -202,7 +202,11 @@ def add_parser(commands: Subcommands) -> None:
     """Add the ``check`` command."""
     check = add_command(commands, "check", command_check,
                         "validate a triangle, tetrahedral, mixed-cell or polygon mesh, or a "
-                        "PSLG (exit 1 on violations)")
+                        "PSLG (exit 1 on violations)",
+                        examples=(
+                            "geomexact check superior.1.ele",
+                            "geomexact check mesh.vtu --strict --json",
+                        ))
     check.add_argument("file", metavar="FILE",
                        help="triangle, tetrahedral, mixed-cell or polygon mesh or PSLG file")
     add_format_option(check)

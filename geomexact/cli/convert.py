@@ -43,7 +43,12 @@ def add_parser(commands: Subcommands) -> None:
     formats = format_names()
     names = ", ".join(formats)
     convert = add_command(commands, "convert", command_convert,
-                          "convert a file to another format")
+                          "convert a file to another format",
+                          examples=(
+                              "geomexact convert superior.1.ele superior.vtu",
+                              "geomexact convert mesh.off mesh.pslg --exact",
+                              "geomexact convert input.msh output.ele --from meshio",
+                          ))
     convert.add_argument("input", metavar="IN", help="file to read")
     convert.add_argument("output", metavar="OUT", help="file to write")
     convert.add_argument(

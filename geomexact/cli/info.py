@@ -84,7 +84,12 @@ def command_info(args: argparse.Namespace) -> int:
 def add_parser(commands: Subcommands) -> None:
     """Add the ``info`` command."""
     info = add_command(commands, "info", command_info,
-                       "print statistics of meshes, PSLGs and polygon meshes")
+                       "print statistics of meshes, PSLGs and polygon meshes",
+                       examples=(
+                           "geomexact info superior.1.ele",
+                           "geomexact info a.off b.vtu --json",
+                           "geomexact info part.stl",
+                       ))
     info.add_argument("files", nargs="+", metavar="FILE", help="mesh, PSLG or polygon mesh file")
     add_format_option(info)
     add_json_flag(info)

@@ -37,6 +37,8 @@ COMMAND_TABLE: tuple[tuple[str, str, str], ...] = (
     ("serve", "serve", "serve a directory's meshes in the viewer and refine uploads "
                        "(local HTTP)"),
     ("demo", "demo", "run the main job on the bundled Lake Superior PSLG"),
+    ("help", "help", "explain a command or a topic (commands, formats, exit-codes, "
+                     "triangle)"),
 )
 """(command, its module in ``geomexact.cli``, its help line), in the order ``geomexact
 --help`` lists them.  A command's module (and the library it imports) is loaded only to
@@ -51,8 +53,9 @@ def command_adder(module: str) -> Callable[[Subcommands], None]:
     return adder
 
 
-_TRIANGLE_SWITCHES = {
-    "q": "--min-angle DEG (refine)", "a": "--max-area A (refine)",
+TRIANGLE_SWITCHES = {
+    "q": "--min-angle DEG (refine; -q alone: 20)",
+    "a": "--max-area A (refine; -a alone: --region-areas, each region's own)",
     "p": "none: a .poly or .pslg input is read as a PSLG (triangulate, refine)",
     "c": "--keep-convex-hull (triangulate)", "j": "none: unused vertices are kept and noted",
     "e": "none: geomexact writes edges as segments", "n": "none: the .neigh is always written",
@@ -70,8 +73,8 @@ def triangle_switch_hint(words: Sequence[str]) -> str | None:
                  and any(c.isdigit() or c == "." for c in word[2:]))  # -q30, -pq30a0.1
         if glued or word in ("-pq", "-pc", "-pa", "-q", "-pqa"):
             letters = [c for c in word[1:] if c.isalpha()]
-            known = [f"-{c}: {_TRIANGLE_SWITCHES[c]}" for c in dict.fromkeys(letters)
-                     if c in _TRIANGLE_SWITCHES]
+            known = [f"-{c}: {TRIANGLE_SWITCHES[c]}" for c in dict.fromkeys(letters)
+                     if c in TRIANGLE_SWITCHES]
             if known:
                 suggestion = _refine_suggestion(word[1:])
                 return (f"geomexact: {word} looks like Triangle's switches; here: "
@@ -99,6 +102,18 @@ def _refine_suggestion(switches: str) -> str:
             options.append(f"--max-area {number}" if number else "--region-areas")
         position = end
     return " ".join(options)
+
+
+TOP_LEVEL_MORE = """
+examples:
+  geomexact demo
+  geomexact refine superior.poly --min-angle 30 --max-area 0.01 -o superior.1.ele
+  geomexact view superior.1.ele -o superior.html
+
+more help: geomexact help TOPIC -- a command (geomexact help refine), or commands,
+formats, exit-codes, triangle (Triangle's switches and the options that replace them)
+"""
+"""The end of ``geomexact --help``: examples and where the rest of the help is."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -174,7 +189,7 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     parser = _Parser(
         prog="geomexact",
         description="Exact, replayable mesh refinement on rational coordinates.",
-        epilog=EXIT_CODES_HELP + "\nSee docs/cli.md for every command, option and JSON key.",
+        epilog=EXIT_CODES_HELP + TOP_LEVEL_MORE,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action=_Version, nargs=0,

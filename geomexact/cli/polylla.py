@@ -17,7 +17,7 @@ from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.cli.writing import distinct_outputs, write
+from geomexact.cli.writing import distinct_outputs, note_unwritten, write
 from geomexact.errors import OverwriteError
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.pslg import PSLG
@@ -61,6 +61,8 @@ def command_polylla(args: argparse.Namespace) -> int:
     written: list[Path] = []
     if args.output:
         written += write(args.output, result, args.to, overwrite=args.force, numbers=args.numbers)
+    else:
+        note_unwritten(args.input, "polygon mesh")
     if args.picture:
         from geomexact.viz import pictures
 
@@ -111,7 +113,12 @@ def command_polylla(args: argparse.Namespace) -> int:
 def add_parser(commands: Subcommands) -> None:
     """Add the ``polylla`` command."""
     polylla_ = add_command(commands, "polylla", command_polylla,
-                           "Polylla polygon mesh of a triangle mesh, optionally made convex")
+                           "Polylla polygon mesh of a triangle mesh, optionally made convex",
+                           examples=(
+                               "geomexact polylla superior.1.ele -o superior.polylla.off",
+                               "geomexact polylla mesh.off --convex --picture polylla.png -o"
+                               " convex.off",
+                           ))
     polylla_.add_argument("input", metavar="INPUT",
                           help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
     polylla_.add_argument("-o", "--output", metavar="OUT",

@@ -24,7 +24,7 @@ from geomexact.cli.memory import BYTES_PER_TRIANGLE, active_budget, size_text
 from geomexact.cli.progress import add_progress_flags
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.cli.writing import distinct_outputs, write
+from geomexact.cli.writing import distinct_outputs, note_unwritten, write
 from geomexact.errors import OverwriteError
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine, is_delaunay
@@ -325,6 +325,8 @@ def command_refine(args: argparse.Namespace) -> int:
     if args.output:
         written += write(args.output, result.mesh, args.to, overwrite=args.force,
                           numbers=args.numbers)
+    else:
+        note_unwritten(args.input, "refined mesh")
     if args.trace:
         write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
@@ -437,7 +439,15 @@ def _memory_steps(mesh: Mesh2, estimate: int) -> int:
 def add_parser(commands: Subcommands) -> None:
     """Add the ``refine`` command."""
     refine_ = add_command(commands, "refine", command_refine,
-                          "Lepp refinement (bisection, centroid, quasi-Delaunay) to a criterion")
+                          "Lepp refinement (bisection, centroid, quasi-Delaunay) to a criterion",
+                          examples=(
+                              "geomexact refine superior.poly --min-angle 30 --max-area 0.01 -o"
+                              " superior.1.ele",
+                              "geomexact refine mesh.off --max-area 0.001 --circle 0.5 0.5 0.2 -o"
+                              " fine.off --trace run.trace",
+                              "geomexact refine mesh.ele --min-angle 30 --preset mellado --method"
+                              " quasi -o mellado.ele",
+                          ))
     refine_.add_argument("input", metavar="INPUT",
                          help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
     refine_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")

@@ -30,10 +30,11 @@ from geomexact.cli.arguments import (
     add_format_option,
     add_json_flag,
     add_verbose_flag,
+    command_epilog,
     positive_int,
 )
 from geomexact.cli.errors import UsageProblem, cli_wording
-from geomexact.cli.exit_codes import EXIT_CODES_HELP, EXIT_FAILED, EXIT_OK
+from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.loading import load
 from geomexact.cli.replay import (
     is_mixed_trace,
@@ -544,14 +545,21 @@ def add_parser(commands: Subcommands) -> None:
     """Add the ``trace`` command and its subcommands ``show``, ``diff`` and ``bisect``."""
     summary = "debug with traces: show a trace, diff two, bisect a failing property"
     trace_ = commands.add_parser(
-        "trace", help=summary, description=summary, epilog=EXIT_CODES_HELP,
+        "trace", help=summary, description=summary,
+        epilog=command_epilog(("geomexact trace show run.trace",
+                               "geomexact trace diff input.off a.trace b.trace",
+                               "geomexact trace bisect input.off run.trace --fails delaunay")),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     tools: Subcommands = trace_.add_subparsers(dest="trace_command", metavar="SUBCOMMAND",
                                                required=True)
 
     show = add_command(tools, "show", command_show,
-                       "the header, step counts and chosen steps of a trace")
+                       "the header, step counts and chosen steps of a trace",
+                       examples=(
+                           "geomexact trace show run.trace",
+                           "geomexact trace show run.trace --steps 10-20 --json",
+                       ))
     show.add_argument("trace", metavar="TRACE", help="trace file (JSON Lines, or .gz)")
     show.add_argument("--input", metavar="INPUT",
                       help="the mesh the trace was recorded on (for the cells each step "
@@ -570,7 +578,11 @@ def add_parser(commands: Subcommands) -> None:
     add_verbose_flag(show)
 
     diff = add_command(tools, "diff", command_diff,
-                       "the first step where two traces of the same input differ")
+                       "the first step where two traces of the same input differ",
+                       examples=(
+                           "geomexact trace diff input.off a.trace b.trace",
+                           "geomexact trace diff input.off a.trace b.trace --picture diff.png",
+                       ))
     diff.add_argument("input", metavar="INPUT", help="the mesh both traces start from")
     diff.add_argument("a", metavar="A", help="first trace file")
     diff.add_argument("b", metavar="B", help="second trace file")
@@ -582,7 +594,12 @@ def add_parser(commands: Subcommands) -> None:
     add_verbose_flag(diff)
 
     bisect = add_command(tools, "bisect", command_bisect,
-                         "the first step after which a property fails (binary search)")
+                         "the first step after which a property fails (binary search)",
+                         examples=(
+                             "geomexact trace bisect input.off run.trace --fails delaunay",
+                             "geomexact trace bisect input.off run.trace --fails min-angle:20 -o"
+                             " bisect/",
+                         ))
     bisect.add_argument("input", metavar="INPUT", nargs="?",
                         help="the mesh the trace was recorded on; may be left out for a "
                         "cuboid trace")

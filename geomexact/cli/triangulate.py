@@ -17,7 +17,7 @@ from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
-from geomexact.cli.writing import distinct_outputs, refuse_existing, write
+from geomexact.cli.writing import distinct_outputs, note_unwritten, refuse_existing, write
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import make_delaunay
 from geomexact.mesh2d.pslg import PSLG
@@ -57,6 +57,8 @@ def command_triangulate(args: argparse.Namespace) -> int:
     written: list[Path] = []
     if args.output:
         written += write(args.output, mesh, args.to, overwrite=args.force, numbers=args.numbers)
+    else:
+        note_unwritten(args.input, "triangulation")
     if args.trace:
         trace_path = Path(args.trace)
         trace = with_provenance(trace, args, engine=args.engine, input_path=args.input)
@@ -96,6 +98,10 @@ def add_parser(commands: Subcommands) -> None:
     triangulate_ = add_command(
         commands, "triangulate", command_triangulate,
         "(constrained) Delaunay triangulation of points / a PSLG, or Lawson flips of a mesh",
+        examples=(
+            "geomexact triangulate superior.poly -o superior.1.ele",
+            "geomexact triangulate points.node -o points.off --trace run.trace",
+            'geomexact triangulate crossing.poly --split-segments --check -o crossing.1.ele',),
     )
     triangulate_.add_argument("input", metavar="INPUT",
                               help=".node, .poly, PSLG text or a triangle mesh (OFF, .ele…)")

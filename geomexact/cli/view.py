@@ -183,7 +183,12 @@ def add_parser(commands: Subcommands) -> None:
     """Add the ``view`` command."""
     view = add_command(commands, "view", command_view,
                        "write the offline HTML viewer or a PNG/SVG/PDF picture of a mesh "
-                       "(and trace)")
+                       "(and trace)",
+                       examples=(
+                           "geomexact view superior.1.ele -o superior.png --color-by min-angle",
+                           "geomexact view superior.poly --trace run.trace -o run.html",
+                           "geomexact view part.vtu --clip z 0.5 -o part.png",
+                       ))
     view.add_argument("input", metavar="INPUT",
                       help="mesh, PSLG or polygon mesh (with --trace: the trace's input)")
     view.add_argument("-o", "--output", required=True, metavar="OUT",

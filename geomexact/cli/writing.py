@@ -28,6 +28,29 @@ def warn(message: str) -> None:
     print(f"geomexact: warning: {message}", file=sys.stderr)
 
 
+_INPUT_ONLY_SUFFIXES = (".poly", ".node", ".pslg")
+"""Inputs whose result is a mesh of another format: the suggestion names an ``.ele``."""
+
+
+def numbered_output(input_path: str) -> str:
+    """Triangle's name for the result of ``input_path``: ``x.off`` -> ``x.1.off``,
+    ``x.1.ele`` -> ``x.2.ele``, ``x.poly`` -> ``x.1.ele``."""
+    path = Path(input_path)
+    suffix = path.suffix
+    stem = path.name[:len(path.name) - len(suffix)] if suffix else path.name
+    base, _, number = stem.rpartition(".")
+    stem = f"{base}.{int(number) + 1}" if base and number.isdigit() else f"{stem}.1"
+    return stem + (".ele" if suffix.lower() in _INPUT_ONLY_SUFFIXES or not suffix else suffix)
+
+
+def note_unwritten(input_path: str, what: str) -> None:
+    """Say on stderr that a command given no ``-o`` wrote no ``what`` (geomexact never
+    writes a file it was not asked for, where Triangle writes ``x.1.*`` beside its input),
+    and the ``-o`` that would have."""
+    print(f"geomexact: note: no -o given: the {what} was not written (to write it: "
+          f"-o {numbered_output(input_path)})", file=sys.stderr)
+
+
 def write(
     path: str | Path,
     value: Writable,
