@@ -72,8 +72,18 @@ def write(
     report = io.write_with_report(path, value, format=name, overwrite=overwrite,
                                   numbers=numbers)
     if report.dropped:
-        warn(f"{path}: the {name} format cannot hold {_listed(report.dropped)}; "
-             "they were not written")
+        if name == "meshio":
+            warn(f"{path}: {Path(path).suffix or 'these'} files cannot hold "
+                 f"{_listed(report.dropped)}; they were not written (.vtu, .vtk and .msh "
+                 "keep them)")
+        else:
+            warn(f"{path}: the {name} format cannot hold {_listed(report.dropped)}; "
+                 "they were not written")
+    if name == "off" and numbers == "exact" and _has_fractions(report.paths):
+        warn(f"{path}: holds exact fractions (p/q), which geomexact reads back but other "
+             "programs' OFF readers (meshio, MeshLab, Geomview) refuse; for exact output "
+             "write .pslg or .ele, for other programs drop --exact (decimals, rounded only "
+             "where a number has none)")
     if report.rounded:
         rounding = _rounding(report, name, numbers)
         problems = recheck(value, report, name)
@@ -87,6 +97,16 @@ def write(
         for problem in problems:
             warn(f"{path}: {problem}")
     return list(report.paths)
+
+
+def _has_fractions(paths: Sequence[Path]) -> bool:
+    """True when a written file holds a ``/`` (a number written as p/q), read in chunks."""
+    for path in paths:
+        with open(staged_path(path), "rb") as stream:
+            while chunk := stream.read(1 << 20):
+                if b"/" in chunk:
+                    return True
+    return False
 
 
 _BROKEN = ("the rounded file does not read back", "vertices is", "triangles is",

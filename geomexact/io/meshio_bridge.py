@@ -60,7 +60,7 @@ from geomexact.io.registry import (
 )
 from geomexact.io.tetrahedron_orientation import orient_tetrahedra
 from geomexact.io.vtk_polyhedra import legacy_vtk_text, polyhedra_readable, vtu_text
-from geomexact.kernel.numbers import to_float, to_rational
+from geomexact.kernel.numbers import Rational, to_float, to_rational
 from geomexact.kernel.points import Point2, Point3, point2, point3
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.mixed.cell_data import MixedMeshData
@@ -251,6 +251,76 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
                                notes), notes
     if any(block.type == "tetra" for block in data.cells):
         return tetrahedral_of_meshio(name, data, notes), notes
+    return mesh2_of_meshio(name, data, notes), notes
+
+
+SEGMENT_MARKER_DATA = ("marker", "gmsh:physical")
+"""Cell data of ``line`` blocks read as segment markers, the first present (an all-zero
+``gmsh:physical`` is meshio's filler for a file without physical groups: not read)."""
+
+
+def _block_values(name: str, data: Any, keys: Sequence[str], index: int, count: int
+                  ) -> Any | None:
+    """The first of the cell data ``keys`` on block ``index`` (``count`` rows), as an
+    array, skipping an all-zero ``gmsh:physical``; None when there is none."""
+    import numpy
+
+    for key in keys:
+        blocks = data.cell_data.get(key)
+        if blocks is None or index >= len(blocks):
+            continue
+        values = numpy.asarray(blocks[index])
+        if key == "gmsh:physical" and not values.any():
+            continue
+        if len(values) != count:
+            raise FormatError(name, None, f"cell data {key!r} of block {index} has "
+                              f"{len(values)} values for {count} cells")
+        return values
+    return None
+
+
+def _numbered(arrays: Any, prefix: str) -> list[str]:
+    """The keys ``prefix0``, ``prefix1``, … of ``arrays``, in order, as far as they go."""
+    keys: list[str] = []
+    while f"{prefix}{len(keys)}" in arrays:
+        keys.append(f"{prefix}{len(keys)}")
+    return keys
+
+
+def _stacked(columns: Sequence[Any]) -> Any:
+    import numpy
+
+    return numpy.column_stack([numpy.asarray(column).reshape(-1) for column in columns])
+
+
+def _attribute_columns(name: str, data: Any, index: int, count: int) -> Any | None:
+    """The triangle attributes of block ``index``: the cell data ``triangle_attribute_k``
+    (k = 0, 1, …), else a nonzero ``gmsh:physical`` (Gmsh's physical surface: one
+    attribute); None when there are none."""
+    columns = _numbered(data.cell_data, TRIANGLE_ATTRIBUTE)
+    if columns:
+        return _stacked([_block_values(name, data, (key,), index, count) for key in columns])
+    return _block_values(name, data, ("gmsh:physical",), index, count)
+
+
+def _exact_rows(name: str, what: str, values: Any) -> list[tuple[Rational, ...]]:
+    """Rows of doubles (or integers) as tuples of their exact rationals."""
+    rows = []
+    for index, row in enumerate(values.reshape(len(values), -1).tolist()):
+        try:
+            rows.append(tuple(to_rational(value) for value in row))
+        except RationalParseError as error:
+            raise FormatError(name, None, f"{what} {index}: {error}") from error
+    return rows
+
+
+def mesh2_of_meshio(name: str, data: Any, notes: list[str]) -> Mesh2:
+    """A planar meshio mesh as a :class:`Mesh2`, nothing dropped: its ``triangle``
+    blocks, ``line`` blocks as segments (markers: :data:`SEGMENT_MARKER_DATA`, else 1),
+    ``vertex`` blocks with physical tags as vertex markers, the cell data
+    ``triangle_attribute_k`` (else a nonzero ``gmsh:physical``) of the triangles as their
+    attributes and the point data ``vertex_markers``/``vertex_attribute_k``; each double
+    exactly the rational it is.  Problems are FormatErrors on ``name``."""
     raw_points = data.points
     if raw_points.ndim != 2 or raw_points.shape[1] not in (2, 3):
         raise FormatError(name, None, f"points have shape {raw_points.shape}; expected n x 2|3")
@@ -268,10 +338,15 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
                 f"point {index} has z = {row[2]!r}; only planar meshes (z = 0) are supported",
             )
         points.append(point2(x, y))
+    count = len(points)
     triangles: list[tuple[int, int, int]] = []
-    for block in data.cells:
+    attributes: list[tuple[Rational, ...]] = []
+    attributed_blocks = triangle_blocks = 0
+    segments: list[tuple[int, int, int]] = []
+    vertex_markers: dict[int, int] = {}
+    for index, block in enumerate(data.cells):
+        shape: tuple[int, ...] = tuple(getattr(block.data, "shape", ()))
         if block.type == "triangle":
-            shape: tuple[int, ...] = tuple(getattr(block.data, "shape", ()))
             if len(shape) != 2 or (shape[0] and shape[1] != 3):
                 raise FormatError(
                     name, None, f"its triangle cells have shape {shape}; expected n x 3"
@@ -279,6 +354,29 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
             triangles.extend(
                 (int(a), int(b), int(c)) for a, b, c in block.data.tolist()
             )
+            triangle_blocks += 1
+            values = _attribute_columns(name, data, index, len(block.data))
+            if values is not None:
+                attributed_blocks += 1
+                attributes.extend(_exact_rows(name, "triangle attribute", values))
+        elif block.type == "line":
+            if len(shape) != 2 or (shape[0] and shape[1] != 2):
+                raise FormatError(name, None, f"its line cells have shape {shape}; "
+                                  "expected n x 2")
+            values = _block_values(name, data, SEGMENT_MARKER_DATA, index, len(block.data))
+            markers = [1] * len(block.data) if values is None else [
+                _integer(name, "segment marker", value) for value in values.tolist()]
+            for (u, v), marker in zip(block.data.tolist(), markers, strict=True):
+                _in_range(name, "line", (int(u), int(v)), count)
+                segments.append((int(u), int(v), marker))
+        elif block.type == "vertex":
+            values = _block_values(name, data, ("gmsh:physical",), index, len(block.data))
+            if values is None:
+                notes.append(f"ignored {len(block.data)} vertex cells (no physical tags)")
+                continue
+            for (vertex,), marker in zip(block.data.tolist(), values.tolist(), strict=True):
+                _in_range(name, "vertex cell", (int(vertex),), count)
+                vertex_markers[int(vertex)] = _integer(name, "vertex marker", marker)
         elif block.type in IGNORED_CELLS:
             notes.append(f"ignored {len(block.data)} {block.type} cells")
         else:
@@ -287,7 +385,6 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
                 None,
                 f"has {block.type} cells; only triangle meshes are supported",
             )
-    count = len(points)
     for index, triangle in enumerate(triangles):
         for vertex in triangle:
             if not 0 <= vertex < count:
@@ -297,9 +394,42 @@ def read_meshio(path: Path) -> tuple[Value, list[str]]:
                     f"triangle {index} {triangle}: vertex {vertex} is out of range "
                     f"(there are {count} points)",
                 )
-    table = TriangleTable(path=name, triangles=triangles, lines=[None] * len(triangles))
-    mesh = build_mesh(points, [None] * count, table, point_path=name, notes=notes)
-    return mesh, notes
+    if not triangles and (segments or vertex_markers):
+        raise FormatError(name, None, "has line or vertex cells but no triangles: a "
+                          "PSLG is read from a .poly or .pslg file")
+    if attributed_blocks and attributed_blocks != triangle_blocks:
+        raise FormatError(name, None, "only some triangle blocks have attributes (cell "
+                          "data triangle_attributes or gmsh:physical)")
+    marker_rows = data.point_data.get("vertex_markers")
+    if marker_rows is not None:
+        vertex_markers.update(
+            (vertex, _integer(name, "vertex marker", value))
+            for vertex, value in enumerate(marker_rows.reshape(-1).tolist()) if value)
+    columns = _numbered(data.point_data, VERTEX_ATTRIBUTE)
+    vertex_attributes = (None if not columns else _exact_rows(
+        name, "vertex attribute", _stacked([data.point_data[key] for key in columns])))
+    table = TriangleTable(path=name, triangles=triangles, lines=[None] * len(triangles),
+                          attributes=attributes if attributed_blocks else None)
+    return build_mesh(
+        points, [None] * count, table, point_path=name, notes=notes,
+        vertex_markers=[vertex_markers.get(v, 0) for v in range(count)]
+        if vertex_markers else None,
+        vertex_attributes=vertex_attributes, segments=segments,
+        segment_lines=[None] * len(segments), segment_path=name)
+
+
+def _integer(name: str, what: str, value: Any) -> int:
+    """A marker read as a number: an integer (a double that is one), else a FormatError."""
+    if isinstance(value, float) and not value.is_integer():
+        raise FormatError(name, None, f"a {what} is {value!r}, not an integer")
+    return int(value)
+
+
+def _in_range(name: str, what: str, ids: tuple[int, ...], count: int) -> None:
+    for vertex in ids:
+        if not 0 <= vertex < count:
+            raise FormatError(name, None, f"{what} {ids}: vertex {vertex} is out of range "
+                              f"(there are {count} points)")
 
 
 def points3(name: str, data: Any) -> list[Point3]:
@@ -454,14 +584,140 @@ def write_meshio(
     if isinstance(value, Mesh3):
         rows, rounded = _doubles3(path, value.point_list())
         cells = ("tetra", numpy.array(value.tetrahedra(), dtype=index_type).reshape(-1, 4))
-        dropped: tuple[str, ...] = ()
-    else:
-        rows, rounded = _doubles(path, value)
+        points = numpy.array(rows, dtype=float).reshape(-1, 3)
+        _write_through_meshio(path, meshio.Mesh(points, [cells]), overwrite=overwrite)
+        return WriteReport((path,), rounded, ())
+    rows, rounded = _doubles(path, value)
+    suffix = path.suffix.lower()
+    if suffix not in KEEPS_EVERYTHING:
         cells = ("triangle", numpy.array(value.triangles(), dtype=index_type).reshape(-1, 3))
-        dropped = dropped_parts(value, ())
-    points = numpy.array(rows, dtype=float).reshape(-1, 3)
-    _write_through_meshio(path, meshio.Mesh(points, [cells]), overwrite=overwrite)
-    return WriteReport((path,), rounded, dropped)
+        points = numpy.array(rows, dtype=float).reshape(-1, 3)
+        _write_through_meshio(path, meshio.Mesh(points, [cells]), overwrite=overwrite)
+        return WriteReport((path,), rounded, dropped_parts(value, ()))
+    converted, more, dropped = mesh2_meshio(str(path), value, gmsh=suffix == ".msh")
+    converted.points = numpy.array(rows, dtype=float).reshape(-1, 3)
+    _write_through_meshio(path, converted, overwrite=overwrite,
+                          file_format="gmsh22" if suffix == ".msh" else None)
+    return WriteReport((path,), rounded + more, dropped)
+
+
+KEEPS_EVERYTHING = (".vtu", ".vtk", ".msh", ".xdmf", ".xmf")
+TRIANGLE_ATTRIBUTE = "triangle_attribute_"
+VERTEX_ATTRIBUTE = "vertex_attribute_"
+"""Prefixes of the data arrays of attribute k (one scalar array per attribute: VTK
+files pad arrays of two or three components as vectors)."""
+"""The meshio formats a triangle mesh is written to with its segments (a ``line``
+block), markers and attributes (cell and point data): :func:`mesh2_meshio`.  The others
+(Medit, OBJ, PLY) get the triangles, and the report names what they dropped."""
+
+_INT32 = range(-(1 << 31), 1 << 31)
+
+
+def _uniform(rows: Sequence[tuple[Any, ...]]) -> bool:
+    return len({len(row) for row in rows}) <= 1
+
+
+def mesh2_meshio(name: str, mesh: Mesh2, *, gmsh: bool = False,
+                 numbers: str = "nearest") -> tuple[Any, int, tuple[str, ...]]:
+    """``mesh`` as a ``meshio.Mesh`` keeping everything (read back by
+    :func:`mesh2_of_meshio`): points ``n x 2`` (``numbers``: ``"nearest"`` doubles or
+    ``"exact"`` rationals), a ``triangle`` block (``triangles()`` order) and a ``line``
+    block of the segments (sorted); cell data ``marker`` (0 on triangles, each segment's
+    marker on lines) and ``triangle_attribute_k`` (NaN on lines), point data
+    ``vertex_markers`` and ``vertex_attribute_k``; with ``gmsh`` also the tags
+    ``gmsh:physical`` (segment markers, and a single integral triangle attribute, where
+    they fit Gmsh's 32 bits) and ``gmsh:geometrical``.  Returns (the object, how many
+    attribute values were rounded to doubles, the parts it could not hold: attributes of
+    varying length).  Markers beyond 2^53 are refused for Gmsh, which stores data as
+    doubles (FormatError on ``name``)."""
+    meshio = meshio_module()
+    import numpy
+
+    vertex_count = mesh.vertex_count
+    triangles = numpy.array(mesh.triangles(), dtype=numpy.int64).reshape(-1, 3)
+    edges = sorted(mesh.segments.items())
+    dropped: list[str] = []
+    rounded = 0
+
+    def doubles(rows: Sequence[tuple[Any, ...]], what: str) -> Any | None:
+        nonlocal rounded
+        if not _uniform(rows):
+            dropped.append(f"{what} (of varying length)")
+            return None
+        if numbers == "exact":
+            array = numpy.empty((len(rows), len(rows[0]) if rows else 0), dtype=object)
+            for i, row in enumerate(rows):
+                array[i, :] = [gmpy2.mpq(value) for value in row]
+            return array
+        array = numpy.array([[to_float(value) for value in row] for row in rows],
+                            dtype=float).reshape(len(rows), -1)
+        rounded += sum(gmpy2.mpq(double) != value for row, doubles_row in
+                       zip(rows, array.tolist(), strict=True)
+                       for value, double in zip(row, doubles_row, strict=True))
+        return array
+
+    def exact_integers(what: str, values: Sequence[int]) -> None:
+        big = [value for value in values if abs(value) >= _GMSH_DOUBLE_INTEGERS]
+        if gmsh and big:
+            raise FormatError(name, None, f"{what} {big[0]} is beyond what Gmsh's double "
+                              "values hold exactly; nothing was written")
+
+    if numbers == "exact":
+        points: Any = numpy.empty((vertex_count, 2), dtype=object)
+        for vertex, point in enumerate(mesh.point_list()):
+            points[vertex, :] = [point.x, point.y]
+    else:
+        points = numpy.array([[point.fx, point.fy] for point in mesh.point_list()],
+                             dtype=float).reshape(-1, 2)
+    cells: list[tuple[str, Any]] = [("triangle", triangles)]
+    cell_data: dict[str, list[Any]] = {}
+    point_data: dict[str, Any] = {}
+    markers = [marker for _, marker in edges]
+    exact_integers("a segment marker", markers)
+    if edges:
+        cells.append(("line", numpy.array([edge for edge, _ in edges], dtype=numpy.int64)))
+        cell_data["marker"] = [numpy.zeros(len(triangles), dtype=numpy.int64),
+                               numpy.array(markers, dtype=numpy.int64)]
+    if len(mesh.triangle_attributes):
+        rows = [tuple(mesh.triangle_attributes.get((a, b, c), ()))
+                for a, b, c in mesh.triangles()]
+        array = doubles(rows, "triangle attributes")
+        if array is not None:
+            for column in range(array.shape[1]):  # scalars: VTK pads 2-vectors to 3
+                cell_data[f"{TRIANGLE_ATTRIBUTE}{column}"] = [array[:, column]] + (
+                    [numpy.full(len(edges), numpy.nan)] if edges else [])
+    if gmsh:
+        physical = [numpy.zeros(len(triangles), dtype=numpy.int32)]
+        single = cell_data.get(f"{TRIANGLE_ATTRIBUTE}0", [None])[0]
+        if single is not None and f"{TRIANGLE_ATTRIBUTE}1" not in cell_data:
+            whole = [int(value) for value in single.tolist()
+                     if float(value).is_integer() and int(value) in _INT32]
+            if len(whole) == len(single):
+                physical[0] = numpy.array(whole, dtype=numpy.int32)
+        if edges:
+            physical.append(numpy.array([m if m in _INT32 else 0 for m in markers],
+                                        dtype=numpy.int32))
+        cell_data["gmsh:physical"] = physical
+        cell_data["gmsh:geometrical"] = [numpy.zeros(len(block), dtype=numpy.int32)
+                                         for _, block in cells]
+    if any(mesh.vertex_markers.values()):
+        values = [mesh.vertex_markers.get(v, 0) for v in range(vertex_count)]
+        exact_integers("a vertex marker", values)
+        point_data["vertex_markers"] = numpy.array(values, dtype=numpy.int64)
+    if len(mesh.vertex_attributes):
+        array = doubles([tuple(mesh.vertex_attributes.get(v, ())) for v in range(vertex_count)],
+                        "vertex attributes")
+        if array is not None:
+            for column in range(array.shape[1]):
+                point_data[f"{VERTEX_ATTRIBUTE}{column}"] = array[:, column]
+    if gmsh:  # Python numbers: meshio's Gmsh text writer prints each value's repr
+        point_data = {key: numpy.array(values.tolist(), dtype=object)
+                      for key, values in point_data.items()}
+        cell_data = {key: blocks if key.startswith("gmsh:") else
+                     [numpy.array(block.tolist(), dtype=object) for block in blocks]
+                     for key, blocks in cell_data.items()}
+    converted = meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
+    return converted, rounded, tuple(dropped)
 
 
 def _write_through_meshio(path: Path, mesh: Any, *, overwrite: bool,

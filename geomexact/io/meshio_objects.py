@@ -21,21 +21,22 @@ as segment markers; each double is the rational it is exactly; every check a fil
 from __future__ import annotations
 
 import warnings
-from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from geomexact.errors import FormatError, PreconditionError, UnsupportedValueError
-from geomexact.io.arrays import Numbers, from_arrays, number_array, to_arrays
+from geomexact.io.arrays import Numbers, number_array, to_arrays
 from geomexact.io.meshio_bridge import (
     BOUNDARY_CELLS,
-    IGNORED_CELLS,
+    mesh2_meshio,
+    mesh2_of_meshio,
     meshio_module,
     points3,
     tetrahedral_of_meshio,
 )
 from geomexact.io.mixed_meshio import cell_arrays, is_mixed_file, meshio_blocks, mixed_of_meshio
+from geomexact.kernel.numbers import mpq
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.mixed.cells import CellKind
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
@@ -75,23 +76,20 @@ def to_meshio(value: Mesh2 | Mesh3 | MixedMesh3, *, numbers: Numbers = "double")
     if not isinstance(value, Mesh2):
         raise UnsupportedValueError(f"to_meshio takes a Mesh2, Mesh3 or MixedMesh3, not a "
                                     f"{type(value).__name__}")
-    arrays = to_arrays(value, numbers=numbers)
-    triangles = arrays["triangles"]
-    segments = arrays.get("segments", np.zeros((0, 2), dtype=np.int64))
-    cells = [("triangle", triangles)]
-    cell_data: dict[str, list[Any]] = {}
-    if len(segments):
-        cells.append(("line", segments))
-        cell_data["marker"] = [np.zeros(len(triangles), dtype=np.int64),
-                               arrays["segment_markers"]]
-    if "triangle_attributes" in arrays:
-        attributes = arrays["triangle_attributes"]
-        cell_data["triangle_attributes"] = [attributes] + (
-            [np.full((len(segments), attributes.shape[1]), np.nan,
-                     dtype=attributes.dtype)] if len(segments) else [])
-    point_data = {key: arrays[key] for key in ("vertex_markers", "vertex_attributes")
-                  if key in arrays}
-    return meshio.Mesh(arrays["vertices"], cells, point_data=point_data, cell_data=cell_data)
+    converted, rounded, dropped = mesh2_meshio(
+        SOURCE, value, numbers="exact" if numbers == "exact" else "nearest")
+    if dropped:
+        raise UnsupportedValueError(f"to_meshio: a meshio object cannot hold the "
+                                    f"{' and '.join(dropped)} of this mesh")
+    if numbers == "double":
+        inexact = rounded + sum((mpq(point.fx) != point.x) + (mpq(point.fy) != point.y)
+                                for point in value.point_list())
+        if inexact:
+            raise PreconditionError(
+                "to_meshio", f"{inexact} number{'s are' if inexact != 1 else ' is'} not "
+                "exactly a double: give numbers='exact' (rationals) or numbers='nearest' "
+                "(rounded on purpose)")
+    return converted
 
 
 def from_meshio(mesh: Any) -> Mesh2 | Mesh3 | MixedMesh3:
@@ -111,62 +109,9 @@ def from_meshio(mesh: Any) -> Mesh2 | Mesh3 | MixedMesh3:
         elif any(block.type == "tetra" for block in mesh.cells):
             value = tetrahedral_of_meshio(SOURCE, mesh, notes)
         else:
-            value = _triangles_of_meshio(mesh, notes)
+            value = mesh2_of_meshio(SOURCE, mesh, notes)
     except PreconditionError as error:
         raise FormatError(SOURCE, None, str(error)) from error
     for note in notes:
         warnings.warn(f"from_meshio: {note}", stacklevel=2)
-    return value
-
-
-def _block_data(mesh: Any, names: Sequence[str], index: int) -> Any:
-    for name in names:
-        blocks = mesh.cell_data.get(name)
-        if blocks is not None and index < len(blocks):
-            return np.asarray(blocks[index])
-    return None
-
-
-def _triangles_of_meshio(mesh: Any, notes: list[str]) -> Mesh2:
-    """A planar meshio object as the arrays of :func:`from_arrays`, then its mesh."""
-    points = np.asarray(mesh.points)
-    if points.ndim != 2 or points.shape[1] not in (2, 3):
-        raise FormatError(SOURCE, None, f"points have shape {points.shape}; expected n x 2|3")
-    if points.shape[1] == 3:
-        flat = [i for i, z in enumerate(points[:, 2].tolist()) if z != 0]
-        if flat:
-            raise FormatError(SOURCE, None, f"point {flat[0]} has z = {points[flat[0], 2]!r}; "
-                              "only planar meshes (z = 0) are supported")
-        points = points[:, :2]
-    triangles, attributes, segments, markers = [], [], [], []
-    for index, block in enumerate(mesh.cells):
-        rows = np.asarray(block.data)
-        if block.type == "triangle":
-            triangles.append(rows.reshape(-1, 3))
-            found = _block_data(mesh, ("triangle_attributes",), index)
-            if found is not None:
-                attributes.append(found.reshape(len(rows), -1))
-        elif block.type == "line":
-            segments.append(rows.reshape(-1, 2))
-            found = _block_data(mesh, _SEGMENT_MARKERS, index)
-            markers.append(found.reshape(-1) if found is not None
-                           else np.ones(len(rows), dtype=np.int64))
-        elif block.type in IGNORED_CELLS:
-            notes.append(f"ignored {len(rows)} {block.type} cells")
-        else:
-            raise FormatError(SOURCE, None,
-                              f"has {block.type} cells; only triangle meshes are supported")
-    if not triangles:
-        raise FormatError(SOURCE, None, "has no triangle, tetra or other solid cells")
-    arrays: dict[str, Any] = {"vertices": points, "triangles": np.concatenate(triangles)}
-    if attributes and len(attributes) == len(triangles):
-        arrays["triangle_attributes"] = np.concatenate(attributes)
-    if segments:
-        arrays["segments"] = np.concatenate(segments)
-        arrays["segment_markers"] = np.concatenate(markers)
-    for key in ("vertex_markers", "vertex_attributes"):
-        if key in mesh.point_data:
-            arrays[key] = mesh.point_data[key]
-    value = from_arrays(arrays)
-    assert isinstance(value, Mesh2)  # triangles given: a Mesh2
     return value

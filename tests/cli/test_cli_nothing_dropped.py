@@ -80,3 +80,62 @@ def test_census_refuses_a_parquet_name_for_its_csv(capsys: pytest.CaptureFixture
                        "-o", tmp_path / "x.parquet")
     assert code == 2 and "give a name ending in .csv" in err
     assert os.listdir(tmp_path) == []
+
+
+# --- issue 26, item 3: 2D meshes through Gmsh and VTK files ------------------------------
+SUPERIOR = Path(__file__).resolve().parents[2] / "geomexact" / "data" / "superior.poly"
+
+
+@pytest.mark.parametrize("suffix", [".msh", ".vtu", ".vtk"])
+def test_segments_and_markers_survive_gmsh_and_vtk(capsys: pytest.CaptureFixture[str],
+                                                   tmp_path: Path, suffix: str) -> None:
+    """triangulate superior.poly -o x.msh: the 518 boundary segments and their markers are
+    written (line cells, gmsh:physical and cell data) and read back; before, writing
+    dropped them with a warning and reading ignored line cells."""
+    out = tmp_path / f"superior{suffix}"
+    code, _, err = run(capsys, "triangulate", SUPERIOR, "-o", out)
+    assert code == 0 and "cannot hold" not in err
+    code, out_text, _ = run(capsys, "info", out, "--json")
+    assert code == 0 and '"constrained_edges": 518' in out_text
+    from geomexact import io
+
+    back, original = io.read(out), io.read(SUPERIOR)
+    assert sorted(back.segments.values()) == sorted(m for _, _, m in original.segments)
+
+
+def test_a_gmsh_file_s_physical_groups_are_read(tmp_path: Path) -> None:
+    """A Gmsh 2.2 mesh as Gmsh writes it: physical lines are segment markers, a physical
+    surface the triangles' attribute, a physical point a vertex marker."""
+    from geomexact import io
+
+    path = tmp_path / "g.msh"
+    path.write_text(
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n"
+        "4 0 1 0\n$EndNodes\n$Elements\n7\n1 15 2 7 1 1\n2 1 2 11 1 1 2\n3 1 2 11 2 2 3\n"
+        "4 1 2 12 3 3 4\n5 1 2 12 4 4 1\n6 2 2 5 1 1 2 3\n7 2 2 5 1 1 3 4\n$EndElements\n")
+    mesh = io.read(path)
+    assert dict(mesh.segments) == {(0, 1): 11, (1, 2): 11, (2, 3): 12, (0, 3): 12}
+    assert set(mesh.triangle_attributes.values()) == {(5,)}
+    assert dict(mesh.vertex_markers) == {0: 7}
+
+
+def test_obj_says_which_formats_keep_segments(capsys: pytest.CaptureFixture[str],
+                                              tmp_path: Path) -> None:
+    code, _, err = run(capsys, "triangulate", SUPERIOR, "-o", tmp_path / "s.obj")
+    assert code == 0
+    assert ".obj files cannot hold 518 segments" in err and ".vtu, .vtk and .msh" in err
+
+
+def test_exact_off_says_other_readers_refuse_it(capsys: pytest.CaptureFixture[str],
+                                                tmp_path: Path) -> None:
+    """--exact OFF with a p/q number: a warning naming the readers that refuse it and
+    the exact formats; an OFF of decimals gets none."""
+    third = tmp_path / "third.pslg"
+    third.write_text("v 0 0\nv 1/3 0\nv 0 1\nt 0 1 2\n")
+    code, _, err = run(capsys, "convert", third, tmp_path / "x.off", "--exact")
+    assert code == 0 and "1/3" in (tmp_path / "x.off").read_text()
+    assert "other programs' OFF readers" in err and ".pslg or .ele" in err
+    source = tmp_path / "t.off"
+    source.write_text("OFF\n3 1 0\n0 0 0\n0.5 0 0\n0 1 0\n3 0 1 2\n")
+    code, _, err = run(capsys, "convert", source, tmp_path / "y.off", "--exact")
+    assert code == 0 and "OFF readers" not in err

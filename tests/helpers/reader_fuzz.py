@@ -199,12 +199,13 @@ def _meshio_text(value: Mesh2 | Mesh3, name: str) -> dict[str, bytes]:
     with tempfile.TemporaryDirectory() as directory:
         path = Path(directory) / name
         with contextlib.redirect_stdout(StringIO()), contextlib.redirect_stderr(StringIO()):
-            meshio.write(path, meshio.Mesh(numpy.array(points), cells), binary=False)
+            meshio.write(path, meshio.Mesh(numpy.array(points), cells), binary=False,
+                         **({"file_format": "gmsh"} if name.endswith(".msh") else {}))
         return {name: path.read_bytes()}
 
 
 def meshio_seeds() -> tuple[Case, ...]:
-    """meshio formats: VTK legacy (binary), Gmsh 4 text, VTU (zlib, base64) of a
+    """meshio formats: VTK legacy (binary), Gmsh 2.2 and 4.1 text, VTU (zlib, base64) of a
     triangle mesh and of tetrahedra, and the ASCII VTK and VTU of tetrahedra; empty
     without meshio."""
     try:
@@ -215,6 +216,9 @@ def meshio_seeds() -> tuple[Case, ...]:
     return (
         Case("vtk", _written(mesh, "m.vtk"), "m.vtk"),
         Case("msh", _written(mesh, "m.msh"), "m.msh"),
+        # Gmsh 4.1 text of the plain triangles (geomexact writes Gmsh 2.2, which holds
+        # the segments and attributes): the files of tests/io/test_io_fuzz_found.py
+        Case("msh41", _meshio_text(mesh, "m.msh"), "m.msh"),
         Case("vtu", _written(mesh, "m.vtu"), "m.vtu"),
         Case("vtk-tetra", _written(cube, "c.vtk"), "c.vtk"),
         Case("vtu-tetra", _written(cube, "c.vtu"), "c.vtu"),

@@ -59,7 +59,7 @@ needs_meshio = pytest.mark.skipif(not MESHIO, reason="meshio is not installed")
 
 
 def _msh(tmp_path: Path, change: str, to: str) -> Path:
-    text = MESHIO["msh"].files["m.msh"].decode()
+    text = MESHIO["msh41"].files["m.msh"].decode()
     assert change in text
     return write(tmp_path, "m.msh", text.replace(change, to, 1))
 
@@ -90,7 +90,7 @@ def test_gmsh_with_a_huge_node_tag_fails_instead_of_filling_memory(tmp_path: Pat
 def test_gmsh_triangle_cells_of_the_wrong_shape(tmp_path: Path) -> None:
     """A file cut after an element block's header: meshio returns triangle cells of shape
     (8, 0), and unpacking them escaped as ValueError."""
-    text = MESHIO["msh"].files["m.msh"].decode()
+    text = MESHIO["msh41"].files["m.msh"].decode()
     cut = text.index("2 0 2 8\n") + len("2 0 2 8")
     error = read_error(write(tmp_path, "m.msh", text[:cut]))
     assert "expected n x 3" in error.problem

@@ -145,9 +145,12 @@ def test_dyadic_meshes_round_trip_by_default_in_every_format(
     tmp_path_factory: pytest.TempPathFactory, mesh: Mesh2
 ) -> None:
     """Dyadic coordinates (midpoints, grid centroids) have finite decimals: lossless in
-    the default style, and exact doubles through meshio."""
+    the default style, and exact doubles through meshio (VTU, VTK and Gmsh keep the
+    segments, markers and attributes too: issue 26, item 3; Medit drops them and says so).
+    """
     directory = tmp_path_factory.mktemp("dyadic")
-    for name, holds_all in [*_MESH_FILES, ("m.vtu", False)]:
+    for name, holds_all in [*_MESH_FILES, ("m.vtu", True), ("m.vtk", True), ("m.msh", True),
+                            ("m.mesh", False)]:
         report = io.write_with_report(directory / name, mesh)
         assert report.rounded == 0, name
         back = io.read(directory / name)

@@ -46,11 +46,15 @@ def test_round_trip_keeps_the_doubles(tmp_path: Path, extension: str) -> None:
 
 @given(grid_meshes(dyadic=True))
 def test_meshes_of_doubles_round_trip_exactly(mesh: Mesh2) -> None:
-    """Coordinates that are doubles come back exactly (markers etc. are not written)."""
+    """Coordinates that are doubles come back exactly, and so do segments, markers and
+    attributes (issue 26, item 3: they were dropped) in VTU, VTK and Gmsh files."""
     with tempfile.TemporaryDirectory() as directory:
-        target = Path(directory) / "m.vtu"
-        io.write(target, mesh)
-        assert io.read(target) == plain(mesh)
+        for suffix in (".vtu", ".vtk", ".msh"):
+            target = Path(directory) / f"m{suffix}"
+            report = io.write_with_report(target, mesh)
+            assert report.dropped == ()
+            back = io.read(target)
+            assert back == mesh and back.digest == mesh.digest, suffix
 
 
 def _save(path: Path, points: list[list[float]], cells: list[tuple[str, list[list[int]]]]) -> None:
@@ -65,7 +69,7 @@ def _save(path: Path, points: list[list[float]], cells: list[tuple[str, list[lis
 
 def test_floats_read_as_their_exact_binary_value(tmp_path: Path) -> None:
     """0.1 in a binary file is the double nearest 0.1, exactly, not 1/10; line cells are
-    ignored with a note; clockwise triangles are oriented."""
+    segments (marker 1 without cell data); clockwise triangles are oriented."""
     _save(
         tmp_path / "f.vtu",
         [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.1, 0.0]],
@@ -75,7 +79,8 @@ def test_floats_read_as_their_exact_binary_value(tmp_path: Path) -> None:
     assert isinstance(mesh, Mesh2)
     assert mesh.point(1).x == mpq(0.1) != mpq(1, 10)
     assert mesh.triangles() == [(0, 1, 2)]
-    assert notes == ["ignored 1 line cells", "the only triangle was clockwise; reversed it"]
+    assert notes == ["the only triangle was clockwise; reversed it"]
+    assert dict(mesh.segments) == {(0, 1): 1}
 
 
 @pytest.mark.parametrize(

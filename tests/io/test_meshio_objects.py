@@ -27,6 +27,7 @@ from geomexact.strategies import triangulations
 meshio = pytest.importorskip("meshio")
 np = pytest.importorskip("numpy")
 
+from helpers.io_cases import grid_meshes  # noqa: E402
 from helpers.mixed_files import every_kind_mesh  # noqa: E402
 from helpers.paths import read_superior  # noqa: E402
 
@@ -105,10 +106,17 @@ def test_gmsh_physical_tags_are_segment_markers() -> None:
          ("vertex", np.array([[0]]))],
         cell_data={"gmsh:physical": [np.array([1]), np.array([5, 6]), np.array([9])]},
     )
-    with pytest.warns(UserWarning, match="ignored 1 vertex cells"):
-        back = from_meshio(converted)
+    back = from_meshio(converted)
     assert isinstance(back, Mesh2)
     assert sorted(back.segments.values()) == [5, 6]
+    assert dict(back.vertex_markers) == {0: 9}  # a physical point
+    assert dict(back.triangle_attributes) == {(0, 1, 2): (1,)}  # a physical surface
+    converted.cell_data.pop("gmsh:physical")
+    converted.cell_data["gmsh:physical"] = [np.array([0]), np.array([0, 0]), np.array([0])]
+    with pytest.warns(UserWarning, match="ignored 1 vertex cells"):
+        plain = from_meshio(converted)  # meshio's zeros: no physical groups
+    assert isinstance(plain, Mesh2) and not len(plain.triangle_attributes)
+    assert sorted(plain.segments.values()) == [1, 1]
 
 
 def test_tetrahedral_meshes_round_trip() -> None:
@@ -144,7 +152,7 @@ def test_polyhedra_are_refused_with_the_way_out() -> None:
     (lambda: meshio.Mesh(np.zeros((3, 2)), [("quad", np.array([[0, 1, 2, 0]]))]),
      "quad cells"),
     (lambda: meshio.Mesh(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
-                         [("triangle", np.array([[0, 1, 5]]))]), "outside"),
+                         [("triangle", np.array([[0, 1, 5]]))]), "out of range"),
     (lambda: meshio.Mesh(np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]]),
                          [("triangle", np.array([[0, 1, 2]]))]), "only planar"),
     (lambda: meshio.Mesh(np.zeros((2, 2)), [("line", np.array([[0, 1]]))]),
@@ -168,3 +176,19 @@ def test_large_markers_survive(marker: int) -> None:
     mesh = mesh_from_triangles([(0, 0), (1, 0), (0, 1)], [(0, 1, 2)], [(0, 1, marker)])
     back = from_meshio(to_meshio(mesh))
     assert isinstance(back, Mesh2) and dict(back.segments) == dict(mesh.segments)
+
+
+@given(grid_meshes(dyadic=False, extras=True), st.sampled_from(["exact", "nearest"]))
+@settings(max_examples=30, deadline=None)
+def test_meshes_with_everything_round_trip(mesh: Mesh2, numbers: str) -> None:
+    """Segments, markers, vertex and triangle attributes and exact coordinates come back
+    from a meshio object (exactly with numbers='exact'; with 'nearest' every part but the
+    rounded numbers)."""
+    back = from_meshio(to_meshio(mesh, numbers=numbers))  # type: ignore[arg-type]
+    assert isinstance(back, Mesh2)
+    if numbers == "exact":
+        assert back.digest == mesh.digest
+    assert dict(back.segments) == dict(mesh.segments)
+    assert dict(back.vertex_markers) == dict(mesh.vertex_markers)
+    assert back.triangles() == mesh.triangles()
+    assert set(back.triangle_attributes) == set(mesh.triangle_attributes)
