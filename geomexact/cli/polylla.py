@@ -129,9 +129,10 @@ def add_parser(commands: Subcommands) -> None:
     polylla_.add_argument("--no-opt", action="store_true",
                           help="convex decomposition without criterion 1 (angle-first mode; "
                                "implies --convex)")
-    polylla_.add_argument("--preset", choices=("pineda",),
-                          help="--convex with Pineda's rules: --reflex straight "
-                               "--criterion-one-rule first (docs/papers.md)")
+    polylla_.add_argument("--preset", choices=("pineda", "pineda-thesis"),
+                          help="--convex with Pineda's rules: pineda follows his program "
+                               "(--criterion-one-rule first), pineda-thesis the thesis's "
+                               "table (also --reflex straight)")
     polylla_.add_argument("--reflex", choices=("strict", "straight"), default="strict",
                           help="--convex: a reflex corner is above 180 degrees (default) or "
                                "also at exactly 180 (straight; Pineda, Alg. 10)")
