@@ -267,10 +267,11 @@ def command_refine(args: argparse.Namespace) -> int:
     else:
         raise wrong_kind(args.input, loaded.value, "refine",
                          "2D triangle meshes and PSLGs")
-    polylla_input = None
+    polylla_input = polylla_reflex = polylla_convex = None
     if args.output and (args.output.endswith(("/", "\\")) or Path(args.output).is_dir()):
         # Pineda's -output DIR -filename NAME: NAME.off, and with --polylla the Polylla
-        # meshes of the input and of the result beside it
+        # meshes of the input and of the result beside it, and as his program does the
+        # result's non-convex polygons and its convex decomposition
         stem = args.filename or Path(args.input).name.split(".")[0]
         directory = Path(args.output)
         directory.mkdir(parents=True, exist_ok=True)
@@ -278,14 +279,18 @@ def command_refine(args: argparse.Namespace) -> int:
         if args.polylla is not None:
             polylla_input = str(directory / f"{stem}_input_polylla.off")
             args.polylla = str(directory / f"{stem}_polylla.off")
+            polylla_reflex = str(directory / f"{stem}_polylla_reflex.off")
+            polylla_convex = str(directory / f"{stem}_polylla_convex.off")
     elif args.filename:
         raise UsageProblem("--filename names the files of --output DIR (a directory)")
     if args.polylla == "":
         raise UsageProblem("--polylla without a file name needs --output DIR")
     distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file"),
                       ("--polylla", args.polylla, None), ("--polylla", polylla_input, None),
+                      ("--polylla", polylla_reflex, None), ("--polylla", polylla_convex, None),
                       ("--print-region", args.print_region, None)])
-    outputs = [args.output, args.trace, args.polylla, polylla_input, args.print_region]
+    outputs = [args.output, args.trace, args.polylla, polylla_input, polylla_reflex,
+               polylla_convex, args.print_region]
     for path in outputs:
         if path and Path(path).exists() and not args.force:
             raise OverwriteError(str(path))
@@ -333,10 +338,23 @@ def command_refine(args: argparse.Namespace) -> int:
     if args.polylla:
         from geomexact.mesh2d.polygonal.polylla_meshing import polylla
 
-        written += write(args.polylla, polylla(result.mesh), None, overwrite=args.force,
+        polygons = polylla(result.mesh)
+        written += write(args.polylla, polygons, None, overwrite=args.force,
                           numbers=args.numbers)
         if polylla_input:
             written += write(polylla_input, polylla(mesh), None, overwrite=args.force,
+                              numbers=args.numbers)
+        if polylla_reflex and polylla_convex:
+            from geomexact.mesh2d.polygonal.convex import convex_decomposition
+            from geomexact.mesh2d.polygonal.polygon_mesh import nonconvex_polygons
+
+            reflex = PolygonMesh(vertices=polygons.vertices, polygons=tuple(
+                polygons.polygons[index] for index in nonconvex_polygons(polygons)))
+            written += write(polylla_reflex, reflex, None, overwrite=args.force,
+                              numbers=args.numbers)
+            convex = convex_decomposition(
+                polygons, preset="pineda" if args.preset == "pineda" else None).mesh
+            written += write(polylla_convex, convex, None, overwrite=args.force,
                               numbers=args.numbers)
     if args.print_region:
         written += write(args.print_region, _region_mesh(mesh, region), None,
@@ -524,8 +542,10 @@ def add_parser(commands: Subcommands) -> None:
                          help="write the trace (JSON Lines; from a PSLG: from its vertices)")
     refine_.add_argument("--polylla", metavar="OFF", nargs="?", const="",
                          help="also write the Polylla polygon mesh of the result (OFF); "
-                              "with -o DIR and no file name: DIR/NAME_polylla.off and the "
-                              "input's, DIR/NAME_input_polylla.off (Pineda's -polylla)")
+                              "with -o DIR and no file name: DIR/NAME_polylla.off, its "
+                              "non-convex polygons (NAME_polylla_reflex.off), its convex "
+                              "decomposition (NAME_polylla_convex.off) and the input's "
+                              "(NAME_input_polylla.off), as Pineda's -polylla")
     refine_.add_argument("--filename", metavar="NAME",
                          help="with -o DIR (a directory, Pineda's -output): the files' "
                               "name, DIR/NAME.off (default: the input's name)")

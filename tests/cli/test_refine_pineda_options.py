@@ -43,14 +43,29 @@ def test_output_directory_with_filename_and_polylla(
     grid: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """-o DIR/ --filename NAME --polylla: NAME.off, NAME_polylla.off and
-    NAME_input_polylla.off in DIR."""
+    NAME_input_polylla.off in DIR, and as Pineda's program does (issue 26, item 8) the
+    result's non-convex polygons (NAME_polylla_reflex.off, every vertex kept) and its
+    convex decomposition (NAME_polylla_convex.off)."""
     out = tmp_path / "out"
     assert main(["refine", str(grid), "--max-area", "1/4", "-o", f"{out}/", "--filename",
                  "run1", "--polylla", "--json"]) == 0
     written = json.loads(capsys.readouterr().out)["written"]
     names = sorted(Path(path).name for path in written)
-    assert names == ["run1.off", "run1_input_polylla.off", "run1_polylla.off"]
+    assert names == ["run1.off", "run1_input_polylla.off", "run1_polylla.off",
+                     "run1_polylla_convex.off", "run1_polylla_reflex.off"]
     assert isinstance(io.read(out / "run1_input_polylla.off"), PolygonMesh)
+    polygons, reflex, convex = (io.read(out / f"run1_polylla{suffix}.off")
+                                for suffix in ("", "_reflex", "_convex"))
+    assert isinstance(polygons, PolygonMesh) and isinstance(convex, PolygonMesh)
+    from geomexact.mesh2d.polygonal.polygon_mesh import nonconvex_polygons
+
+    # an OFF without faces reads as an empty triangle mesh
+    faces = reflex.polygons if isinstance(reflex, PolygonMesh) else ()
+    assert reflex.vertex_count if isinstance(reflex, Mesh2) else len(reflex.vertices)
+    assert sorted(faces) == sorted(polygons.polygons[index] for index in
+                                   nonconvex_polygons(polygons))
+    assert not nonconvex_polygons(convex)
+    assert len(convex.polygons) >= len(polygons.polygons)
 
 
 def test_filename_without_directory_and_bare_polylla_are_usage_errors(
@@ -75,3 +90,19 @@ def test_centred_rectangle_is_the_same_region(
         report = json.loads(capsys.readouterr().out)
         results.append((report["triangles"], report["region"]))
     assert results[0] == results[1]
+
+
+def test_polylla_files_on_poisson_points_match_the_program(
+    shared_data: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """500poisson.off, nothing to refine, --preset pineda --polylla -o DIR/: the program's
+    76 non-convex polygons and its 306 + 93 convex ones."""
+    source = shared_data / "polylla-refinement" / "500poisson.off"
+    out = tmp_path / "p"
+    assert main(["refine", str(source), "--max-area", "1", "--method", "centroid",
+                 "--preset", "pineda", "--polylla", "-o", f"{out}/"]) == 0
+    capsys.readouterr()
+    reflex = io.read(out / "500poisson_polylla_reflex.off")
+    convex = io.read(out / "500poisson_polylla_convex.off")
+    assert isinstance(reflex, PolygonMesh) and isinstance(convex, PolygonMesh)
+    assert len(reflex.polygons) == 76 and len(convex.polygons) == 306 + 93
