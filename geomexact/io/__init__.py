@@ -67,6 +67,8 @@ class _OnFirstUse:
 
 
 read_off, write_off = _OnFirstUse("off", "read_off"), _OnFirstUse("off", "write_off")
+read_mellado = _OnFirstUse("mellado_text", "read_mellado")
+read_triangle_list = _OnFirstUse("triangle_list", "read_triangle_list")
 read_triangle = _OnFirstUse("triangle", "read_triangle")
 write_triangle = _OnFirstUse("triangle", "write_triangle")
 read_tetgen, write_tetgen = _OnFirstUse("tetgen", "read_tetgen"), _OnFirstUse(
@@ -89,6 +91,16 @@ def _write_ele(
     """A :class:`Mesh3` as TetGen files, anything else as Triangle files."""
     writer = write_tetgen if isinstance(value, Mesh3) else write_triangle
     return writer(path, value, overwrite=overwrite, numbers=numbers)  # type: ignore[no-any-return]
+
+
+def _read_txt(path: Path) -> tuple[Value, list[str]]:
+    """A ``.txt`` mesh: Mellado's text when it starts with a section header (his programs
+    write ``.txt``), else the triangle list."""
+    from geomexact.io.mellado_text import looks_like_mellado
+
+    if looks_like_mellado(path):
+        return read_mellado(path)  # type: ignore[no-any-return]
+    return read_triangle_list(path)  # type: ignore[no-any-return]
 
 
 def _write_only(path: Path) -> tuple[Value, list[str]]:
@@ -160,8 +172,9 @@ _FORMATS: tuple[Format, ...] = (
     Format(
         "trilist",
         (".txt",),
-        "one triangle per line 'x1 y1 x2 y2 x3 y3'",
-        _OnFirstUse("triangle_list", "read_triangle_list"),
+        "one triangle per line 'x1 y1 x2 y2 x3 y3' (a .txt that starts with a Vertices, "
+        "Triangles or Neighbors header is read as Mellado's text)",
+        _read_txt,
         _OnFirstUse("triangle_list", "write_triangle_list"),
         (Mesh2,),
     ),
@@ -169,7 +182,7 @@ _FORMATS: tuple[Format, ...] = (
         "mellado",
         (".mellado",),
         "Mellado's text: Vertices/Triangles/Neighbors sections of v/t/n lines (0-based)",
-        _OnFirstUse("mellado_text", "read_mellado"),
+        read_mellado,
         _OnFirstUse("mellado_text", "write_mellado"),
         (Mesh2,),
     ),

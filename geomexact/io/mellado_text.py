@@ -44,6 +44,19 @@ def _index(path: str, line: int, token: str, what: str) -> int:
         raise FormatError(path, line, f"{what} must be an integer, not {token!r}") from None
 
 
+def looks_like_mellado(path: Path) -> bool:
+    """True when the first data line of ``path`` is a section header of this format
+    (``Vertices``, ``Triangles``, ``Neighbors``): Mellado's programs write ``.txt`` files,
+    which otherwise name the triangle list.  Reads no further than that line; a file that
+    cannot be read is left to the reader to report."""
+    try:
+        for _, tokens in token_lines(read_lines(path)):
+            return tokens[0].lower() in _SECTIONS
+    except (OSError, FormatError):
+        return False
+    return False
+
+
 def read_mellado(path: Path) -> tuple[Value, list[str]]:
     """A Mellado text file as a :class:`Mesh2` (module docstring)."""
     name = str(path)

@@ -624,6 +624,59 @@
     return meshModel(name, points, triangles, segments, { pslg: !triangles.length, holes: holes, seeds: seeds });
   }
 
+  const MELLADO_SECTIONS = { vertices: "v", triangles: "t", neighbors: "n", neighbours: "n" };
+
+  function isMelladoText(text) {
+    // Mellado's programs write .txt files that start with a section header
+    const first = dataLines(text.slice(0, 4096))[0];
+    return Boolean(first) && Object.prototype.hasOwnProperty.call(MELLADO_SECTIONS, first[1][0].toLowerCase());
+  }
+
+  function parseMellado(name, text) {
+    // sections Vertices / Triangles / Neighbors of 'v x y', 't a b c', 'n ...' lines
+    // (specs/formats/mellado.md); 0-based, or 1-based when 0 is never used and N is
+    const points = new Points();
+    const corners = [];
+    let section = null;
+    for (const [line, t] of dataLines(text)) {
+      const head = t[0].toLowerCase();
+      if (Object.prototype.hasOwnProperty.call(MELLADO_SECTIONS, head)) {
+        section = MELLADO_SECTIONS[head];
+        continue;
+      }
+      if (section === null) throw new ParseError(name, line, "data before the first section (Vertices, Triangles or Neighbors)");
+      if (head !== section) throw new ParseError(name, line, "a line of this section starts with '" + section + "', found '" + t[0] + "'");
+      if (section === "v") {
+        if (t.length !== 3) throw new ParseError(name, line, "a line of this section is 'v x y'");
+        points.add(name, line, t[1], t[2]);
+      } else if (section === "t") {
+        if (t.length !== 4) throw new ParseError(name, line, "a line of this section is 't a b c'");
+        corners.push([line, [1, 2, 3].map(function (j) {
+          return checkInt(name, line, t[j], "a vertex index");
+        })]);
+      }
+    }
+    if (!corners.length) throw new ParseError(name, null, "the file has no Triangles section lines");
+    const count = points.x.length;
+    let low = Infinity;
+    let high = -Infinity;
+    for (const [, ids] of corners) for (const id of ids) {
+      low = Math.min(low, id);
+      high = Math.max(high, id);
+    }
+    const base = low === 1 && high === count ? 1 : 0;
+    const triangles = [];
+    for (const [line, ids] of corners) {
+      for (const id of ids) {
+        checkIndex(name, line, id - base, count, "vertex index");
+        triangles.push(id - base);
+      }
+    }
+    const notes = ["read in the browser (doubles; not validated: use geomexact check)"];
+    if (base) notes.push("vertex indices are 1-based (0 is never used and N is)");
+    return meshModel(name, points, triangles, [], { notes: notes });
+  }
+
   function parseTriangleList(name, text) {
     const points = new Points();
     const ids = new Map();
@@ -703,18 +756,19 @@
       if (nodes.rest.length) throw new ParseError(node.name, nodes.rest[0][0], "unexpected data after the vertices");
       return meshModel(node.name, nodes.points, [], [], { pslg: true });
     }
-    for (const extension of [".off", ".pslg", ".txt"]) {
+    for (const extension of [".off", ".pslg", ".txt", ".mellado"]) {
       if (byExtension[extension]) {
         const file = byExtension[extension][0];
         if (extension === ".off") return parseOFF(file.name, file.text);
         if (extension === ".pslg") return parsePslgText(file.name, file.text);
+        if (extension === ".mellado" || isMelladoText(file.text)) return parseMellado(file.name, file.text);
         return parseTriangleList(file.name, file.text);
       }
     }
     const names = files.map(function (f) {
       return f.name;
     }).join(", ");
-    throw new ParseError(names || "(no file)", null, "no file the viewer can read (.off, .ele with its .node, .node, .poly, .pslg, .txt)");
+    throw new ParseError(names || "(no file)", null, "no file the viewer can read (.off, .ele with its .node, .node, .poly, .pslg, .txt, .mellado)");
   }
 
   // ---------------------------------------------------------------------------------
@@ -1187,7 +1241,7 @@
     this.canvas = canvas;
     this.ctx = canvas.getContext("2d", { alpha: false });
     this.cache = document.createElement("canvas");
-    this.view = { scale: 1, tx: 0, ty: 0 };
+    this.view = { scale: 1, tx: 0, ty: 0, angle: 0 };
     this.cacheView = null;
     this.paths = null;
     this.lastRenderMs = 0;
@@ -1211,15 +1265,57 @@
   };
 
   Renderer2D.prototype.fit = function (model) {
-    const w = Math.max(model.norm.w, 1e-12);
-    const h = Math.max(model.norm.h, 1e-12);
+    // the whole mesh in view, at the current rotation (its box's rotated extents)
+    const angle = this.view.angle || 0;
+    const c = Math.abs(Math.cos(angle));
+    const s = Math.abs(Math.sin(angle));
+    const w = Math.max(c * model.norm.w + s * model.norm.h, 1e-12);
+    const h = Math.max(s * model.norm.w + c * model.norm.h, 1e-12);
     const scale = 0.92 * Math.min(this.width / w, this.height / h);
-    this.view = { scale: Number.isFinite(scale) ? scale : 1, tx: this.width / 2, ty: this.height / 2 };
+    this.view = { scale: Number.isFinite(scale) ? scale : 1, tx: this.width / 2, ty: this.height / 2,
+      angle: angle };
     this.cacheView = null;
   };
 
   Renderer2D.prototype.toNormal = function (sx, sy) {
-    return [(sx - this.view.tx) / this.view.scale, -(sy - this.view.ty) / this.view.scale];
+    // the inverse of toScreen: undo the translation and scale, then the rotation
+    const v = this.view;
+    const x = (sx - v.tx) / v.scale;
+    const y = -(sy - v.ty) / v.scale;
+    const c = Math.cos(v.angle);
+    const s = Math.sin(v.angle);
+    return [c * x + s * y, -s * x + c * y];
+  };
+
+  Renderer2D.prototype.toScreen = function (nx, ny) {
+    // normalised coordinates (y up) to CSS pixels (y down): rotate by the view's angle
+    // (counter-clockwise as seen), scale, translate
+    const v = this.view;
+    const c = Math.cos(v.angle);
+    const s = Math.sin(v.angle);
+    return [v.tx + v.scale * (c * nx - s * ny), v.ty - v.scale * (s * nx + c * ny)];
+  };
+
+  Renderer2D.prototype.worldTransform = function () {
+    // the canvas transform of toScreen, in device pixels
+    const v = this.view;
+    const k = this.dpr * v.scale;
+    const c = Math.cos(v.angle);
+    const s = Math.sin(v.angle);
+    this.ctx.setTransform(k * c, -k * s, -k * s, -k * c, this.dpr * v.tx, this.dpr * v.ty);
+  };
+
+  Renderer2D.prototype.rotateAt = function (sx, sy, radians) {
+    // turn the view by ``radians`` (counter-clockwise as seen) about the screen point
+    // (sx, sy), which stays where it is
+    const v = this.view;
+    const c = Math.cos(radians);
+    const s = Math.sin(radians);
+    const dx = v.tx - sx;
+    const dy = v.ty - sy;
+    v.tx = sx + c * dx + s * dy;
+    v.ty = sy - s * dx + c * dy;
+    v.angle = ((v.angle + radians) % (2 * Math.PI) + 2 * Math.PI) % (2 * Math.PI);
   };
 
   Renderer2D.prototype.zoomAt = function (sx, sy, factor) {
@@ -1335,18 +1431,23 @@
     const k = this.dpr * v.scale;
     const ox = this.dpr * v.tx;
     const oy = this.dpr * v.ty;
+    // device pixels of normalised (x, y): (kxx x + kxy y + ox, kyx x + kyy y + oy)
+    const kxx = k * Math.cos(v.angle);
+    const kyx = -k * Math.sin(v.angle);
+    const kxy = kyx;
+    const kyy = -kxx;
     const nxy = model.norm.xy;
     if (model.kind === "triangles") {
       const cells = model.cells;
       for (let s = 0; s < model.slots; s++) {
         if (!model.alive[s]) continue;
-        const a = cells[3 * s];
-        const b = cells[3 * s + 1];
-        const c = cells[3 * s + 2];
+        const a = 2 * cells[3 * s];
+        const b = 2 * cells[3 * s + 1];
+        const c = 2 * cells[3 * s + 2];
         fillTriangle(px, W, H,
-          nxy[2 * a] * k + ox, -nxy[2 * a + 1] * k + oy,
-          nxy[2 * b] * k + ox, -nxy[2 * b + 1] * k + oy,
-          nxy[2 * c] * k + ox, -nxy[2 * c + 1] * k + oy,
+          kxx * nxy[a] + kxy * nxy[a + 1] + ox, kyx * nxy[a] + kyy * nxy[a + 1] + oy,
+          kxx * nxy[b] + kxy * nxy[b + 1] + ox, kyx * nxy[b] + kyy * nxy[b + 1] + oy,
+          kxx * nxy[c] + kxy * nxy[c + 1] + ox, kyx * nxy[c] + kyy * nxy[c + 1] + oy,
           p.binColours[p.faceBin[s]]);
       }
     } else if (model.kind === "polygons") {
@@ -1357,8 +1458,10 @@
         xs.length = 0;
         ys.length = 0;
         for (let i = model.polyOffsets[q]; i < model.polyOffsets[q + 1]; i++) {
-          xs.push(nxy[2 * v2[i]] * k + ox);
-          ys.push(-nxy[2 * v2[i] + 1] * k + oy);
+          const x = nxy[2 * v2[i]];
+          const y = nxy[2 * v2[i] + 1];
+          xs.push(kxx * x + kxy * y + ox);
+          ys.push(kyx * x + kyy * y + oy);
         }
         fillPolygon(px, W, H, xs, ys, p.binColours[p.faceBin[q]]);
       }
@@ -1380,7 +1483,7 @@
     this.rasterise(model);
     const p = this.paths;
     const unit = 1 / v.scale;
-    ctx.setTransform(dpr * v.scale, 0, 0, -dpr * v.scale, dpr * v.tx, dpr * v.ty);
+    this.worldTransform();
     ctx.lineJoin = "miter";
     ctx.lineCap = "butt";
     if (this.options.edges && p.edgeCount) {
@@ -1423,7 +1526,7 @@
     // what changes without the geometry changing: the hovered face
     const v = this.view;
     const dpr = this.dpr;
-    this.ctx.setTransform(dpr * v.scale, 0, 0, -dpr * v.scale, dpr * v.tx, dpr * v.ty);
+    this.worldTransform();
     this.drawHover(model, 1 / v.scale);
     this.ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     this.drawVertexMark(model);
@@ -1437,7 +1540,7 @@
   Renderer2D.prototype.cacheCurrent = function () {
     const c = this.cacheView;
     const v = this.view;
-    return c && c.scale === v.scale && c.tx === v.tx && c.ty === v.ty;
+    return c && c.scale === v.scale && c.tx === v.tx && c.ty === v.ty && c.angle === v.angle;
   };
 
   Renderer2D.prototype.drawHover = function (model, unit) {
@@ -1472,14 +1575,14 @@
 
   Renderer2D.prototype.drawPoints = function (model) {
     const ctx = this.ctx;
-    const v = this.view;
+    const self = this;
     const nxy = model.norm.xy;
     const marker = function (xy, color, draw) {
       ctx.strokeStyle = color;
       ctx.lineWidth = 2;
       for (let i = 0; i < xy.length; i += 2) {
-        const x = (xy[i] - model.norm.cx) * model.norm.inv * v.scale + v.tx;
-        const y = -(xy[i + 1] - model.norm.cy) * model.norm.inv * v.scale + v.ty;
+        const [x, y] = self.toScreen((xy[i] - model.norm.cx) * model.norm.inv,
+          (xy[i + 1] - model.norm.cy) * model.norm.inv);
         draw(x, y);
       }
     };
@@ -1491,8 +1594,7 @@
       const w = this.width;
       const h = this.height;
       for (let i = 0; i < model.vertexCount; i++) {
-        const x = nxy[2 * i] * v.scale + v.tx;
-        const y = -nxy[2 * i + 1] * v.scale + v.ty;
+        const [x, y] = this.toScreen(nxy[2 * i], nxy[2 * i + 1]);
         if (x < -4 || y < -4 || x > w + 4 || y > h + 4) continue;
         ctx.fillRect(x - size / 2, y - size / 2, size, size);
       }
@@ -1517,11 +1619,9 @@
 
   Renderer2D.prototype.drawVertexMark = function (model) {
     const ctx = this.ctx;
-    const v = this.view;
     const nxy = model.norm.xy;
     if (model.kind === "pslg" && this.hover >= 0) {
-      const x = nxy[2 * this.hover] * v.scale + v.tx;
-      const y = -nxy[2 * this.hover + 1] * v.scale + v.ty;
+      const [x, y] = this.toScreen(nxy[2 * this.hover], nxy[2 * this.hover + 1]);
       ctx.strokeStyle = "#111111";
       ctx.lineWidth = 2;
       ctx.strokeRect(x - 5, y - 5, 10, 10);
@@ -1532,7 +1632,8 @@
     this.cache.width = this.canvas.width;
     this.cache.height = this.canvas.height;
     this.cache.getContext("2d").drawImage(this.canvas, 0, 0);
-    this.cacheView = { scale: this.view.scale, tx: this.view.tx, ty: this.view.ty };
+    this.cacheView = { scale: this.view.scale, tx: this.view.tx, ty: this.view.ty,
+      angle: this.view.angle };
   };
 
   Renderer2D.prototype.renderCached = function () {
@@ -1613,7 +1714,8 @@
       }
       interactive = false;
     }
-    if (interactive && this.renderer.slow() && this.renderer.cacheView) {
+    if (interactive && this.renderer.slow() && this.renderer.cacheView &&
+        this.renderer.cacheView.angle === this.renderer.view.angle) {
       // a full frame is slow: move the last frame now, draw properly once the user pauses
       this.renderer.renderCached();
       clearTimeout(this.slowTimer);
@@ -2016,10 +2118,18 @@
         r().zoomAt(r().width / 2, r().height / 2, 0.8);
       } else if (event.key === "f" || event.key === "0") {
         r().fit(self.model);
+      } else if (event.key === "r" || event.key === "R") {
+        // r: 15° counter-clockwise, R: clockwise, about the centre of the view
+        r().rotateAt(r().width / 2, r().height / 2, (event.key === "r" ? 1 : -1) * Math.PI / 12);
       } else {
         return;
       }
       event.preventDefault();
+      self.requestRender(false);
+    });
+    $("rotate").addEventListener("click", function () {
+      if (!self.model) return;
+      r().rotateAt(r().width / 2, r().height / 2, Math.PI / 12);
       self.requestRender(false);
     });
     $("fit").addEventListener("click", function () {
@@ -2124,7 +2234,7 @@
     if (!text) {
       viewer.resize();
       viewer.renderer.render(null);
-      viewer.showMessage("Open a mesh file (OFF, Triangle .node/.ele/.poly, PSLG text .pslg, triangle list .txt) to view it.", false);
+      viewer.showMessage("Open a mesh file (OFF, Triangle .node/.ele/.poly, PSLG text .pslg, triangle list or Mellado's text .txt) to view it.", false);
       return;
     }
     try {

@@ -586,3 +586,50 @@ def test_served_page_refines_an_upload(watch: Watch, server: serve.MeshServer) -
     page.evaluate("() => geomexactViewer.renderNow()")
     watch.screenshot("served-refined")
     watch.assert_clean(server.url)
+
+
+def test_mellado_text_opens_and_the_view_rotates(watch: Watch, pages: dict[str, Path],
+                                                  tmp_path: Path) -> None:
+    """Issue 26, item 8: the Open button reads Mellado's text (a .txt with section
+    headers; a plain .txt is still a triangle list), and the 2D view rotates (the Rotate
+    button and r/R) with the hover picking the triangle under the pointer afterwards."""
+    open_page(watch, pages["mesh"])
+    mellado = tmp_path / "run.txt"
+    mellado.write_text("Vertices 4\nv 0 0\nv 4 0\nv 4 1\nv 0 1\nTriangles 2\nt 0 1 2\n"
+                       "t 0 2 3\nNeighbors 2\nn -1 1 -1\nn -1 -1 0\n")
+    watch.page.set_input_files("#file-input", str(mellado))
+    watch.page.locator("#message").filter(has_text="opened run.txt").wait_for()
+    assert count(watch, "vertices") == 4 and count(watch, "triangles") == 2
+    assert stat(watch, "total-area") == "4"
+    wide = watch.page.evaluate("""() => {
+        const r = geomexactViewer.viewer.renderer;
+        const ends = [r.toScreen(-0.5, 0), r.toScreen(0.5, 0)];
+        return [Math.abs(ends[1][0] - ends[0][0]), Math.abs(ends[1][1] - ends[0][1])]; }""")
+    assert wide[0] > 10 and wide[1] < 1e-6  # the x axis is horizontal
+    for _ in range(6):  # 6 x 15° = 90°
+        watch.page.click("#rotate")
+    turned = watch.page.evaluate("""() => {
+        const r = geomexactViewer.viewer.renderer;
+        const ends = [r.toScreen(-0.5, 0), r.toScreen(0.5, 0)];
+        const back = r.toNormal(...r.toScreen(0.3, -0.2));
+        return [geomexactViewer.view.angle, Math.abs(ends[1][0] - ends[0][0]),
+                ends[1][1] - ends[0][1], back[0], back[1]]; }""")
+    assert turned[0] == pytest.approx(math.pi / 2)
+    assert turned[1] < 1e-6 and turned[2] < -10  # x now points up the screen
+    assert turned[3] == pytest.approx(0.3) and turned[4] == pytest.approx(-0.2)
+    watch.page.evaluate("() => geomexactViewer.renderNow()")
+    assert inked_pixels(watch) > 100
+    # the hover finds the triangle at the centroid of (0, 1, 2), now rotated on screen
+    point = watch.page.evaluate("""() => {
+        const m = geomexactViewer.model, n = m.norm.xy, r = geomexactViewer.viewer.renderer;
+        let x = 0, y = 0;
+        for (const a of [0, 1, 2]) { x += n[2 * a] / 3; y += n[2 * a + 1] / 3; }
+        return r.toScreen(x, y); }""")
+    box = canvas_box(watch)
+    watch.page.mouse.move(box["x"] + point[0], box["y"] + point[1])
+    hover = watch.page.locator("#hover")
+    hover.wait_for(state="visible")
+    assert "(0, 1, 2)" in hover.inner_text() or "0, 1, 2" in hover.inner_text()
+    watch.page.keyboard.press("Shift+R")
+    watch.screenshot("rotated-mellado")
+    watch.assert_clean("file://")
