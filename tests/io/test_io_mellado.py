@@ -95,3 +95,22 @@ def test_lepp_delaunay_course_mesh_round_trips(tmp_path: Path) -> None:
     again = io.read(tmp_path / "t.mellado")
     assert isinstance(mesh, Mesh2) and isinstance(again, Mesh2)
     assert geometric_triangles(again) == geometric_triangles(mesh)
+
+
+def test_a_txt_in_mellado_s_text_is_read_as_it(tmp_path: Path) -> None:
+    """Mellado's programs write .txt: a .txt whose first data line is a section header
+    is Mellado's text (issue 26, item 8), any other .txt still a triangle list, and a
+    bad Mellado .txt names its line as the Mellado reader does."""
+    text = ("# written by the study's program\nVertices 4\nv 0 0\nv 1 0\nv 1 1\nv 0 1\n"
+            "Triangles 2\nt 0 1 2\nt 0 2 3\n")
+    (tmp_path / "run.txt").write_text(text)
+    (tmp_path / "run.mellado").write_text(text)
+    as_txt, as_mellado = io.read(tmp_path / "run.txt"), io.read(tmp_path / "run.mellado")
+    assert isinstance(as_txt, Mesh2) and as_txt.digest == as_mellado.digest
+    (tmp_path / "list.txt").write_text("0 0 1 0 1 1\n0 0 1 1 0 1\n")
+    listed = io.read(tmp_path / "list.txt")
+    assert isinstance(listed, Mesh2) and listed.triangle_count == 2
+    (tmp_path / "bad.txt").write_text("Vertices\nv 0 0\nq 1 1\n")
+    with pytest.raises(FormatError) as caught:
+        io.read(tmp_path / "bad.txt")
+    assert caught.value.line == 3
