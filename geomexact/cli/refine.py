@@ -47,20 +47,23 @@ _TRIANGULATION_ENGINE: dict[str, DelaunayEngine] = {
 reference engine: the Python engine's trace replays through the reference ops)."""
 
 
-class _RefineProgress:
-    """A progress line on stderr for ``refine --progress``: steps, triangles, queue and
-    time, with a bar that fills with the steps used out of the step limit (the default
-    budget), or bounces when there is no limit.  On a terminal it is redrawn in place at
-    most ten times a second; otherwise a line is printed every second."""
+class RefineProgress:
+    """A progress line on stderr for ``refine --progress`` (issue 26, item 5): a bar over
+    the work that moves -- the steps done against the steps done plus the bad triangles
+    still queued, and the triangles against the criterion's estimate of the final count,
+    whichever is further -- then each stage after the run by name (trace, writing,
+    summary) and ``done``.  On a terminal it is redrawn in place at most ten times a
+    second; otherwise a line is printed every second, and one per stage."""
 
     WIDTH = 24
 
-    def __init__(self, limit: int | None = None) -> None:
-        self.limit = limit
+    def __init__(self, estimate: int | None = None) -> None:
+        self.estimate = estimate
         self.started = self.last = time.perf_counter()
         self.terminal = sys.stderr.isatty()
         self.interval = 0.1 if self.terminal else 1.0
         self.shown = False
+        self.steps = self.triangles = 0
 
     def __call__(self, progress: Any) -> None:
         now = time.perf_counter()
@@ -69,22 +72,36 @@ class _RefineProgress:
         self.last = now
         self.show(progress.steps, progress.triangles, progress.pending)
 
-    def show(self, steps: int, triangles: int, pending: int, *, final: bool = False) -> None:
-        elapsed = time.perf_counter() - self.started
-        if final:
-            bar = "#" * self.WIDTH
-        elif self.limit:
-            filled = min(self.WIDTH, self.WIDTH * steps // self.limit)
-            bar = "#" * filled + "." * (self.WIDTH - filled)
-        else:
-            position = int(elapsed * 8) % (2 * self.WIDTH - 6)
-            position = position if position < self.WIDTH - 3 else 2 * self.WIDTH - 6 - position
-            bar = " " * position + "###" + " " * (self.WIDTH - 3 - position)
-        of = f" of {self.limit:,}" if self.limit is not None and not final else ""
-        line = (f"refine [{bar}] {steps:,}{of} steps, {triangles:,} triangles, "
-                f"{pending:,} queued, {elapsed:.1f} s")
+    def fraction(self, steps: int, triangles: int, pending: int) -> float:
+        """How far the run is, below 1 while triangles are queued."""
+        done = steps / (steps + pending) if steps + pending else 0.0
+        if self.estimate:
+            done = max(done, triangles / self.estimate)
+        return min(done, 0.99) if pending else 1.0
+
+    def show(self, steps: int, triangles: int, pending: int) -> None:
+        self.steps, self.triangles = steps, triangles
+        filled = int(self.WIDTH * self.fraction(steps, triangles, pending))
+        bar = "#" * filled + "." * (self.WIDTH - filled)
+        expected = (f" (~{self.estimate:,} expected)"
+                    if self.estimate and pending else "")
+        self._line(f"refine [{bar}] {steps:,} steps, {triangles:,} triangles{expected}, "
+                   f"{pending:,} to fix")
+
+    def stage(self, name: str) -> None:
+        """The run is over: ``name`` is what the command does now."""
+        self._line(f"refine [{'#' * self.WIDTH}] {self.steps:,} steps, "
+                   f"{self.triangles:,} triangles; {name}")
+
+    def done(self) -> None:
+        self._line(f"refine [{'#' * self.WIDTH}] {self.steps:,} steps, "
+                   f"{self.triangles:,} triangles; done", final=True)
+
+    def _line(self, text: str, *, final: bool = False) -> None:
+        line = f"{text}, {time.perf_counter() - self.started:.1f} s"
         if self.terminal:
-            print("\r" + line, end="\n" if final else "", file=sys.stderr, flush=True)
+            print("\r" + line + "\x1b[K", end="\n" if final else "", file=sys.stderr,
+                  flush=True)
         else:
             print(line, file=sys.stderr, flush=True)
         self.shown = True
@@ -307,7 +324,7 @@ def command_refine(args: argparse.Namespace) -> int:
     if limit is None or memory_steps < limit:
         limit = memory_steps  # the run stops there with its partial result: exit 3
     show = args.progress if args.progress is not None else sys.stderr.isatty()
-    progress = _RefineProgress(limit) if show else None
+    progress = RefineProgress(estimate or None) if show else None
     result = refine(
         mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
         centroid=args.centroid, second_longest_rule=_second_longest_rule(args),
@@ -315,7 +332,7 @@ def command_refine(args: argparse.Namespace) -> int:
         preset=args.preset, order=args.order, factor_stop=args.factor_stop,
     )
     if progress is not None:
-        progress.show(result.stats.steps, result.mesh.triangle_count, 0, final=True)
+        progress.show(result.stats.steps, result.mesh.triangle_count, 0)
     if method_note:  # after the run: a refusal stays one line
         print(f"geomexact: {method_note}", file=sys.stderr)
     trace = result.trace
@@ -328,14 +345,20 @@ def command_refine(args: argparse.Namespace) -> int:
     trace = with_provenance(trace, args, engine=args.engine, input_path=args.input)
     written: list[Path] = []
     if args.output:
+        if progress is not None:
+            progress.stage(f"writing {args.output}")
         written += write(args.output, result.mesh, args.to, overwrite=args.force,
                           numbers=args.numbers)
     else:
         note_unwritten(args.input, "refined mesh")
     if args.trace:
+        if progress is not None:
+            progress.stage(f"writing {args.trace}")
         write_trace(args.trace, trace, overwrite=args.force)
         written.append(Path(args.trace))
     if args.polylla:
+        if progress is not None:
+            progress.stage("Polylla")
         from geomexact.mesh2d.polygonal.polylla_meshing import polylla
 
         polygons = polylla(result.mesh)
@@ -369,6 +392,8 @@ def command_refine(args: argparse.Namespace) -> int:
         for index, snapshot in enumerate(snapshots):
             written += write(directory / f"step-{index:0{width}d}.off", snapshot, "off",
                               overwrite=args.force, numbers="exact")
+    if progress is not None:
+        progress.stage("checking and summarising" if args.check else "summarising")
     violations = validate(result.mesh) if args.check else []
     checked = args.check_delaunay or not _delaunay_guaranteed(
         method, args.no_delaunay, mesh, triangulated=construction is not None)
@@ -396,6 +421,8 @@ def command_refine(args: argparse.Namespace) -> int:
         "notes": notes,
     }
     not_delaunay = args.check_delaunay and not summary["is_delaunay"]
+    if progress is not None:
+        progress.done()
     if args.json:
         report["violations"] = violation_reports(violations)
         print_json(report)

@@ -5,6 +5,8 @@ input or usage)."""
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -223,6 +225,31 @@ def test_progress_goes_to_stderr_and_json_stays_one_object(
     assert code == 0
     assert json.loads(out)["triangles"] == 256
     assert "refine [" in err and "256 triangles" in err
+
+
+def test_progress_moves_with_the_work_and_names_each_stage(
+    tmp_path: Path, square: Path
+) -> None:
+    """Issue 26, item 5: the bar follows the work (steps against the steps plus the
+    triangles still to fix, or the criterion's estimate), not the step budget (200
+    million steps for a 500,000-step run: empty, then full), and the stages after the
+    run are named -- writing included -- before 'done'."""
+    from geomexact.cli.refine import RefineProgress
+
+    progress = RefineProgress(estimate=1000)
+    assert progress.fraction(100, 200, 100) == 0.5
+    assert progress.fraction(10, 900, 5000) == 0.9  # the estimate is further
+    assert progress.fraction(10, 5000, 1) == 0.99  # never full while work is queued
+    assert progress.fraction(10, 5000, 0) == 1.0
+    done = subprocess.run(
+        [sys.executable, "-m", "geomexact", "refine", str(square), "--max-area", "1/1024",
+         "-o", str(tmp_path / "out.off"), "--trace", str(tmp_path / "run.trace"),
+         "--progress"], capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    lines = [line for line in done.stderr.splitlines() if line.startswith("refine [")]
+    stages = [line.split("; ", 1)[1].rsplit(",", 1)[0] for line in lines if "; " in line]
+    assert stages == [f"writing {tmp_path / 'out.off'}", f"writing {tmp_path / 'run.trace'}",
+                      "summarising", "done"]
 
 
 def test_check_delaunay_fails_for_a_non_delaunay_result(
