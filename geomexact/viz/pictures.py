@@ -165,6 +165,24 @@ def _edge_pixels(ax: Any, xy: np.ndarray, triangles: np.ndarray) -> float:
     return float(np.median(lengths) / extent * pixels)
 
 
+def _polygon_legend(ax: Any, polygons: int, nonconvex: int, inserted: int) -> None:
+    """The key of a polygon mesh's picture, above it: what the fills and the orange
+    edges are, with their counts."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    handles: list[Any] = [Patch(facecolor=PLAIN_FILL, edgecolor=EDGE_COLOR,
+                                label=f"convex polygon ({polygons - nonconvex:,})")]
+    if nonconvex:
+        handles.append(Patch(facecolor=NONCONVEX_FILL, edgecolor=EDGE_COLOR,
+                             label=f"non-convex polygon ({nonconvex:,})"))
+    if inserted:
+        handles.append(Line2D([], [], color=HIGHLIGHT_COLOR, linewidth=2.0,
+                              label=f"inserted edge ({inserted:,})"))
+    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.0),
+              ncol=len(handles), fontsize=8, frameon=False)
+
+
 def draw(
     ax: Any,
     value: Viewable | Scene,
@@ -272,6 +290,8 @@ def draw(
     if marked:
         ax.add_collection(_lines(xy, np.array(marked, dtype=np.int64), colors=HIGHLIGHT_COLOR,
                                  linewidths=2.0))
+    if scene.kind == "polygons" and scene.polygon_count:
+        _polygon_legend(ax, scene.polygon_count, len(scene.nonconvex), len(marked))
     count = scene.vertex_count
     if show_vertices is None:
         show_vertices = not faces_drawn

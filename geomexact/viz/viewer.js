@@ -1682,9 +1682,40 @@
     this.refreshGeometry();
     this.resize();
     this.renderer.fit(model);
+    this.denseDefaults(model);
     this.setupControls();
     this.showStats();
     this.requestRender();
+  };
+
+  const MIN_EDGE_PIXELS = 3;  // as geomexact.viz.pictures: below it edges are a solid smear
+
+  Viewer.prototype.denseDefaults = function (model) {
+    // a mesh whose edges are under MIN_EDGE_PIXELS when fitted opens as its picture does:
+    // filled by smallest angle, edges hidden (only when no fill was chosen)
+    const r = this.renderer;
+    if (model.kind !== "triangles" || r.options.fill !== "none" || !model.slots) return;
+    const n = model.norm.xy;
+    const lengths = [];
+    const every = Math.max(1, Math.floor(model.slots / 20000));
+    for (let s = 0; s < model.slots; s += every) {
+      if (!model.alive[s]) continue;
+      const a = model.cells[3 * s];
+      const b = model.cells[3 * s + 1];
+      lengths.push(Math.hypot(n[2 * b] - n[2 * a], n[2 * b + 1] - n[2 * a + 1]));
+    }
+    if (!lengths.length) return;
+    lengths.sort(function (x, y) {
+      return x - y;
+    });
+    if (lengths[lengths.length >> 1] * r.view.scale >= MIN_EDGE_PIXELS) return;
+    r.options.fill = "min_angle";
+    r.options.edges = false;
+    $("fill").value = "min_angle";
+    $("show-edges").checked = false;
+    this.refreshGeometry();
+    model.notes = (model.notes || []).concat(
+      ["a dense mesh: filled by smallest angle, edges hidden (as its picture)"]);
   };
 
   Viewer.prototype.refreshGeometry = function () {

@@ -165,6 +165,7 @@ def test_page_loads_clean_and_draws(watch: Watch, pages: dict[str, Path]) -> Non
 def test_dragging_pans(watch: Watch, pages: dict[str, Path]) -> None:
     """A mouse drag moves the view by the drag and changes the pixels."""
     open_page(watch, pages["mesh"])
+    assert watch.page.input_value("#fill") == "none"  # not dense: the plain fill stays
     before = canvas_signature(watch)
     view = watch.page.evaluate("() => ({...geomexactViewer.view})")
     box = canvas_box(watch)
@@ -519,6 +520,10 @@ def test_large_mesh_stays_responsive(watch: Watch, tmp_path: Path) -> None:
     loaded = time.monotonic() - started
     assert count(watch, "triangles") == 2 * 317 * 317
     assert loaded < 10, loaded
+    # issue 26, item 6: edges under 3 pixels when fitted: it opens as its picture does,
+    # filled by smallest angle with the edges hidden (a small mesh keeps its plain fill)
+    assert watch.page.input_value("#fill") == "min_angle"
+    assert not watch.page.is_checked("#show-edges")
     frame = watch.page.evaluate("() => geomexactViewer.renderNow()")
     assert frame < 1000, frame
     box = canvas_box(watch)

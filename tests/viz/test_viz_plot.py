@@ -146,3 +146,19 @@ def test_min_angles_of_known_triangles() -> None:
     xy = np.array([[0, 0], [1, 0], [0, 1], [0.5, 3 ** 0.5 / 2]], dtype=float)
     angles = min_angles(xy, np.array([[0, 1, 2], [0, 1, 3]]))
     assert angles == pytest.approx([45, 60])
+
+
+def test_polygon_pictures_have_a_legend() -> None:
+    """Issue 26, item 6: a Polylla picture says what its fills and orange edges are, with
+    their counts (convex, non-convex polygons; inserted edges)."""
+    from geomexact.viz.pictures import figure
+
+    shapes = PolygonMesh(vertices=[point2(x, y) for x, y in
+                                   [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2), (3, 0),
+                                    (3, 1)]],
+                         polygons=[(0, 1, 2, 3, 4, 5), (1, 6, 7, 2)])
+    labels = [text.get_text() for text in figure(shapes).axes[0].get_legend().get_texts()]
+    assert labels == ["convex polygon (1)", "non-convex polygon (1)"]
+    fig = figure(shapes, highlight_edges=[(1, 2)])
+    labels = [text.get_text() for text in fig.axes[0].get_legend().get_texts()]
+    assert labels == ["convex polygon (1)", "non-convex polygon (1)", "inserted edge (1)"]
