@@ -92,7 +92,16 @@ def _unique_edges(faces: Sequence[Sequence[int]]) -> tuple[np.ndarray, np.ndarra
     if not pairs:
         empty = np.zeros((0, 2), dtype=np.int64)
         return empty, empty
-    edges, counts = np.unique(np.array(pairs, dtype=np.int64), axis=0, return_counts=True)
+    return _counted_edges(np.array(pairs, dtype=np.int64))
+
+
+def _counted_edges(pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct rows (u < v) of ``pairs``, sorted, and those that occur once.  Each
+    row is one int64 key (u << 32 | v: ids are below 2^32), so the sort is of integers,
+    not of rows (``np.unique(axis=0)`` took 2.7 s of a 500,000-triangle picture)."""
+    keys = (pairs[:, 0] << 32) | pairs[:, 1]
+    distinct, counts = np.unique(keys, return_counts=True)
+    edges = np.column_stack((distinct >> 32, distinct & 0xFFFFFFFF))
     return edges, edges[counts == 1]
 
 
@@ -102,8 +111,7 @@ def _triangle_edges(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return empty, empty
     pairs = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     pairs.sort(axis=1)
-    edges, counts = np.unique(pairs, axis=0, return_counts=True)
-    return edges, edges[counts == 1]
+    return _counted_edges(pairs.astype(np.int64))
 
 
 def min_angles(xy: np.ndarray, triangles: np.ndarray) -> np.ndarray:
