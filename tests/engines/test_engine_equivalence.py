@@ -661,7 +661,7 @@ class RefinementSuite:
         st.sampled_from(["worst-first", "passes"]),
         st.sampled_from(["bisect-second", "centroid", "bisect-longest"]),
         st.sampled_from(["action", "target"]),
-        st.sampled_from(["max_area", "factor", "angle", "both"]),
+        st.sampled_from(["max_area", "factor", "angle", "both", "angle_edge", "area_edge"]),
         REGIONS,
     )
     def test_random_meshes_preset_rules(
@@ -675,10 +675,13 @@ class RefinementSuite:
             "factor": AverageAreaFactor(mpq(1, 3)),
             "angle": MinAngle(27),
             "both": AnyOf((MinAngle(27), MaxArea(total_area(start) / 20))),
+            "angle_edge": AnyOf((MinAngle(27), MaxEdgeLength(mpq(1, 4) * 256))),
+            "area_edge": AnyOf((MaxArea(total_area(start) / 20),
+                                MaxEdgeLength(mpq(1, 4) * 256))),
         }[kind]
         self.same(start, criterion, method=method, centroid=centroid, order=order,
                   second_longest_rule=rule, factor_stop=stop, region=region,
-                  max_steps=40 if kind in ("angle", "both") else None)
+                  max_steps=40 if kind in ("angle", "both", "angle_edge") else None)
 
     def test_presets_on_superior(self) -> None:
         """The presets' rules at 30° and with a factor on Lake Superior."""

@@ -132,7 +132,7 @@ def test_every_engine_gives_the_same_trace(method: str) -> None:
     mesh = _square()
     criterion = AnyOf((MinAngle(25), MaxArea(mpq(1, 50)))) if method != "bisection" else \
         AnyOf((MaxEdgeLength(mpq(1, 4)), MaxArea(mpq(1, 50))))
-    engines = ["reference", "python", *(["compiled"] if method != "bisection" else [])]
+    engines = ["reference", "python", "compiled"]  # every combination compiled (issue 26)
     runs = [refine(mesh, criterion, method=method, engine=engine)  # type: ignore[arg-type]
             for engine in engines]
     for other in runs[1:]:
@@ -152,12 +152,17 @@ def test_the_compiled_kernel_runs_angle_and_area_as_the_python_engine(method: st
               point2(mpq(1, 3), mpq(7, 3))]
     mesh = triangulate(PSLG(vertices=points, segments=[(0, 1, 1), (1, 2, 1), (2, 3, 1),
                                                        (3, 4, 1), (4, 0, 1)])).mesh
-    criterion = AnyOf((MinAngle(27), MaxArea(mpq(1, 3))))
-    compiled = refine(mesh, criterion, method=method, engine="compiled")  # type: ignore[arg-type]
-    python = refine(mesh, criterion, method=method, engine="python")  # type: ignore[arg-type]
-    assert compiled.trace.steps == python.trace.steps
-    assert compiled.trace.digests == python.trace.digests
-    assert compiled.stats.left == python.stats.left and compiled.mesh == python.mesh
+    for criterion in (AnyOf((MinAngle(27), MaxArea(mpq(1, 3)))),
+                      AnyOf((MinAngle(27), MaxEdgeLength(mpq(3, 2)))),
+                      AnyOf((MaxEdgeLength(mpq(3, 2)), MaxArea(mpq(1, 3))))):
+        compiled = refine(mesh, criterion, method=method,  # type: ignore[arg-type]
+                          engine="compiled")
+        python = refine(mesh, criterion, method=method,  # type: ignore[arg-type]
+                        engine="python")
+        assert compiled.trace.steps == python.trace.steps
+        assert compiled.trace.digests == python.trace.digests
+        assert compiled.stats.left == python.stats.left and compiled.mesh == python.mesh
+        assert compiled.stats.left_reasons == python.stats.left_reasons
 
 
 TWO_REGIONS = """# two squares side by side, the right one with a small maximum area

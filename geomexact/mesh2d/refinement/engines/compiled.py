@@ -21,8 +21,11 @@ Python engine — or None when the kernel is not built or the run is outside its
   the key −cos² exact), with the small-angle rules of ``Refinement`` (sharp corners left,
   protected tips; ``left`` and ``left_reasons`` as the Python engine's); another criterion
   with no ``angle_threshold``, rated through its ``rate`` (``MaxArea`` in C on dyadic
-  triangles); or ``AverageAreaFactor`` (the exact type; no other region-wide target),
-  the region's mean area tracked exactly as ``Refinement.account``;
+  triangles; an ``AnyOf`` of such criteria too); ``AnyOf((MinAngle, X))`` with X such a
+  criterion (``--min-angle`` with ``--max-area`` or ``--max-edge``: the angle's entries
+  first); or ``AverageAreaFactor`` (the exact type; no other region-wide target), the
+  region's mean area tracked exactly as ``Refinement.account``; no criterion that reads
+  triangle attributes;
 * any region; no triangle attributes; any ``max_steps`` and ``on_step``;
 * no option beyond those above (:data:`OPTIONS`): a run with an option the kernel does
   not know is declined, never run with another meaning.
@@ -93,15 +96,17 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
     if options["method"] not in ("bisection", "centroid", "quasi"):
         return f"it runs no method {options['method']!r}"
     if isinstance(criterion, AnyOf):
-        if not _angle_then_area(criterion):
-            return ("the only combination it runs is AnyOf((MinAngle, MaxArea)), the angle "
-                    "first")
+        if criterion.angle_threshold is not None and not _angle_then_one(criterion):
+            return ("a combination with a minimum angle it runs is AnyOf((MinAngle, X)), "
+                    "the angle first and X one criterion on single triangles")
     elif criterion.angle_threshold is not None and type(criterion) is not MinAngle:
         return "the only minimum-angle criterion it runs is MinAngle"
     if type(criterion) is not AverageAreaFactor and (
         criterion.target_mean_area(mpq(1), 1) is not None
     ):
         return "the only region-wide criterion it runs is AverageAreaFactor"
+    if getattr(criterion, "needs_attributes", False):
+        return "it reads no triangle attributes (a criterion by region, such as RegionAreas)"
     if len(mesh.triangle_attributes):
         return "it runs no mesh with triangle attributes"
     if len(mesh.vertex_attributes):
@@ -109,11 +114,13 @@ def unsupported(mesh: Mesh2, **options: Any) -> str | None:
     return None
 
 
-def _angle_then_area(criterion: AnyOf) -> bool:
-    """True for ``AnyOf((MinAngle(θ), MaxArea(A)))`` (``refine --min-angle --max-area``)."""
+def _angle_then_one(criterion: AnyOf) -> bool:
+    """True for ``AnyOf((MinAngle(θ), X))`` with X on single triangles, no angle
+    (``refine --min-angle --max-area`` or ``--max-edge``)."""
     members = criterion.criteria
     return (len(members) == 2 and type(members[0]) is MinAngle
-            and type(members[1]) is MaxArea)
+            and members[1].angle_threshold is None
+            and members[1].target_mean_area(mpq(1), 1) is None)
 
 
 def supports(mesh: Mesh2, **options: Any) -> bool:
@@ -133,9 +140,10 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
     doubled = 2 * criterion.area if type(criterion) is MaxArea else None
     angle: Any = criterion if type(criterion) is MinAngle else None
     area_rate = None
-    if isinstance(criterion, AnyOf):  # AnyOf((MinAngle, MaxArea)): checked above
-        angle, area = criterion.criteria
-        doubled, area_rate = 2 * area.area, area.rate  # type: ignore[attr-defined]
+    if isinstance(criterion, AnyOf) and criterion.angle_threshold is not None:
+        angle, second = criterion.criteria  # AnyOf((MinAngle, X)): checked above
+        area_rate = second.rate
+        doubled = 2 * second.area if type(second) is MaxArea else None
     # the kernel counts steps in int64: a larger limit is never reached anyway
     limit = None if max_steps is None or max_steps >= 1 << 62 else max_steps
     assert _lepp_kernel is not None

@@ -7,7 +7,7 @@ Contract: :class:`Kernel` runs exactly the loop of
 ``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; every centroid kind and
 every rule of the presets: both orders, the three second-longest rules, both factor
 stops), a criterion rating single triangles (no angle
-threshold), ``MinAngle``, ``AnyOf((MinAngle, MaxArea))`` (the angle first: entries carry
+threshold, ``AnyOf`` of such criteria included), ``MinAngle``, ``AnyOf((MinAngle, X))`` (the angle first: entries carry
 their group) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
 triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the
 same digest after every step, the same counters, and seals the same ``Mesh2``
@@ -166,7 +166,7 @@ cdef struct Entry:
     int64_t a
     int64_t b
     int64_t c
-    # AnyOf((MinAngle, MaxArea)): 0 for a triangle queued for its angle, 1 for its area
+    # AnyOf((MinAngle, X)): 0 for a triangle queued for its angle, 1 for X
     int group
 
 cdef struct Record:
@@ -445,16 +445,16 @@ cdef class Kernel:
         self.contains = region.contains
         self.rate = criterion.rate
         self.min_angle = threshold is not None
-        # AnyOf((MinAngle, MaxArea)): the angle first, then the area (area_rate: the
-        # MaxArea's rate, for triangles off the grid)
-        self.combined = self.min_angle and max_area_doubled is not None
+        # AnyOf((MinAngle, X)): the angle first, then X (area_rate: X's rate; a MaxArea X
+        # is rated in C on grid triangles, max_area_doubled)
+        self.combined = self.min_angle and area_rate is not None
         self.area_rate = criterion.rate if area_rate is None else area_rate
         self.threshold = threshold
         self.left = {}
         self.tip_grid = {}
         if self.min_angle:
-            if average or (self.combined and area_rate is None):
-                raise ValueError("a minimum angle is rated alone or with a MaxArea")
+            if average:
+                raise ValueError("a minimum angle is rated alone or with one other criterion")
             self.cos2f = threshold.cos2_float
             self.cos_sign = threshold.cos_sign
             # Refinement.tip_limit reads the start mesh: its half-edges and outgoing hints
@@ -1013,15 +1013,15 @@ cdef class Kernel:
 
     cdef int _consider_area(self, Entry *entry) except -1:
         """An area criterion (``MaxArea``, ``AverageAreaFactor``, or AnyOf's second
-        criterion): queue the entry in group 1 when its triangle is too large (key
-        −(doubled area): in grid units on the grid, else the criterion's own exact key);
-        1 when queued."""
+        criterion): queue the entry in group 1 when its triangle is bad (a MaxArea or a
+        factor: key −(doubled area), in grid units on the grid; else the criterion's own
+        exact key); 1 when queued."""
         cdef Vertex *va = &self.vs[entry.a]
         cdef Vertex *vb = &self.vs[entry.b]
         cdef Vertex *vc = &self.vs[entry.c]
         cdef gx_i128 area2
         entry.group = 1
-        if va.at.grid and vb.at.grid and vc.at.grid:
+        if self.max_area and va.at.grid and vb.at.grid and vc.at.grid:
             area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
             if area2 <= self.area_limit:
                 return 0
