@@ -11,7 +11,9 @@ import pytest
 from geomexact import mesh_from_triangles, mpq
 from geomexact.cli.parser import KERNEL_RUNS, version_text
 from geomexact.mesh2d.refinement import criteria
+from geomexact.mesh2d.refinement.driver import RunOptions
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
+from geomexact.mesh2d.refinement.presets import rules
 from geomexact.mesh2d.refinement.regions import Circle, Whole
 from geomexact.mesh2d.transient import Transient2
 
@@ -43,11 +45,9 @@ def test_the_lepp_claim_is_what_the_kernel_runs() -> None:
         ("bisection", "centroid", "quasi"), ("area", "area-exact", "vertices"), CRITERIA,
         (True, False), (True, False), (Whole(), Circle(0, 0, 1)), meshes,
     ):
-        runs = compiled_engine.unsupported(
-            meshes[kind], criterion=CRITERIA[name], region=region, method=method,
-            delaunay=delaunay, centroid=centroid, constraint_midpoints=midpoints,
-            on_step=None,
-        ) is None
+        run = RunOptions(CRITERIA[name], region, method, delaunay,  # type: ignore[arg-type]
+                         rules(None, centroid=centroid, constraint_midpoints=midpoints))
+        runs = compiled_engine.unsupported(meshes[kind], run) is None
         claimed = kind == "plain"  # every method and centroid (issue 25)
         assert runs == claimed, (method, centroid, name, delaunay, midpoints, kind)
 

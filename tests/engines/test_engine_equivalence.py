@@ -57,7 +57,9 @@ from geomexact.mesh2d.refinement.criteria import (
     MinAngle,
     doubled_area,
 )
+from geomexact.mesh2d.refinement.driver import RunOptions
 from geomexact.mesh2d.refinement.engines import compiled as compiled_refinement
+from geomexact.mesh2d.refinement.presets import rules
 from geomexact.mesh2d.refinement.regions import (
     Circle,
     Polygon,
@@ -258,14 +260,17 @@ def reference_run(start: Mesh2, criterion: Criterion, options: dict[str, Any]) -
         return run_engine("reference", start, criterion, options)
 
 
-def refinement_options(criterion: Criterion, options: dict[str, Any]) -> dict[str, Any]:
-    """The options ``refine()`` hands the engines, with the defaults filled in."""
-    full = {"region": None, "method": "bisection", "delaunay": True, "centroid": "area",
-            "constraint_midpoints": True, "on_step": None, **options}
-    full["region"] = as_region(full["region"])
-    full["criterion"] = criterion
-    full.pop("max_steps", None)
-    return full
+def refinement_options(criterion: Criterion, options: dict[str, Any]) -> RunOptions:
+    """The run ``refine()`` hands the engines for these options (``refine``'s own
+    keywords: method, delaunay, region, centroid, the rules, a preset)."""
+    chosen = rules(options.get("preset"), centroid=options.get("centroid"),
+                   order=options.get("order"),
+                   second_longest_rule=options.get("second_longest_rule"),
+                   factor_stop=options.get("factor_stop"),
+                   constraint_midpoints=options.get("constraint_midpoints"))
+    return RunOptions(criterion, as_region(options.get("region")),
+                      options.get("method", "bisection"), options.get("delaunay", True),
+                      chosen, options.get("on_step"))
 
 
 # --- the refinement suite -----------------------------------------------------------------------
@@ -280,7 +285,7 @@ class RefinementSuite:
         refuse it)."""
         reference = reference_run(start, criterion, options)
         if self.engine == "compiled" and compiled_refinement.unsupported(
-                start, **refinement_options(criterion, options)) is not None:
+                start, refinement_options(criterion, options)) is not None:
             with pytest.raises(PreconditionError, match="engine 'compiled' cannot run"):
                 refine(start, criterion, engine="compiled", **options)
             return reference.result

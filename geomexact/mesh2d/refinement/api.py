@@ -66,6 +66,7 @@ from geomexact.mesh2d.refinement.driver import (
     Method,
     Progress,
     Refinement,
+    RunOptions,
     Status,
 )
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
@@ -332,20 +333,9 @@ def refine(
             raise PreconditionError("refine", f"step_cap must be >= 0, not {step_cap!r}")
         limit = budget = step_cap
     began = time.perf_counter()
-    options: dict[str, Any] = {
-        "criterion": rule,
-        "region": area,
-        "method": method,
-        "delaunay": delaunay,
-        "centroid": centroid,
-        "constraint_midpoints": constraint_midpoints,
-        "on_step": on_step,
-        "order": chosen.order,
-        "second_longest_rule": chosen.second_longest_rule,
-        "factor_stop": chosen.factor_stop,
-    }
+    run_options = RunOptions(rule, area, method, delaunay, chosen, on_step)
     if name == "compiled":
-        reason = unsupported(mesh, **options)
+        reason = unsupported(mesh, run_options)
         if reason is not None:
             raise PreconditionError(
                 "refine", f"engine 'compiled' cannot run this refinement: {reason} "
@@ -353,7 +343,7 @@ def refine(
             )
     with collector_paused():  # a large run makes millions of small tuples
         compiled = (
-            run_compiled(mesh, limit, **options) if name in ("auto", "compiled") else None
+            run_compiled(mesh, limit, run_options) if name in ("auto", "compiled") else None
         )
         status: Status
         if compiled is not None:
@@ -367,9 +357,9 @@ def refine(
         else:
             run: Refinement
             if name == "reference":
-                run = ReferenceRefinement(mesh, limit, **options)
+                run = ReferenceRefinement(mesh, limit, run_options)
             else:
-                run = BatchRefinement(mesh, limit, **options)
+                run = BatchRefinement(mesh, limit, run_options)
             run.start_queue(sorted(mesh.iter_triangles()))
             status = run.run()
             result, steps, digests = run.finish(mesh)

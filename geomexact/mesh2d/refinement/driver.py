@@ -15,6 +15,7 @@ from geomexact.kernel.predicate_results import CircleLocation, Comparison, Orien
 from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.mesh2d.longest_edge import _before, is_constraint_edge
 from geomexact.mesh2d.refinement.criteria import AnyOf, Criterion, rate_with_attributes
+from geomexact.mesh2d.refinement.presets import Rules
 from geomexact.mesh2d.refinement.queue import WorkQueue
 from geomexact.mesh2d.refinement.regions import Region, Whole
 from geomexact.mesh2d.snapshot import Attributes, Edge, Mesh2, Triangle
@@ -51,6 +52,27 @@ class Progress:
     pending: int
 
 
+@attrs.frozen(slots=True)
+class RunOptions:
+    """What one Lepp refinement run does, typed, from ``refine()`` to every engine (the
+    reference and Python engines and the compiled kernel): the criterion, the region,
+    the method, whether Delaunay flips are made, the rules (:class:`~geomexact.mesh2d.
+    refinement.presets.Rules`: centroid kind, order, second-longest rule, factor stop)
+    and what receives each step's :class:`Progress`."""
+
+    criterion: Criterion
+    region: Region
+    method: Method = "bisection"
+    delaunay: bool = True
+    rules: Rules = attrs.field(factory=Rules)
+    on_step: Callable[[Progress], None] | None = None
+
+    @property
+    def constraint_midpoints(self) -> bool:
+        """The older name of the second-longest rule ``"bisect-second"``."""
+        return self.rules.second_longest_rule == "bisect-second"
+
+
 class StepLimit(Exception):
     """Raised before a step when ``max_steps`` steps are recorded."""
 
@@ -71,38 +93,23 @@ class Refinement:
     point: Callable[[int], Point2]
     attributed: bool
 
-    def __init__(
-        self,
-        start: Mesh2,
-        criterion: Criterion,
-        region: Region,
-        method: Method,
-        delaunay: bool,
-        centroid: str,
-        constraint_midpoints: bool,
-        on_step: Callable[[Progress], None] | None,
-        order: str = "worst-first",
-        second_longest_rule: str | None = None,
-        factor_stop: str = "action",
-    ) -> None:
+    def __init__(self, start: Mesh2, run: RunOptions) -> None:
         self.start = start
         self.tip_limits: dict[int, Rational | None] = {}
-        self.criterion = criterion
-        self.region = region
-        self.whole = isinstance(region, Whole)
+        criterion = self.criterion = run.criterion
+        self.region = run.region
+        self.whole = isinstance(run.region, Whole)
         self.inside: dict[int, bool] = {}
-        self.method = method
-        self.delaunay = delaunay
-        self.centroid_kind = centroid
-        self.constraint_midpoints = constraint_midpoints
-        self.second_longest_rule = second_longest_rule or (
-            "bisect-second" if constraint_midpoints else "centroid"
-        )
-        self.passes = order == "passes"
+        self.method = run.method
+        self.delaunay = run.delaunay
+        self.centroid_kind = run.rules.centroid
+        self.constraint_midpoints = run.constraint_midpoints
+        self.second_longest_rule = run.rules.second_longest_rule
+        self.passes = run.rules.order == "passes"
         self.pass_number = -1  # the pass of the current target ("passes" order)
-        self.stop_per_action = factor_stop == "action"
-        self.legalize_insertions = delaunay and method != "quasi"
-        self.on_step = on_step
+        self.stop_per_action = run.rules.factor_stop == "action"
+        self.legalize_insertions = run.delaunay and run.method != "quasi"
+        self.on_step = run.on_step
         self.threshold = criterion.angle_threshold
         self.criterion_attributes = bool(getattr(criterion, "needs_attributes", False))
         self.created: list[Triangle] = []

@@ -25,9 +25,11 @@ from geomexact.mesh2d.refinement.criteria import (
     MaxEdgeLength,
     MinAngle,
 )
+from geomexact.mesh2d.refinement.driver import RunOptions
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
 from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
+from geomexact.mesh2d.refinement.presets import rules
 from geomexact.mesh2d.refinement.regions import Circle, Rectangle, Region, as_region
 
 pytestmark = pytest.mark.skipif(
@@ -41,11 +43,11 @@ def square() -> Mesh2:
 
 def options(criterion: Criterion, region: Region | None = None, delaunay: bool = True,
             method: str = "bisection", on_step: Any = None, centroid: str = "area",
-            constraint_midpoints: bool = True) -> dict[str, Any]:
-    """The options ``refine()`` gives the engines."""
-    return {"criterion": criterion, "region": as_region(region), "method": method,
-            "delaunay": delaunay, "centroid": centroid,
-            "constraint_midpoints": constraint_midpoints, "on_step": on_step}
+            constraint_midpoints: bool = True) -> RunOptions:
+    """The run ``refine()`` gives the engines."""
+    return RunOptions(criterion, as_region(region), method,  # type: ignore[arg-type]
+                      delaunay, rules(None, centroid=centroid,
+                                      constraint_midpoints=constraint_midpoints), on_step)
 
 
 @pytest.mark.parametrize("method", ["bisection", "centroid", "quasi"])
@@ -58,9 +60,9 @@ def test_runs_without_progress_reports_are_the_same(
     """Without ``on_step`` the kernel builds the steps at the end: the same run as with
     progress reports (one per step)."""
     reports: list[Progress] = []
-    loud = run_compiled(square(), limit, **options(criterion, method=method,
+    loud = run_compiled(square(), limit, options(criterion, method=method,
                                                    on_step=reports.append))
-    quiet = run_compiled(square(), limit, **options(criterion, method=method))
+    quiet = run_compiled(square(), limit, options(criterion, method=method))
     assert loud is not None and quiet is not None
     assert quiet.steps == loud.steps and quiet.digests == loud.digests
     assert quiet.mesh == loud.mesh and quiet.status == loud.status
@@ -75,7 +77,7 @@ class Wide(AverageAreaFactor):
 
 def mean_state(start: Mesh2, criterion: Criterion, **kw: Any) -> tuple[Any, ...]:
     """The Python engine's (area2, count, target_area2) after ``start_queue``."""
-    run = BatchRefinement(start, None, **options(criterion, **kw))
+    run = BatchRefinement(start, None, options(criterion, **kw))
     run.start_queue(sorted(start.iter_triangles()))
     return run.area2, run.count, run.target_area2
 
@@ -162,23 +164,21 @@ class OtherAngle(MinAngle):
 def test_outside_the_subset_returns_none() -> None:
     start = square()
     for method in ("centroid", "quasi"):
-        assert run_compiled(start, None, **options(MaxArea("0.1"), method=method)) is not None
+        assert run_compiled(start, None, options(MaxArea("0.1"), method=method)) is not None
         for centroid in ("area-exact", "vertices", "midpoint"):  # every kind (issue 25)
-            assert run_compiled(start, None, **options(
+            assert run_compiled(start, None, options(
                 MaxArea("0.1"), method=method, centroid=centroid)) is not None
-        assert run_compiled(start, 5, **options(MinAngle(30), method=method)) is not None
+        assert run_compiled(start, 5, options(MinAngle(30), method=method)) is not None
         # a minimum-angle criterion of another type (its rate may differ): declined
-        assert run_compiled(start, 5, **options(OtherAngle(30), method=method)) is None
-    assert run_compiled(start, 5, **options(MinAngle(30))) is not None
-    # an option the kernel does not know: declined, never run with another meaning
-    novel = {**options(MaxArea("0.1")), "novel_rule": True}
-    assert run_compiled(start, None, **novel) is None
-    assert "novel_rule" in (unsupported(start, **novel) or "")
-    assert run_compiled(start, None, **options(Wide("0.5"))) is None
-    assert run_compiled(start, None, **options(AverageAreaFactor("0.5"))) is not None
+        assert run_compiled(start, 5, options(OtherAngle(30), method=method)) is None
+    assert run_compiled(start, 5, options(MinAngle(30))) is not None
+    # a run is a typed record (issue 25, item 4): there is no unknown option to decline
+    assert unsupported(start, options(MaxArea("0.1"))) is None
+    assert run_compiled(start, None, options(Wide("0.5"))) is None
+    assert run_compiled(start, None, options(AverageAreaFactor("0.5"))) is not None
     attributed = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],
                                      triangle_attributes=[(1,), (2,)])
-    assert run_compiled(attributed, None, **options(MaxArea("0.1"))) is None
+    assert run_compiled(attributed, None, options(MaxArea("0.1"))) is None
 
 
 def test_hashes_match_digest() -> None:
@@ -243,7 +243,7 @@ def test_grid_rationals_are_built_in_c_when_the_headers_were_there() -> None:
 
     from geomexact.mesh2d.refinement.engines import lepp_kernel
 
-    if lepp_kernel.GMPY2_BUILT_VERSION == gmpy2.version():
+    if gmpy2.version() == lepp_kernel.GMPY2_BUILT_VERSION:
         assert lepp_kernel.GRID_MPQ_IN_C
     else:
         assert not lepp_kernel.GRID_MPQ_IN_C
@@ -255,14 +255,14 @@ def test_exceptions_propagate() -> None:
         raise RuntimeError("criterion")
 
     with pytest.raises(RuntimeError, match="criterion"):
-        run_compiled(square(), None, **options(CallableCriterion(boom)))
+        run_compiled(square(), None, options(CallableCriterion(boom)))
 
     def stop(progress: Progress) -> None:
         if progress.steps == 3:
             raise RuntimeError("stop")
 
     with pytest.raises(RuntimeError, match="stop"):
-        run_compiled(square(), None, **options(MaxArea("0.01"), on_step=stop))
+        run_compiled(square(), None, options(MaxArea("0.01"), on_step=stop))
 
 
 def test_kernel_steps_are_plain_steps_left_to_reference_counting() -> None:

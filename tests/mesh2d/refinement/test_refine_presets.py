@@ -21,6 +21,7 @@ from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.refinement.api import refine
 from geomexact.mesh2d.refinement.criteria import AverageAreaFactor, MinAngle
+from geomexact.mesh2d.refinement.driver import RunOptions
 from geomexact.mesh2d.refinement.engines.compiled import AVAILABLE, unsupported
 from geomexact.mesh2d.refinement.presets import PRESETS, Rules, rules
 from geomexact.mesh2d.refinement.regions import Whole
@@ -117,12 +118,11 @@ def test_factor_stop_per_target_finishes_the_target(notch: Mesh2) -> None:
 def test_the_kernel_runs_every_rule(notch: Mesh2, options: dict[str, Any]) -> None:
     """Issue 25: every rule of the presets runs compiled (it declined them), with the
     Python engine's steps, digests and result."""
-    full = {"criterion": AverageAreaFactor(mpq(1, 4)), "region": Whole(),
-            "method": "centroid", "delaunay": True, "centroid": "area",
-            "constraint_midpoints": True, "on_step": None, **options}
+    run = RunOptions(AverageAreaFactor(mpq(1, 4)), Whole(), "centroid", True,
+                     rules(None, **options))
     if not AVAILABLE:
         pytest.skip("the compiled kernel is not built")
-    assert unsupported(notch, **full) is None
+    assert unsupported(notch, run) is None
     compiled = refine(notch, AverageAreaFactor(mpq(1, 4)), method="centroid",
                       engine="compiled", **options)
     python = refine(notch, AverageAreaFactor(mpq(1, 4)), method="centroid",

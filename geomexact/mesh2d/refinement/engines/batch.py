@@ -28,7 +28,7 @@ from geomexact.mesh2d.ops import (
 )
 from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import MaxArea
-from geomexact.mesh2d.refinement.driver import Progress, Refinement, StepLimit
+from geomexact.mesh2d.refinement.driver import Progress, Refinement, RunOptions, StepLimit
 from geomexact.mesh2d.snapshot import (
     MAX_VERTICES,
     Attributes,
@@ -69,8 +69,8 @@ class BatchRefinement(BatchTriangulation, Refinement):
     the step limit and the progress reports.  Its trace is tested equal to the reference
     engine's, step by step."""
 
-    def __init__(self, mesh: Mesh2, max_steps: int | None, **options: Any) -> None:
-        Refinement.__init__(self, mesh, **options)
+    def __init__(self, mesh: Mesh2, max_steps: int | None, run: RunOptions) -> None:
+        Refinement.__init__(self, mesh, run)
         BatchTriangulation.__init__(self, mesh, hints=True, log=True)
         # the snapshot's vertex map, opened for edits (sealing it is O(1))
         self.vertex_table = mesh.vertices.mutate()

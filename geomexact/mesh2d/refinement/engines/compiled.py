@@ -2,8 +2,9 @@
 the typed kernel :mod:`geomexact.mesh2d.refinement.engines.lepp_kernel` (a Cython
 extension, optional).
 
-``run_compiled(mesh, max_steps, **options)`` takes the arguments of
-``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` and returns a
+``run_compiled(mesh, max_steps, run)`` takes the arguments of
+``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` (a :class:`~geomexact.mesh2d.
+refinement.driver.RunOptions`) and returns a
 :class:`CompiledRun` — the same steps, digests, final mesh, status and counters as the
 Python engine — or None when the kernel is not built or the run is outside its subset
 (:func:`unsupported` says why):
@@ -26,9 +27,7 @@ Python engine — or None when the kernel is not built or the run is outside its
   first); or ``AverageAreaFactor`` (the exact type; no other region-wide target), the
   region's mean area tracked exactly as ``Refinement.account``; no criterion that reads
   triangle attributes;
-* any region; no triangle attributes; any ``max_steps`` and ``on_step``;
-* no option beyond those above (:data:`OPTIONS`): a run with an option the kernel does
-  not know is declined, never run with another meaning.
+* any region; no triangle attributes; any ``max_steps`` and ``on_step``.
 
 ``refine(..., engine="auto")`` (the default) uses it whenever it applies, and the Python
 engine otherwise; ``engine="compiled"`` uses it or raises
@@ -47,24 +46,18 @@ from geomexact.kernel.numbers import mpq
 from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import AnyOf, AverageAreaFactor, MaxArea, MinAngle
-from geomexact.mesh2d.refinement.driver import LeftReason, Progress
+from geomexact.mesh2d.refinement.driver import LeftReason, Progress, RunOptions
 from geomexact.mesh2d.refinement.regions import Whole
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.step import Step
 
 _lepp_kernel: Any = compiled_kernel("geomexact.mesh2d.refinement.engines.lepp_kernel")
 
-__all__ = ["AVAILABLE", "OPTIONS", "REPLAYED_OPS", "CompiledRun", "replay_compiled",
-           "run_compiled", "supports", "unsupported"]
+__all__ = ["AVAILABLE", "REPLAYED_OPS", "CompiledRun", "replay_compiled", "run_compiled",
+           "supports", "unsupported"]
 
 AVAILABLE: bool = _lepp_kernel is not None
 """True when the extension is built and importable."""
-
-OPTIONS = frozenset({"criterion", "region", "method", "delaunay", "centroid",
-                     "constraint_midpoints", "on_step", "order", "second_longest_rule",
-                     "factor_stop"})
-"""The options of ``refine()`` the kernel knows; any other option makes it decline."""
-
 
 @attrs.frozen(slots=True)
 class CompiledRun:
@@ -84,17 +77,14 @@ class CompiledRun:
     left_reasons: tuple[LeftReason, ...] = ()
 
 
-def unsupported(mesh: Mesh2, **options: Any) -> str | None:
+def unsupported(mesh: Mesh2, run: RunOptions) -> str | None:
     """Why the kernel cannot run this refinement exactly (not built, or outside its
     subset), or None when it can."""
     if not AVAILABLE:
         return "the compiled Lepp kernel is not built (no C compiler at install)"
-    unknown = sorted(set(options) - OPTIONS)
-    if unknown:
-        return f"it implements no option {', '.join(map(repr, unknown))}"
-    criterion = options["criterion"]
-    if options["method"] not in ("bisection", "centroid", "quasi"):
-        return f"it runs no method {options['method']!r}"
+    criterion = run.criterion
+    if run.method not in ("bisection", "centroid", "quasi"):
+        return f"it runs no method {run.method!r}"
     if isinstance(criterion, AnyOf):
         if criterion.angle_threshold is not None and not _angle_then_one(criterion):
             return ("a combination with a minimum angle it runs is AnyOf((MinAngle, X)), "
@@ -123,20 +113,18 @@ def _angle_then_one(criterion: AnyOf) -> bool:
             and members[1].target_mean_area(mpq(1), 1) is None)
 
 
-def supports(mesh: Mesh2, **options: Any) -> bool:
+def supports(mesh: Mesh2, run: RunOptions) -> bool:
     """True when the kernel is available and implements this run exactly."""
-    return unsupported(mesh, **options) is None
+    return unsupported(mesh, run) is None
 
 
-def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> CompiledRun | None:
+def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> CompiledRun | None:
     """Run Lepp refinement in the kernel, or return None (not built, or outside the
-    subset).  ``options`` are those ``refine()`` gives ``BatchRefinement``: ``criterion``,
-    ``region``, ``method``, ``delaunay``, ``centroid``, ``constraint_midpoints``,
-    ``on_step``."""
-    if not supports(mesh, **options):
+    subset): the run ``refine()`` gives ``BatchRefinement``."""
+    if not supports(mesh, run):
         return None
-    criterion, region = options["criterion"], options["region"]
-    on_step: Callable[[Any], None] | None = options["on_step"]
+    criterion, region = run.criterion, run.region
+    on_step: Callable[[Any], None] | None = run.on_step
     doubled = 2 * criterion.area if type(criterion) is MaxArea else None
     angle: Any = criterion if type(criterion) is MinAngle else None
     area_rate = None
@@ -148,16 +136,16 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, **options: Any) -> Compiled
     limit = None if max_steps is None or max_steps >= 1 << 62 else max_steps
     assert _lepp_kernel is not None
     kernel = _lepp_kernel.Kernel(
-        mesh, criterion, region, isinstance(region, Whole), bool(options["delaunay"]),
+        mesh, criterion, region, isinstance(region, Whole), run.delaunay,
         limit, on_step, Progress, doubled, type(criterion) is AverageAreaFactor,
-        method=options["method"], constraint_midpoints=bool(options["constraint_midpoints"]),
+        method=run.method, constraint_midpoints=run.constraint_midpoints,
         centroid=rounded_area_centroid,
         threshold=None if angle is None else angle.threshold,
         area_rate=area_rate,
-        centroid_kind=options.get("centroid") or "area",
-        order=options.get("order", "worst-first"),
-        second_longest_rule=options.get("second_longest_rule"),
-        factor_stop=options.get("factor_stop", "action"),
+        centroid_kind=run.rules.centroid,
+        order=run.rules.order,
+        second_longest_rule=run.rules.second_longest_rule,
+        factor_stop=run.rules.factor_stop,
     )
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)

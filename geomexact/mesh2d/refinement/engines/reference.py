@@ -6,7 +6,6 @@ Lepp search :func:`geomexact.mesh2d.longest_edge.lepp`."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 from geomexact.kernel.points import Point2
 from geomexact.mesh2d.longest_edge import lepp
@@ -21,6 +20,7 @@ from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
 from geomexact.mesh2d.refinement.driver import (
     Progress,
     Refinement,
+    RunOptions,
     StepLimit,
 )
 from geomexact.mesh2d.snapshot import Attributes, Mesh2, Triangle, canonical_triangle
@@ -75,8 +75,8 @@ class ReferenceRefinement(Refinement):
     """The refinement loop on a recording transient: the readable reference the other
     engines are tested against, step by step."""
 
-    def __init__(self, mesh: Mesh2, max_steps: int | None, **options: Any) -> None:
-        super().__init__(mesh, **options)
+    def __init__(self, mesh: Mesh2, max_steps: int | None, run: RunOptions) -> None:
+        super().__init__(mesh, run)
         self.t = t = RecordingTransient(mesh, max_steps)
         t.created = self.created
         t.removed = self.removed
