@@ -585,7 +585,21 @@ def write_meshio(
         rows, rounded = _doubles3(path, value.point_list())
         cells = ("tetra", numpy.array(value.tetrahedra(), dtype=index_type).reshape(-1, 4))
         points = numpy.array(rows, dtype=float).reshape(-1, 3)
-        _write_through_meshio(path, meshio.Mesh(points, [cells]), overwrite=overwrite)
+        cell_data: dict[str, list[Any]] = {}
+        if path.suffix.lower() in KEEPS_EVERYTHING and len(cells[1]):
+            from geomexact.mesh3d.quality import dihedral_angles
+
+            smallest = dihedral_angles(points, cells[1]).min(axis=1)
+            # Python floats: meshio's Gmsh text writer prints each value's repr
+            cell_data[QUALITY_3D] = [numpy.array(smallest.tolist(), dtype=object)
+                                     if path.suffix.lower() == ".msh" else smallest]
+            if path.suffix.lower() == ".msh":
+                cell_data["gmsh:physical"] = [numpy.zeros(len(cells[1]), dtype=numpy.int32)]
+                cell_data["gmsh:geometrical"] = [numpy.zeros(len(cells[1]),
+                                                             dtype=numpy.int32)]
+        _write_through_meshio(path, meshio.Mesh(points, [cells], cell_data=cell_data),
+                              overwrite=overwrite,
+                              file_format="gmsh22" if path.suffix.lower() == ".msh" else None)
         return WriteReport((path,), rounded, ())
     rows, rounded = _doubles(path, value)
     suffix = path.suffix.lower()
@@ -602,6 +616,10 @@ def write_meshio(
 
 
 KEEPS_EVERYTHING = (".vtu", ".vtk", ".msh", ".xdmf", ".xmf")
+QUALITY_2D = "min_angle"
+QUALITY_3D = "min_dihedral"
+"""The cell data of a triangle's smallest angle and a tetrahedron's smallest dihedral
+angle (degrees, doubles) in the files that keep everything: derived, never read back."""
 TRIANGLE_ATTRIBUTE = "triangle_attribute_"
 VERTEX_ATTRIBUTE = "vertex_attribute_"
 """Prefixes of the data arrays of attribute k (one scalar array per attribute: VTK
@@ -678,6 +696,13 @@ def mesh2_meshio(name: str, mesh: Mesh2, *, gmsh: bool = False,
         cells.append(("line", numpy.array([edge for edge, _ in edges], dtype=numpy.int64)))
         cell_data["marker"] = [numpy.zeros(len(triangles), dtype=numpy.int64),
                                numpy.array(markers, dtype=numpy.int64)]
+    # the quality of each triangle, for ParaView (read back by nothing: derived)
+    from geomexact.mesh2d.quality import min_angles
+
+    xy = numpy.array([[point.fx, point.fy] for point in mesh.point_list()],
+                     dtype=float).reshape(-1, 2)
+    cell_data[QUALITY_2D] = [min_angles(xy, triangles)] + (
+        [numpy.full(len(edges), numpy.nan)] if edges else [])
     if len(mesh.triangle_attributes):
         rows = [tuple(mesh.triangle_attributes.get((a, b, c), ()))
                 for a, b, c in mesh.triangles()]

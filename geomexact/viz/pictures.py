@@ -30,6 +30,7 @@ except ImportError as error:  # the "pictures" extra
     raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
 
 from geomexact.io.files import write_bytes_atomic
+from geomexact.mesh2d.quality import areas, min_angles
 from geomexact.mesh2d.snapshot import Edge, Triangle
 from geomexact.trace.record import Trace
 from geomexact.viz.scene import (
@@ -112,34 +113,6 @@ def _triangle_edges(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     pairs = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     pairs.sort(axis=1)
     return _counted_edges(pairs.astype(np.int64))
-
-
-def min_angles(xy: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """The smallest angle of each triangle, in degrees (doubles, for colouring)."""
-    if not len(triangles):
-        return np.zeros(0)
-    a, b, c = xy[triangles[:, 0]], xy[triangles[:, 1]], xy[triangles[:, 2]]
-
-    def angle(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
-        u, v = q - p, r - p
-        cross = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
-        dot = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
-        degrees: np.ndarray = np.degrees(np.arctan2(cross, dot))
-        return degrees
-
-    smallest: np.ndarray = np.minimum(np.minimum(angle(a, b, c), angle(b, c, a)),
-                                      angle(c, a, b))
-    return smallest
-
-
-def areas(xy: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """The area of each triangle (doubles, for colouring)."""
-    if not len(triangles):
-        return np.zeros(0)
-    a, b, c = xy[triangles[:, 0]], xy[triangles[:, 1]], xy[triangles[:, 2]]
-    u, v = b - a, c - a
-    result: np.ndarray = np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / 2
-    return result
 
 
 def _polygons(array: np.ndarray) -> Sequence[Any]:

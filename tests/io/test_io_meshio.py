@@ -10,11 +10,12 @@ from pathlib import Path
 import meshio
 import numpy
 import pytest
-from helpers.io_cases import grid_meshes, plain, same_doubles
+from helpers.io_cases import grid_meshes, same_doubles
 from hypothesis import given
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq
 from geomexact.errors import FormatError, OverwriteError
+from geomexact.io.meshio_bridge import meshio_fixed
 from geomexact.mesh2d.pslg import PSLG
 
 ROUND_TRIP = [".vtk", ".vtu", ".msh", ".mesh", ".obj", ".ply"]
@@ -132,3 +133,29 @@ def test_overwrite_and_kinds(tmp_path: Path) -> None:
     with pytest.raises(TypeError,
                        match="writes a Mesh2 or Mesh3 or MixedMesh3 or MixedMeshData, not a PSLG"):
         io.write(tmp_path / "p.vtk", PSLG(vertices=[]))
+
+
+def test_quality_arrays_for_paraview(tmp_path: Path) -> None:
+    """Issue 26, item 3: VTU/VTK/Gmsh files carry each triangle's smallest angle and each
+    tetrahedron's smallest dihedral angle (degrees) as cell data; reading ignores them
+    (derived), so the mesh reads back the same."""
+    from geomexact.mesh3d.cuboid.boxes import Box
+    from geomexact.mesh3d.octree.pipeline import generate
+    from geomexact.mesh3d.octree.stages import RefineWhere
+
+    square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)],
+                                 [(0, 1, 3)])
+    cube = generate(Box((0, 0, 0), (1, 1, 1)), refinement=RefineWhere(1), trace=False).mesh
+    for suffix in (".vtu", ".vtk", ".msh"):
+        io.write(tmp_path / f"s{suffix}", square)
+        io.write(tmp_path / f"c{suffix}", cube)
+        with meshio_fixed():
+            flat = meshio.read(tmp_path / f"s{suffix}", **(
+                {"file_format": "gmsh"} if suffix == ".msh" else {}))
+            solid = meshio.read(tmp_path / f"c{suffix}", **(
+                {"file_format": "gmsh"} if suffix == ".msh" else {}))
+        assert numpy.allclose(flat.cell_data["min_angle"][0], [45.0, 45.0])
+        smallest = solid.cell_data["min_dihedral"][0]
+        assert len(smallest) == cube.tetrahedron_count and 0 < min(smallest) < 90
+        assert io.read(tmp_path / f"s{suffix}").digest == square.digest
+        assert io.read(tmp_path / f"c{suffix}").digest == cube.digest
