@@ -127,7 +127,7 @@ class _Parser(argparse.ArgumentParser):
 KERNEL_RUNS: tuple[tuple[str, str], ...] = (
     ("lepp", "refine --method bisection, centroid or quasi (with every --centroid), to "
              "--max-area, --factor, --max-edge or --min-angle, or several of them (the "
-             "sizes together, or --min-angle with one of them), in any region, with or "
+             "sizes together, with or without --min-angle), in any region, with or "
              "without --no-delaunay and "
              "--plain-centroids, with every --preset and rule (--order, "
              "--second-longest-rule, --factor-stop), on meshes without triangle or vertex "

@@ -58,3 +58,18 @@ def test_version_lists_each_built_kernel_with_what_it_runs() -> None:
         assert any(line.startswith("  lepp: refine --method") for line in lines)
     else:
         assert not any(line.startswith("  lepp:") for line in lines)
+
+
+@pytest.mark.skipif(not compiled_engine.AVAILABLE, reason="the Lepp kernel is not built")
+def test_the_claimed_combinations_run_compiled() -> None:
+    """'the sizes together, with or without --min-angle': every AnyOf of the sizes, with
+    the angle first or without it, runs compiled; the angle after a size does not."""
+    sizes = [CRITERIA["--max-area"], CRITERIA["--max-edge"]]
+    angle = CRITERIA["--min-angle"]
+    for members in ([*sizes], [angle, sizes[0]], [angle, sizes[1]], [angle, *sizes]):
+        run = RunOptions(criteria.AnyOf(tuple(members)), Whole(), "centroid", True,
+                         rules(None))
+        assert compiled_engine.unsupported(SQUARE, run) is None, members
+    run = RunOptions(criteria.AnyOf((sizes[0], angle)), Whole(), "centroid", True,
+                     rules(None))
+    assert compiled_engine.unsupported(SQUARE, run) is not None

@@ -666,7 +666,8 @@ class RefinementSuite:
         st.sampled_from(["worst-first", "passes"]),
         st.sampled_from(["bisect-second", "centroid", "bisect-longest"]),
         st.sampled_from(["action", "target"]),
-        st.sampled_from(["max_area", "factor", "angle", "both", "angle_edge", "area_edge"]),
+        st.sampled_from(["max_area", "factor", "angle", "both", "angle_edge", "area_edge",
+                         "all_three"]),
         REGIONS,
     )
     def test_random_meshes_preset_rules(
@@ -683,10 +684,13 @@ class RefinementSuite:
             "angle_edge": AnyOf((MinAngle(27), MaxEdgeLength(mpq(1, 4) * 256))),
             "area_edge": AnyOf((MaxArea(total_area(start) / 20),
                                 MaxEdgeLength(mpq(1, 4) * 256))),
+            "all_three": AnyOf((MinAngle(27), MaxEdgeLength(mpq(1, 4) * 256),
+                                MaxArea(total_area(start) / 20))),
         }[kind]
         self.same(start, criterion, method=method, centroid=centroid, order=order,
                   second_longest_rule=rule, factor_stop=stop, region=region,
-                  max_steps=40 if kind in ("angle", "both", "angle_edge") else None)
+                  max_steps=40 if kind in ("angle", "both", "angle_edge", "all_three")
+                  else None)
 
     def test_presets_on_superior(self) -> None:
         """The presets' rules at 30° and with a factor on Lake Superior."""

@@ -154,7 +154,8 @@ def test_the_compiled_kernel_runs_angle_and_area_as_the_python_engine(method: st
                                                        (3, 4, 1), (4, 0, 1)])).mesh
     for criterion in (AnyOf((MinAngle(27), MaxArea(mpq(1, 3)))),
                       AnyOf((MinAngle(27), MaxEdgeLength(mpq(3, 2)))),
-                      AnyOf((MaxEdgeLength(mpq(3, 2)), MaxArea(mpq(1, 3))))):
+                      AnyOf((MaxEdgeLength(mpq(3, 2)), MaxArea(mpq(1, 3)))),
+                      AnyOf((MinAngle(27), MaxArea(mpq(1, 3)), MaxEdgeLength(mpq(3, 2))))):
         compiled = refine(mesh, criterion, method=method,  # type: ignore[arg-type]
                           engine="compiled")
         python = refine(mesh, criterion, method=method,  # type: ignore[arg-type]

@@ -87,8 +87,8 @@ def unsupported(mesh: Mesh2, run: RunOptions) -> str | None:
         return f"it runs no method {run.method!r}"
     if isinstance(criterion, AnyOf):
         if criterion.angle_threshold is not None and not _angle_then_one(criterion):
-            return ("a combination with a minimum angle it runs is AnyOf((MinAngle, X)), "
-                    "the angle first and X one criterion on single triangles")
+            return ("a combination with a minimum angle it runs is AnyOf((MinAngle, ...)), "
+                    "the angle first and then criteria on single triangles")
     elif criterion.angle_threshold is not None and type(criterion) is not MinAngle:
         return "the only minimum-angle criterion it runs is MinAngle"
     if type(criterion) is not AverageAreaFactor and (
@@ -105,12 +105,12 @@ def unsupported(mesh: Mesh2, run: RunOptions) -> str | None:
 
 
 def _angle_then_one(criterion: AnyOf) -> bool:
-    """True for ``AnyOf((MinAngle(θ), X))`` with X on single triangles, no angle
-    (``refine --min-angle --max-area`` or ``--max-edge``)."""
-    members = criterion.criteria
-    return (len(members) == 2 and type(members[0]) is MinAngle
-            and members[1].angle_threshold is None
-            and members[1].target_mean_area(mpq(1), 1) is None)
+    """True for ``AnyOf((MinAngle(θ), X, ...))`` with each X on single triangles, no
+    angle (``refine --min-angle`` with ``--max-area`` and/or ``--max-edge``)."""
+    first, *rest = criterion.criteria
+    return type(first) is MinAngle and all(
+        member.angle_threshold is None and member.target_mean_area(mpq(1), 1) is None
+        for member in rest)
 
 
 def supports(mesh: Mesh2, run: RunOptions) -> bool:
@@ -128,10 +128,14 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
     doubled = 2 * criterion.area if type(criterion) is MaxArea else None
     angle: Any = criterion if type(criterion) is MinAngle else None
     area_rate = None
+    grouped = False
     if isinstance(criterion, AnyOf) and criterion.angle_threshold is not None:
-        angle, second = criterion.criteria  # AnyOf((MinAngle, X)): checked above
-        area_rate = second.rate
-        doubled = 2 * second.area if type(second) is MaxArea else None
+        angle, *rest = criterion.criteria  # AnyOf((MinAngle, X, ...)): checked above
+        if len(rest) == 1:  # X's own key, in group 1 (a MaxArea rated in C on the grid)
+            area_rate = rest[0].rate
+            doubled = 2 * rest[0].area if type(rest[0]) is MaxArea else None  # type: ignore[attr-defined]
+        else:  # (position, key) of the first size the triangle fails
+            area_rate, grouped = criterion.rate_beyond_angle, True
     # the kernel counts steps in int64: a larger limit is never reached anyway
     limit = None if max_steps is None or max_steps >= 1 << 62 else max_steps
     assert _lepp_kernel is not None
@@ -142,6 +146,7 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
         centroid=rounded_area_centroid,
         threshold=None if angle is None else angle.threshold,
         area_rate=area_rate,
+        grouped=grouped,
         centroid_kind=run.rules.centroid,
         order=run.rules.order,
         second_longest_rule=run.rules.second_longest_rule,

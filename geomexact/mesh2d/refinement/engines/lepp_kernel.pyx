@@ -315,6 +315,7 @@ cdef class Kernel:
     cdef bint min_angle
     cdef bint combined
     cdef object area_rate
+    cdef bint grouped  # area_rate gives (group, key): AnyOf((MinAngle, X, Y, ...))
     cdef object threshold
     cdef double cos2f
     cdef int cos_sign
@@ -339,7 +340,8 @@ cdef class Kernel:
     def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
                  on_step, progress, max_area_doubled, bint average=False,
                  method="bisection", bint constraint_midpoints=True, centroid=None,
-                 threshold=None, area_rate=None, centroid_kind="area", order="worst-first",
+                 threshold=None, area_rate=None, bint grouped=False, centroid_kind="area",
+                 order="worst-first",
                  second_longest_rule=None, factor_stop="action"):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
         grid triangles), else None (``criterion.rate`` rates every triangle).
@@ -449,6 +451,9 @@ cdef class Kernel:
         # is rated in C on grid triangles, max_area_doubled)
         self.combined = self.min_angle and area_rate is not None
         self.area_rate = criterion.rate if area_rate is None else area_rate
+        # AnyOf((MinAngle, X, Y, ...)): area_rate is its rate_beyond_angle, whose
+        # (position, key) gives the entry's group (the position in the AnyOf) and key
+        self.grouped = grouped
         self.threshold = threshold
         self.left = {}
         self.tip_grid = {}
@@ -1034,6 +1039,8 @@ cdef class Kernel:
         key = self.area_rate(points[entry.a], points[entry.b], points[entry.c])
         if key is None:
             return 0
+        if self.grouped:
+            entry.group, key = key
         self._push_key(entry, key)
         return 1
 
