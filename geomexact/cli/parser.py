@@ -126,13 +126,12 @@ class _Parser(argparse.ArgumentParser):
 
 KERNEL_RUNS: tuple[tuple[str, str], ...] = (
     ("lepp", "refine --method bisection, centroid or quasi (with every --centroid), to "
-             "--max-area, --factor, --max-edge or --min-angle, or several of them (the "
-             "sizes together, with or without --min-angle), in any region, with or "
-             "without --no-delaunay and "
-             "--plain-centroids, with every --preset and rule (--order, "
-             "--second-longest-rule, --factor-stop), on meshes without triangle or vertex "
-             "attributes; and replay of the traces it records; any other run uses the "
-             "Python engine"),
+             "--max-area, --factor, --max-edge, --min-angle or --region-areas, or several "
+             "of them (the sizes together, with or without --min-angle), in any region, "
+             "with or without --no-delaunay and --plain-centroids, with every --preset and "
+             "rule (--order, --second-longest-rule, --factor-stop), with triangle or vertex "
+             "attributes or without; and replay of the traces it records; any other run "
+             "(an API criterion of another angle) uses the Python engine"),
     ("delaunay", "the Delaunay triangulation of the points in triangulate (and in refine of "
                  "a PSLG), then its segments (recovered by flips), the Lawson pass and the "
                  "carving of the exterior and holes; crossing segments to split and region "

@@ -275,16 +275,18 @@ static inline uint64_t gx_rotr64(uint64_t x, int n) { return (x >> n) | (x << (6
     v[a] = v[a] + v[b] + (y); v[d] = gx_rotr64(v[d] ^ v[a], 16); \
     v[c] = v[c] + v[d];       v[b] = gx_rotr64(v[b] ^ v[c], 63); } while (0)
 
-/* BLAKE2b-128, personalisation "vertex", of len <= 128 bytes: the digest read as a
-   little-endian 128-bit integer */
-static inline gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) {
+/* BLAKE2b-128 (no key) of len <= 128 bytes with the personalisation whose first 8 bytes
+   are `personal` read little-endian (0: none): the digest read as a little-endian
+   128-bit integer */
+static inline gx_u128 gx_blake2b_128(const uint8_t *message, unsigned len,
+                                     uint64_t personal) {
     uint64_t h[8], v[16], m[16];
     uint8_t block[128];
     int i, r;
     const uint8_t *s;
     for (i = 0; i < 8; i++) h[i] = gx_blake2b_iv[i];
     h[0] ^= 0x01010000ULL | 16;                    /* depth 1, fanout 1, no key, 16 bytes */
-    h[6] ^= 0x0000786574726576ULL;                 /* personal = "vertex" */
+    h[6] ^= personal;
     memset(block, 0, sizeof block);
     memcpy(block, message, len);
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
@@ -319,6 +321,11 @@ static inline gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned
     return ((gx_u128)h[1] << 64) | h[0];
 }
 #undef GX_B2B_G
+
+/* BLAKE2b-128, personalisation "vertex", of len <= 128 bytes */
+static inline gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) {
+    return gx_blake2b_128(message, len, 0x0000786574726576ULL);  /* "vertex" */
+}
 
 /* the fewest little-endian bytes of x > 0 written at out; their count */
 static inline unsigned gx_le_bytes(uint64_t x, uint8_t *out) {

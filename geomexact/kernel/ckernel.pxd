@@ -6,7 +6,7 @@ vertex as a :class:`GridPoint`: exact on the grid, else the certified float filt
 the exact Python predicate).  ``cimport`` only: there is no module of this name at run
 time."""
 
-from libc.stdint cimport int64_t, int8_t, uint64_t
+from libc.stdint cimport int64_t, int8_t, uint8_t, uint64_t
 from libc.stdlib cimport realloc
 
 cdef extern from "ckernel.h":
@@ -34,6 +34,7 @@ cdef extern from "ckernel.h":
     uint64_t gx_u128_lo(gx_u128 x)
     gx_u128 gx_cell_hash(uint64_t ka, uint64_t kb, uint64_t kc) nogil
     gx_u128 gx_grid_vertex_hash(int64_t vertex, int64_t gx, int64_t gy, int F) nogil
+    gx_u128 gx_blake2b_128(const uint8_t *message, unsigned len, uint64_t personal) nogil
     int gx_grid_lengths(int64_t, int64_t, int64_t, int64_t,
                         int64_t, int64_t, int64_t, int64_t) nogil
     int gx_grid_orient(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil

@@ -101,9 +101,16 @@ def segment_hash(u: int, v: int, marker: int) -> int:
 
 
 def attribute_hash(kind: str, key: Sequence[int], values: Sequence[object]) -> int:
-    """Hash of an attribute record (``kind`` names the table, ``key`` the element)."""
-    text = ",".join(_rational_text(v) if hasattr(v, "denominator") else str(v) for v in values)
-    return _hash(f"a{kind}:{','.join(map(str, key))}:{text}".encode())
+    """Hash of an attribute record (``kind`` names the table, ``key`` the element): of
+    ``f"a{kind}:{key joined by commas}:{attribute_text(values)}"``."""
+    return _hash(f"a{kind}:{','.join(map(str, key))}:{attribute_text(values)}".encode())
+
+
+def attribute_text(values: Sequence[object]) -> str:
+    """The values' part of :func:`attribute_hash`'s text (a kernel hashing many elements
+    with the same values computes it once)."""
+    return ",".join(_rational_text(v) if hasattr(v, "denominator") else str(v)
+                    for v in values)
 
 
 def combine(digest: int, element: int) -> int:

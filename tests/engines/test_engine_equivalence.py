@@ -55,6 +55,7 @@ from geomexact.mesh2d.refinement.criteria import (
     MaxArea,
     MaxEdgeLength,
     MinAngle,
+    RegionAreas,
     doubled_area,
 )
 from geomexact.mesh2d.refinement.driver import RunOptions
@@ -622,6 +623,24 @@ class RefinementSuite:
         """Vertex attributes: every new vertex gets them interpolated, in every engine."""
         self.same(vertex_attributed(), MaxArea(mpq(12, pieces)), method=method)
         self.same(vertex_attributed(), MinAngle(28), method=method, max_steps=300)
+
+    @every_engine
+    @given(st.sampled_from(["bisection", "centroid", "quasi"]), st.integers(3, 60),
+           st.sampled_from(["area", "vertices", "midpoint"]),
+           st.sampled_from(["worst-first", "passes"]))
+    def test_region_areas(self, method: Any, pieces: int, centroid: str,
+                          order: str) -> None:
+        """Each region to its own maximum area (RegionAreas reads the triangles'
+        attributes), alone, with a minimum angle and with a minimum angle and an edge
+        length; the regions' vertices carry attributes too."""
+        start = attrs.evolve(two_regions(), vertex_attributes=vertex_attributed()
+                             .vertex_attributes)
+        areas = RegionAreas(((mpq(1), mpq(12, pieces)), (mpq(2), mpq(1, pieces)),
+                             (mpq(3), mpq(3, pieces))))
+        for criterion in (areas, AnyOf((MinAngle(27), areas)),
+                          AnyOf((MinAngle(27), areas, MaxEdgeLength(mpq(3, 2))))):
+            self.same(start, criterion, method=method, centroid=centroid, order=order,
+                      max_steps=60 if isinstance(criterion, AnyOf) else None)
 
     # -- random inputs --------------------------------------------------------------------
     @every_engine
@@ -1226,14 +1245,21 @@ def test_compiled_refuses_what_it_does_not_run(criterion: Criterion, options: di
         refine(square(), criterion, engine="compiled", **options)
 
 
-def test_compiled_refuses_triangle_attributes() -> None:
-    with pytest.raises(PreconditionError, match=r"triangle attributes|not built"):
-        refine(two_regions(), MaxArea("0.1"), engine="compiled")
-
-
-def test_compiled_refuses_vertex_attributes() -> None:
-    with pytest.raises(PreconditionError, match=r"vertex attributes|not built"):
-        refine(vertex_attributed(), MaxArea("0.1"), engine="compiled")
+@pytest.mark.skipif(not compiled_refinement.AVAILABLE, reason="the Lepp kernel is not built")
+def test_compiled_runs_attributed_meshes() -> None:
+    """Triangle and vertex attributes run compiled (issue 25, item 2): the same mesh as
+    the Python engine, attributes kept and interpolated."""
+    for start in (two_regions(), vertex_attributed()):
+        compiled = refine(start, MaxArea("0.1"), engine="compiled")
+        python = refine(start, MaxArea("0.1"), engine="python")
+        assert compiled.mesh.digest == python.mesh.digest
+        assert dict(compiled.mesh.triangle_attributes.items()) == dict(
+            python.mesh.triangle_attributes.items())
+        assert dict(compiled.mesh.vertex_attributes.items()) == dict(
+            python.mesh.vertex_attributes.items())
+        assert len(compiled.mesh.triangle_attributes) + len(
+            compiled.mesh.vertex_attributes) > len(start.triangle_attributes) + len(
+            start.vertex_attributes)
 
 
 def test_compiled_refuses_when_not_built(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -12,6 +12,8 @@ needs:
 
 * ``MaxArea(A)``: ⌈2·|Ω| / A⌉, with |Ω| the mesh's area;
 * ``MaxEdgeLength(L)``: ⌈4·|Ω| / L²⌉;
+* ``RegionAreas``: the sum over its regions of ⌈2·|Ωᵢ| / Aᵢ⌉, |Ωᵢ| the area of the
+  triangles of region i (their first attribute);
 * ``AverageAreaFactor(f)``: ⌈T / f⌉;
 * ``MinAngle`` and callables: 0 (the size is set by the input's features, which T counts).
 
@@ -36,6 +38,7 @@ from geomexact.mesh2d.refinement.criteria import (
     Criterion,
     MaxArea,
     MaxEdgeLength,
+    RegionAreas,
     doubled_area,
 )
 from geomexact.mesh2d.snapshot import Mesh2
@@ -60,6 +63,16 @@ def estimated_triangles(mesh: Mesh2, criterion: Criterion) -> int:
         return _ceiling(mpq(mesh.triangle_count) / criterion.factor)
     if isinstance(criterion, AnyOf):
         return max(estimated_triangles(mesh, member) for member in criterion.criteria)
+    if isinstance(criterion, RegionAreas):
+        areas = dict(criterion.areas)
+        region_area2: dict[Rational, Rational] = {}
+        for triangle in mesh.iter_triangles():
+            attributes = mesh.triangle_attributes.get(triangle)
+            if attributes and attributes[0] in areas:
+                corners = [mesh.point(vertex) for vertex in triangle]
+                region_area2[attributes[0]] = (region_area2.get(attributes[0], mpq(0))
+                                               + doubled_area(*corners))
+        return sum(_ceiling(area2 / areas[key]) for key, area2 in region_area2.items())
     if not isinstance(criterion, (MaxArea, MaxEdgeLength)):
         return 0
     area2 = mpq(0)

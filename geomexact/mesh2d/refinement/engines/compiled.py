@@ -22,12 +22,15 @@ Python engine — or None when the kernel is not built or the run is outside its
   the key −cos² exact), with the small-angle rules of ``Refinement`` (sharp corners left,
   protected tips; ``left`` and ``left_reasons`` as the Python engine's); another criterion
   with no ``angle_threshold``, rated through its ``rate`` (``MaxArea`` in C on dyadic
-  triangles; an ``AnyOf`` of such criteria too); ``AnyOf((MinAngle, X))`` with X such a
-  criterion (``--min-angle`` with ``--max-area`` or ``--max-edge``: the angle's entries
-  first); or ``AverageAreaFactor`` (the exact type; no other region-wide target), the
-  region's mean area tracked exactly as ``Refinement.account``; no criterion that reads
-  triangle attributes;
-* any region; no triangle attributes; any ``max_steps`` and ``on_step``.
+  triangles; an ``AnyOf`` of such criteria too); ``AnyOf((MinAngle, X, ...))`` with
+  such criteria after the angle (``--min-angle`` with ``--max-area`` and/or
+  ``--max-edge``: the angle's entries first); or ``AverageAreaFactor`` (the exact type;
+  no other region-wide target), the region's mean area tracked exactly as
+  ``Refinement.account``; criteria that read triangle attributes (``RegionAreas``) get
+  them;
+* any region; triangle attributes (borders between them constrain as segments do, new
+  triangles keep their parent's) and vertex attributes (interpolated at new vertices);
+  any ``max_steps`` and ``on_step``.
 
 ``refine(..., engine="auto")`` (the default) uses it whenever it applies, and the Python
 engine otherwise; ``engine="compiled"`` uses it or raises
@@ -45,7 +48,13 @@ import attrs
 from geomexact.kernel.numbers import mpq
 from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
-from geomexact.mesh2d.refinement.criteria import AnyOf, AverageAreaFactor, MaxArea, MinAngle
+from geomexact.mesh2d.refinement.criteria import (
+    AnyOf,
+    AverageAreaFactor,
+    MaxArea,
+    MinAngle,
+    RegionAreas,
+)
 from geomexact.mesh2d.refinement.driver import LeftReason, Progress, RunOptions
 from geomexact.mesh2d.refinement.regions import Whole
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
@@ -95,12 +104,6 @@ def unsupported(mesh: Mesh2, run: RunOptions) -> str | None:
         criterion.target_mean_area(mpq(1), 1) is not None
     ):
         return "the only region-wide criterion it runs is AverageAreaFactor"
-    if getattr(criterion, "needs_attributes", False):
-        return "it reads no triangle attributes (a criterion by region, such as RegionAreas)"
-    if len(mesh.triangle_attributes):
-        return "it runs no mesh with triangle attributes"
-    if len(mesh.vertex_attributes):
-        return "it runs no mesh with vertex attributes (new vertices get them interpolated)"
     return None
 
 
@@ -111,6 +114,19 @@ def _angle_then_one(criterion: AnyOf) -> bool:
     return type(first) is MinAngle and all(
         member.angle_threshold is None and member.target_mean_area(mpq(1), 1) is None
         for member in rest)
+
+
+def _needs_attributes(criterion: object) -> bool:
+    """The criterion rates a triangle with its attributes (a region's maximum area)."""
+    return bool(getattr(criterion, "needs_attributes", False))
+
+
+def _region_doubled(criterion: object) -> dict[Any, Any] | None:
+    """A ``RegionAreas``'s doubled maximum areas by region (rated in C on the grid),
+    else None."""
+    if type(criterion) is not RegionAreas:
+        return None
+    return {region: 2 * area for region, area in criterion.areas}  # type: ignore[attr-defined]
 
 
 def supports(mesh: Mesh2, run: RunOptions) -> bool:
@@ -129,10 +145,13 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
     angle: Any = criterion if type(criterion) is MinAngle else None
     area_rate = None
     grouped = False
+    sized: object = criterion  # the size criterion the kernel rates in group 1
     if isinstance(criterion, AnyOf) and criterion.angle_threshold is not None:
         angle, *rest = criterion.criteria  # AnyOf((MinAngle, X, ...)): checked above
         if len(rest) == 1:  # X's own key, in group 1 (a MaxArea rated in C on the grid)
-            area_rate = rest[0].rate
+            sized = rest[0]
+            area_rate = (rest[0].rate_attributed  # type: ignore[attr-defined]
+                         if _needs_attributes(rest[0]) else rest[0].rate)
             doubled = 2 * rest[0].area if type(rest[0]) is MaxArea else None  # type: ignore[attr-defined]
         else:  # (position, key) of the first size the triangle fails
             area_rate, grouped = criterion.rate_beyond_angle, True
@@ -151,6 +170,8 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
         order=run.rules.order,
         second_longest_rule=run.rules.second_longest_rule,
         factor_stop=run.rules.factor_stop,
+        rate_attributes=_needs_attributes(criterion),
+        region_doubled=_region_doubled(sized),
     )
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)
@@ -176,11 +197,10 @@ def replay_compiled(start: Mesh2, steps: Sequence[Step], digests: Sequence[int]
                     ) -> Mesh2 | None:
     """The mesh after ``steps`` replayed on ``start`` by the kernel, each step's
     preconditions checked (those of its reference op) and each digest compared with
-    ``digests``; None when the kernel cannot replay them all (not built, attributes, a
+    ``digests``; None when the kernel cannot replay them all (not built, a
     step it does not record) or when a step fails or diverges -- the caller then replays
     with the reference ops, which name the step and the reason."""
-    if (not AVAILABLE or len(start.triangle_attributes) or len(start.vertex_attributes)
-            or not {step.op for step in steps} <= REPLAYED_OPS):
+    if not AVAILABLE or not {step.op for step in steps} <= REPLAYED_OPS:
         return None
     assert _lepp_kernel is not None
     # a criterion nothing fails: the kernel's queue stays empty

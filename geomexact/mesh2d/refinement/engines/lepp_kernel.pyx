@@ -34,8 +34,9 @@ otherwise by the certified float filters of ``geomexact.kernel.predicates2d`` an
 Python predicate on the ``Point2`` objects.
 """
 
-from libc.stdint cimport int64_t, uint64_t, int8_t, uint32_t
+from libc.stdint cimport int64_t, uint64_t, int8_t, uint8_t, uint32_t
 from libc.stdlib cimport malloc, free
+from libc.string cimport memcpy
 from libc.math cimport fabs, floor, frexp, isfinite, ldexp
 from cpython.exc cimport PyErr_CheckSignals
 from cpython.ref cimport PyObject, Py_DECREF
@@ -54,6 +55,8 @@ from geomexact.kernel import comparisons as _comparisons
 from geomexact.kernel import filter_bounds as _bounds
 from geomexact.kernel.angles import compare_angle as _compare_angle
 from geomexact.mesh2d.ops import quadrilateral_area_centroid, quadrilateral_vertex_centroid
+from geomexact.mesh2d.vertex_interpolation import (interpolated_in_quadrilateral,
+                                                   interpolated_on_edge)
 from geomexact.mesh2d.refinement.centroids import CENTROID_BITS, rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import doubled_area as _doubled_area
 from geomexact.mesh2d.refinement.criteria import smallest_angle_cos2 as _smallest_angle_cos2
@@ -82,6 +85,7 @@ from geomexact.kernel.ckernel cimport (
     _init_constants,
     _to_i128,
     _to_u128,
+    gx_blake2b_128,
     gx_cell_hash,
     gx_grid_vertex_hash,
     gx_edge,
@@ -207,6 +211,7 @@ cdef inline bint _before(int order, int64_t a, int64_t b, int64_t c, int64_t d) 
 
 
 cdef object _pack_id = struct.Struct("<Q").pack
+cdef object _blake2b = hashlib.blake2b
 cdef object _to_binary = gmpy2.to_binary
 cdef object _vertex_hasher = hashlib.blake2b(digest_size=16, person=b"vertex")
 
@@ -256,6 +261,30 @@ cdef object _coordinate_bound(list points):
                 continue
             bound = max(bound, int(abs(fields[k])) + 1)
     return bound
+
+
+cdef inline unsigned _decimal(int64_t value, uint8_t *out) noexcept nogil:
+    """The decimal digits of ``value`` >= 0 written at ``out``; their count."""
+    cdef uint8_t digits[20]
+    cdef unsigned n = 0, i
+    while True:
+        digits[n] = 48 + <uint8_t>(value % 10)
+        n += 1
+        value //= 10
+        if value == 0:
+            break
+    for i in range(n):
+        out[i] = digits[n - 1 - i]
+    return n
+
+
+cdef inline tuple _canonical(int64_t a, int64_t b, int64_t c):
+    """The rotation of the triangle (a, b, c) that starts at its smallest vertex."""
+    if a < b and a < c:
+        return (a, b, c)
+    if b < c:
+        return (b, c, a)
+    return (c, a, b)
 
 
 cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
@@ -324,6 +353,18 @@ cdef class Kernel:
     cdef gx_map start_apex  # the start's half-edges (min angle: the tip limits read them)
     cdef int64_t *start_hints
     cdef dict tip_grid
+    # triangle attributes (a mesh with regions): the canonical triangles' attributes, the
+    # start's (the tip limits read them), and the attributes of the triangle a step is
+    # replacing (its new triangles take them, as the ops' join_in_* do); rate_attributes:
+    # the criterion reads them (RegionAreas)
+    cdef bint attributed, rate_attributes
+    cdef dict tattrs, start_tattrs, attribute_tails
+    # RegionAreas rated in C on grid triangles: its doubled areas in grid units by region
+    cdef dict region_limits
+    cdef object cur_attrs
+    # vertex attributes: the table (new vertices get them interpolated), when any
+    cdef bint vattributed
+    cdef object vtable
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
@@ -342,7 +383,8 @@ cdef class Kernel:
                  method="bisection", bint constraint_midpoints=True, centroid=None,
                  threshold=None, area_rate=None, bint grouped=False, centroid_kind="area",
                  order="worst-first",
-                 second_longest_rule=None, factor_stop="action"):
+                 second_longest_rule=None, factor_stop="action", bint rate_attributes=False,
+                 region_doubled=None):
         """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
         grid triangles), else None (``criterion.rate`` rates every triangle).
         ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
@@ -359,7 +401,11 @@ cdef class Kernel:
         centroids of ``geomexact.mesh2d.ops``, recorded as ``insert_centroid`` and
         ``insert_vertex_centroid``; ``"midpoint"``: the terminal edge bisected),
         ``order``, ``second_longest_rule`` and ``factor_stop``: the rules of
-        ``geomexact.mesh2d.refinement.presets``."""
+        ``geomexact.mesh2d.refinement.presets``.  ``rate_attributes``: the criterion
+        reads triangle attributes (its ``rate_attributed``, and ``area_rate``, take them
+        as a fourth argument); ``region_doubled``: that criterion is a ``RegionAreas``
+        (alone or after the angle) with these doubled areas by region, rated in C on
+        grid triangles."""
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
         cdef int64_t[:, ::1] triangles
@@ -445,12 +491,20 @@ cdef class Kernel:
         # rounded_area_centroid computed on grid quadrilaterals in integers
         self.grid_centroids = centroid is rounded_area_centroid and self.centroid_op == 2
         self.contains = region.contains
-        self.rate = criterion.rate
+        self.tattrs = dict(start.triangle_attributes.items())
+        self.attributed = bool(self.tattrs)
+        self.start_tattrs = dict(self.tattrs)
+        self.attribute_tails = {}
+        self.cur_attrs = None
+        self.rate_attributes = rate_attributes
+        self.vattributed = bool(len(start.vertex_attributes))
+        self.vtable = start.vertex_attributes.mutate() if self.vattributed else None
+        self.rate = criterion.rate_attributed if rate_attributes else criterion.rate
         self.min_angle = threshold is not None
         # AnyOf((MinAngle, X)): the angle first, then X (area_rate: X's rate; a MaxArea X
         # is rated in C on grid triangles, max_area_doubled)
         self.combined = self.min_angle and area_rate is not None
-        self.area_rate = criterion.rate if area_rate is None else area_rate
+        self.area_rate = self.rate if area_rate is None else area_rate
         # AnyOf((MinAngle, X, Y, ...)): area_rate is its rate_beyond_angle, whose
         # (position, key) gives the entry's group (the position in the AnyOf) and key
         self.grouped = grouped
@@ -481,6 +535,11 @@ cdef class Kernel:
             # area2 (grid units, an integer) > doubled * 2**2F  <=>  area2 > floor(...)
             limit = int(math.floor(max_area_doubled * self.scale))
             self.area_limit = _to_i128(min(limit, 1 << 124))
+        self.region_limits = None
+        if region_doubled is not None:
+            self.region_limits = {
+                region: _to_i128(min(int(math.floor(doubled * self.scale)), 1 << 124))
+                for region, doubled in region_doubled.items()}
         self.targets = self.searches = self.hops = 0
         self.tracking = False
         self.filtered = False
@@ -939,7 +998,10 @@ cdef class Kernel:
             self._consider_area(&entry)
             return 0
         points = self.points
-        key = self.rate(points[a], points[b], points[c])
+        if self.rate_attributes:
+            key = self.rate(points[a], points[b], points[c], self.tattrs.get((a, b, c)))
+        else:
+            key = self.rate(points[a], points[b], points[c])
         if key is None:
             return 0
         return self._push_key(&entry, key)
@@ -1035,8 +1097,26 @@ cdef class Kernel:
             entry.py = -1
             self._push(entry)
             return 1
+        if self.region_limits is not None and va.at.grid and vb.at.grid and vc.at.grid:
+            # RegionAreas.rate_attributed: the region is the first attribute
+            attributes = self.tattrs.get((entry.a, entry.b, entry.c))
+            limit = self.region_limits.get(attributes[0]) if attributes else None
+            if limit is None:
+                return 0
+            area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
+            if area2 <= <gx_i128>limit:
+                return 0
+            entry.ikey = -area2
+            entry.rank = 0.0
+            entry.py = -1
+            self._push(entry)
+            return 1
         points = self.points
-        key = self.area_rate(points[entry.a], points[entry.b], points[entry.c])
+        if self.rate_attributes:
+            key = self.area_rate(points[entry.a], points[entry.b], points[entry.c],
+                                 self.tattrs.get((entry.a, entry.b, entry.c)))
+        else:
+            key = self.area_rate(points[entry.a], points[entry.b], points[entry.c])
         if key is None:
             return 0
         if self.grouped:
@@ -1154,6 +1234,7 @@ cdef class Kernel:
         cdef Vertex *a
         cdef Vertex *b
         cdef gx_i128 dx, dy
+        cdef int64_t left, right
         if hint < 0:
             return None
         first = hint
@@ -1180,12 +1261,16 @@ cdef class Kernel:
         lengths = []
         a = &self.vs[vertex]
         for w in ends:
-            # is_constraint_edge on the start: a boundary edge or a segment (the kernel
-            # runs no triangle attributes)
-            if (gx_map_get(apex, gx_edge(vertex, w), -1) >= 0
-                    and gx_map_get(apex, gx_edge(w, vertex), -1) >= 0
+            # is_constraint_edge on the start: a boundary edge, a segment or an
+            # attribute border
+            left = gx_map_get(apex, gx_edge(vertex, w), -1)
+            right = gx_map_get(apex, gx_edge(w, vertex), -1)
+            if (left >= 0 and right >= 0
                     and ((vertex, w) if vertex < w else (w, vertex))
-                    not in self.start_segments):
+                    not in self.start_segments
+                    and not (self.attributed and self.start_tattrs.get(
+                        _canonical(vertex, w, left)) != self.start_tattrs.get(
+                            _canonical(w, vertex, right)))):
                 continue
             b = &self.vs[w]
             if a.at.grid and b.at.grid:
@@ -1387,22 +1472,55 @@ cdef class Kernel:
         self.created[3 * self.ncreated + 2] = c
         self.ncreated += 1
         self.digest += gx_cell_hash(self.vs[a].key, self.vs[b].key, self.vs[c].key)
+        if self.attributed and self.cur_attrs:
+            self.tattrs[(a, b, c)] = self.cur_attrs
+            self.digest += self._triangle_attribute_hash(a, b, c, self.cur_attrs)
         if self.tracking:
             self._account(a, b, c, 1)
         return 0
 
     cdef inline int _removed(self, int64_t a, int64_t b, int64_t c) except -1:
         """Subtract the cell hash of the triangle (a, b, c), any rotation (and account
-        for it)."""
+        for it); its attributes become ``cur_attrs``."""
         cdef int64_t p = a, q = b, r = c
         if b < a and b < c:
             p, q, r = b, c, a
         elif c < a and c < b:
             p, q, r = c, a, b
         self.digest -= gx_cell_hash(self.vs[p].key, self.vs[q].key, self.vs[r].key)
+        if self.attributed:
+            attributes = self.cur_attrs = self.tattrs.pop((p, q, r), None)
+            if attributes is not None:
+                self.digest -= self._triangle_attribute_hash(p, q, r, attributes)
         if self.tracking:
             self._account(a, b, c, -1)
         return 0
+
+    cdef gx_u128 _triangle_attribute_hash(self, int64_t a, int64_t b, int64_t c,
+                                          object attributes) except *:
+        """``attribute_hash("ta", (a, b, c), attributes)``, the text of the attributes
+        made once per distinct tuple."""
+        cdef uint8_t message[128]
+        cdef unsigned length = 4
+        cdef const char *text
+        cdef Py_ssize_t size
+        tail = self.attribute_tails.get(attributes)
+        if tail is None:
+            tail = self.attribute_tails[attributes] = (
+                ":" + _digest.attribute_text(attributes)).encode()
+        size = len(<bytes>tail)
+        if size <= 64:  # "ata:" and three ids (at most 60 bytes), then the tail, in C
+            memcpy(message, b"ata:", 4)
+            length += _decimal(a, message + length)
+            message[length] = 44  # ","
+            length += 1 + _decimal(b, message + length + 1)
+            message[length] = 44
+            length += 1 + _decimal(c, message + length + 1)
+            text = <bytes>tail
+            memcpy(message + length, text, size)
+            return gx_blake2b_128(message, length + <unsigned>size, 0)
+        payload = b"ata:%d,%d,%d" % (a, b, c) + tail
+        return _to_u128(int.from_bytes(_blake2b(payload, digest_size=16).digest(), "little"))
 
     cdef object _step(self, Record *record):
         """The Step of a record."""
@@ -1436,9 +1554,28 @@ cdef class Kernel:
             self.on_step(self.progress(self.nrec, step, self.triangles, self.nv, self.nheap))
         return 0
 
+    cdef int _vertex_attributes(self, int64_t n, attributes) except -1:
+        """Give the new vertex n its (interpolated) attributes."""
+        if attributes:
+            self.vtable[n] = attributes
+            self.digest += _to_u128(_digest.attribute_hash("va", (n,), attributes))
+        return 0
+
+    cdef int _quadrilateral_attributes(self, int64_t u, int64_t v, int64_t w, int64_t x,
+                                       int64_t n) except -1:
+        """The vertex attributes of n inside the quadrilateral of (u, v), as the op
+        ``insert_in_quadrilateral`` interpolates them (when u has some)."""
+        table = self.vtable
+        if table is None or not table.get(u):
+            return 0
+        points = self.points
+        return self._vertex_attributes(n, interpolated_in_quadrilateral(
+            ((points[u], table.get(u, ())), (points[v], table.get(v, ())),
+             (points[w], table.get(w, ())), (points[x], table.get(x, ()))), points[n]))
+
     cdef int64_t _bisect(self, int64_t u, int64_t v) except -2:
-        """``BatchRefinement.bisect`` (no attributes): the new vertex, or -1 at the step
-        limit (no change then)."""
+        """``BatchRefinement.bisect``: the new vertex, or -1 at the step limit (no
+        change then)."""
         cdef int64_t w, x, n, p, q, r, side
         cdef uint64_t key
         if self.limit >= 0 and self.nrec >= self.limit:
@@ -1450,6 +1587,11 @@ cdef class Kernel:
         if gx_map_get(&self.segs, key, -1) >= 0:
             marker = self.segments[(u, v) if u < v else (v, u)]
         n = self._add_midpoint(u, v)
+        if self.vattributed:
+            points = self.points
+            self._vertex_attributes(n, interpolated_on_edge(
+                points[u], self.vtable.get(u, ()), points[v], self.vtable.get(v, ()),
+                points[n]))
         if marker:
             self.new_markers[n] = marker
             self.digest += _to_u128(_digest.attribute_hash("vm", (n,), (marker,)))
@@ -1533,21 +1675,24 @@ cdef class Kernel:
             points = self.points
             point = self.centroid(points[u], points[v], points[w], points[x])
             n = self._add_point(point)
+        self._quadrilateral_attributes(u, v, w, x, n)
         return self._join_in_quadrilateral(u, v, w, x, n, self.centroid_op)
 
     cdef int _remove_edge(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
         """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
         cell hashes and the edge's two half-edges (the caller gives the other four new
-        apexes)."""
+        apexes); the new triangles take the attributes of (u, v, w), as in the ops."""
         self._removed(u, v, w)
+        attributes = self.cur_attrs
         self._removed(v, u, x)
+        self.cur_attrs = attributes
         gx_map_del(&self.apex, gx_edge(u, v))
         gx_map_del(&self.apex, gx_edge(v, u))
         return 0
 
     cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
-        """``BatchRefinement.add`` (no attributes): the triangle (a, b, c), its hints,
-        noted as created."""
+        """``BatchRefinement.add``: the triangle (a, b, c) (with ``cur_attrs``), its
+        hints, noted as created."""
         self._set(a, b, c)
         self._set(b, c, a)
         self._set(c, a, b)
@@ -1563,12 +1708,19 @@ cdef class Kernel:
         return 0
 
     cdef bint _constraint(self, int64_t u, int64_t v) except -1:
-        """``Refinement.constraint`` (no attributes): a boundary or segment edge."""
-        if gx_map_get(&self.apex, gx_edge(u, v), -1) < 0:
+        """``Refinement.constraint``: a boundary, segment or attribute-border edge."""
+        cdef int64_t w = gx_map_get(&self.apex, gx_edge(u, v), -1)
+        cdef int64_t x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+        if w < 0 or x < 0:
             return True
-        if gx_map_get(&self.apex, gx_edge(v, u), -1) < 0:
+        if gx_map_get(&self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
             return True
-        return gx_map_get(&self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0
+        return self.attributed and self._border(u, v, w, x)
+
+    cdef bint _border(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
+        """The triangles (u, v, w) and (v, u, x) carry different attributes."""
+        tattrs = self.tattrs
+        return tattrs.get(_canonical(u, v, w)) != tattrs.get(_canonical(v, u, x))
 
     cdef int _insert_midpoint(self, int64_t u, int64_t v) except -2:
         """``Refinement.insert_midpoint``: bisect (u, v), then legalize the midpoint's
@@ -1661,6 +1813,8 @@ cdef class Kernel:
                 continue
             if self._orient(q, vertex, a) != 1 or self._orient(vertex, q, b) != 1:
                 continue
+            if self.attributed and self._border(a, b, vertex, q):
+                continue
             if self._flip(a, b) < 0:
                 return -1
             push_pair(&self.pending, q, b)
@@ -1706,7 +1860,7 @@ cdef class Kernel:
                     x = gx_map_get(&self.apex, gx_edge(v, u), -1)
                     if x < 0 or gx_map_get(
                         &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1
-                    ) >= 0:
+                    ) >= 0 or (self.attributed and self._border(u, v, w, x)):
                         constrained = True
                         break
                     if self._lengths(u, v, v, x) != -1 and self._lengths(u, v, x, u) != -1:
@@ -1792,8 +1946,10 @@ cdef class Kernel:
             outgoing=None,
             segments=immutables.Map(self.segments),
             vertex_markers=markers,
-            vertex_attributes=start.vertex_attributes,
-            triangle_attributes=start.triangle_attributes,
+            vertex_attributes=self.vtable.finish() if self.vattributed
+            else start.vertex_attributes,
+            triangle_attributes=immutables.Map(self.tattrs) if self.attributed
+            else start.triangle_attributes,
             triangle_count=self.triangles,
             digest=_from_u128(self.digest),
             source=TableSource(self.points, halfedges, hints, start),
@@ -1862,6 +2018,8 @@ cdef class Kernel:
         if w < 0 or x < 0 or gx_map_get(
                 &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
             return -1
+        if self.attributed and self._border(u, v, w, x):
+            return -1
         if point is None:
             points = self.points
             centre = quadrilateral_vertex_centroid if op == 3 else quadrilateral_area_centroid
@@ -1870,6 +2028,7 @@ cdef class Kernel:
         if (self._orient(u, x, n) != 1 or self._orient(x, v, n) != 1
                 or self._orient(v, w, n) != 1 or self._orient(w, u, n) != 1):
             return -1  # the caller stops here: the added vertex is never used
+        self._quadrilateral_attributes(u, v, w, x, n)
         return self._join_in_quadrilateral(u, v, w, x, n, op)
 
     def replay(self, list steps, list digests, Py_ssize_t count):
@@ -1906,6 +2065,8 @@ cdef class Kernel:
                         &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
                     return i
                 if self._orient(x, w, u) != 1 or self._orient(w, x, v) != 1:
+                    return i
+                if self.attributed and self._border(u, v, w, x):
                     return i
                 self._flip(u, v)
             elif op == "insert_in_quadrilateral" and len(args) == 4:
