@@ -16,8 +16,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from geomexact._lazy_exports import lazy_exports
+from geomexact._public_names import MESH2D_HOMES as _MESH2D_HOMES
 from geomexact._version import __version__
-from geomexact.mesh2d import _HOMES as _MESH2D_HOMES
 
 if TYPE_CHECKING:
     from geomexact.errors import (

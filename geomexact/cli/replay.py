@@ -35,9 +35,9 @@ from geomexact.mesh3d.mixed.cells import CellKind
 from geomexact.mesh3d.mixed.conversion import from_tetrahedral, to_tetrahedral
 from geomexact.mesh3d.mixed.ops import OPERATIONS as OPERATIONS_MIXED
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
-from geomexact.mesh3d.ops import OPERATIONS as OPERATIONS_3D
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.playback import replay
+from geomexact.trace.protocols import kind_of
 from geomexact.trace.record import Trace
 
 _ALGORITHM_DIMENSIONS = {"delaunay": 2, "lepp": 2, "lawson": 2, "cuboid": 3, "octree": 3}
@@ -55,7 +55,7 @@ def trace_dimension(trace: Trace) -> int | None:
     if known is not None:
         return known
     ops = {step.op for step in trace.steps}
-    if ops and (ops <= OPERATIONS_3D.keys() or ops <= OPERATIONS_MIXED.keys()):
+    if ops and (ops <= kind_of(Mesh3).operations.keys() or ops <= OPERATIONS_MIXED.keys()):
         return 3
     if ops and ops <= OPERATIONS_2D.keys():
         return 2
@@ -66,7 +66,8 @@ def is_mixed_trace(trace: Trace) -> bool:
     """True when ``trace`` edits a mixed-cell mesh: its steps are the mixed step table's
     and not all the tetrahedral one's."""
     ops = {step.op for step in trace.steps}
-    return bool(ops) and ops <= OPERATIONS_MIXED.keys() and not ops <= OPERATIONS_3D.keys()
+    return bool(ops) and ops <= OPERATIONS_MIXED.keys() and not (
+        ops <= kind_of(Mesh3).operations.keys())
 
 
 def command_replay(args: argparse.Namespace) -> int:

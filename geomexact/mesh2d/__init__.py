@@ -7,9 +7,17 @@ The 2D names of the top-level facade are re-exported here too, loaded on first u
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from geomexact._lazy_exports import lazy_exports
+from geomexact._public_names import MESH2D_HOMES
+from geomexact.mesh2d.ops import OPERATIONS as _OPERATIONS
+from geomexact.mesh2d.snapshot import Mesh2 as _Mesh2
+from geomexact.mesh2d.transient import Transient2 as _Transient2
+from geomexact.trace.protocols import MeshKind as _MeshKind
+from geomexact.trace.protocols import bind_kind as _bind_kind
+from geomexact.trace.step import Step as _Step
 
 if TYPE_CHECKING:
     from geomexact.mesh2d.delaunay.triangulation import (
@@ -172,64 +180,24 @@ if TYPE_CHECKING:
         validate as validate,
     )
 
-_HOMES: dict[str, str] = {
-    "Construction": "geomexact.mesh2d.delaunay.triangulation",
-    "is_delaunay": "geomexact.mesh2d.delaunay.triangulation",
-    "make_delaunay": "geomexact.mesh2d.delaunay.triangulation",
-    "non_delaunay_edges": "geomexact.mesh2d.delaunay.triangulation",
-    "triangulate": "geomexact.mesh2d.delaunay.triangulation",
-    "triangulate_points": "geomexact.mesh2d.delaunay.triangulation",
-    "vertices_mesh": "geomexact.mesh2d.delaunay.triangulation",
-    "Lepp": "geomexact.mesh2d.longest_edge",
-    "lepp": "geomexact.mesh2d.longest_edge",
-    "signed_area": "geomexact.mesh2d.measures",
-    "total_area": "geomexact.mesh2d.measures",
-    "triangle_area": "geomexact.mesh2d.measures",
-    "apply": "geomexact.mesh2d.ops",
-    "bisect": "geomexact.mesh2d.ops",
-    "flip": "geomexact.mesh2d.ops",
-    "insert_centroid": "geomexact.mesh2d.ops",
-    "insert_in_edge": "geomexact.mesh2d.ops",
-    "insert_in_triangle": "geomexact.mesh2d.ops",
-    "legalize": "geomexact.mesh2d.ops",
-    "ConvexDecomposition": "geomexact.mesh2d.polygonal.convex",
-    "convex_decomposition": "geomexact.mesh2d.polygonal.convex",
-    "PolygonMesh": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "check_polygon_mesh": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "mesh_stats": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "validate_polygon_mesh": "geomexact.mesh2d.polygonal.polygon_mesh",
-    "EdgeLabels": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "PolyllaRun": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "label_edges": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "polylla": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "polylla_run": "geomexact.mesh2d.polygonal.polylla_meshing",
-    "PSLG": "geomexact.mesh2d.pslg",
-    "RefineStats": "geomexact.mesh2d.refinement.api",
-    "Result": "geomexact.mesh2d.refinement.api",
-    "refine": "geomexact.mesh2d.refinement.api",
-    "AverageAreaFactor": "geomexact.mesh2d.refinement.criteria",
-    "MaxArea": "geomexact.mesh2d.refinement.criteria",
-    "MaxEdgeLength": "geomexact.mesh2d.refinement.criteria",
-    "MinAngle": "geomexact.mesh2d.refinement.criteria",
-    "AnyOf": "geomexact.mesh2d.refinement.criteria",
-    "RegionAreas": "geomexact.mesh2d.refinement.criteria",
-    "Circle": "geomexact.mesh2d.refinement.regions",
-    "Polygon": "geomexact.mesh2d.refinement.regions",
-    "Rectangle": "geomexact.mesh2d.refinement.regions",
-    "Edge": "geomexact.mesh2d.snapshot",
-    "Mesh2": "geomexact.mesh2d.snapshot",
-    "Triangle": "geomexact.mesh2d.snapshot",
-    "canonical_triangle": "geomexact.mesh2d.snapshot",
-    "empty_mesh": "geomexact.mesh2d.snapshot",
-    "mesh_summary": "geomexact.mesh2d.summary",
-    "Transient2": "geomexact.mesh2d.transient",
-    "mesh_from_triangles": "geomexact.mesh2d.transient",
-    "check": "geomexact.mesh2d.validation",
-    "validate": "geomexact.mesh2d.validation",
-}
+_HOMES: dict[str, str] = dict(MESH2D_HOMES)
 """Public 2D name -> the module that defines it."""
 
 # the TYPE_CHECKING imports above re-export each name explicitly (``name as name``)
 __all__ = sorted(_HOMES)
 
 __getattr__, __dir__ = lazy_exports(__name__, globals(), _HOMES)
+
+
+def _replay_compiled(start: _Mesh2, steps: Sequence[_Step], digests: Sequence[int]
+                     ) -> _Mesh2 | None:
+    """The compiled Lepp kernel's replay (its glue loaded on the first long replay)."""
+    from geomexact.mesh2d.refinement.engines.compiled import replay_compiled
+
+    return replay_compiled(start, steps, digests)
+
+
+# The 2D mesh kind, bound here, above the modules it joins: the snapshot reaches its
+# transient, the step table and the compiled replay through it, and none of them imports
+# a module built on it (no import circle in mesh2d: tests/architecture).
+_bind_kind(_Mesh2, _MeshKind(_Transient2, _OPERATIONS, replay_engine=_replay_compiled))

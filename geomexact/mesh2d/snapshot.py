@@ -20,6 +20,7 @@ import immutables
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
+from geomexact.trace.protocols import kind_of
 
 if TYPE_CHECKING:
     import numpy as np
@@ -212,19 +213,17 @@ class Mesh2:
     def transient(self, *, batch: bool = False) -> Transient2:
         """A batch editor opened on this snapshot (:class:`~geomexact.mesh2d.transient.
         Transient2`); the snapshot itself never changes."""
-        # imported here: the transient is built on top of this module
-        from geomexact.mesh2d.transient import Transient2
-
-        return Transient2(self, batch=batch)
+        transient: Transient2 = kind_of(Mesh2).transient(self, batch=batch)
+        return transient
 
     def replayed_by_engine(self, steps: Sequence[Step], digests: Sequence[int]
                            ) -> Mesh2 | None:
         """The mesh after ``steps`` replayed on this one by the compiled Lepp kernel (each
         step's preconditions and digest checked), or None when it cannot (then replay
         with the reference ops: :func:`geomexact.trace.playback.replay` does)."""
-        from geomexact.mesh2d.refinement.engines.compiled import replay_compiled
-
-        return replay_compiled(self, steps, digests)
+        engine = kind_of(Mesh2).replay_engine
+        replayed: Mesh2 | None = None if engine is None else engine(self, steps, digests)
+        return replayed
 
     # -- elements -----------------------------------------------------------------------
     def point(self, vertex: int) -> Point2:

@@ -27,6 +27,7 @@ from geomexact.mesh2d.snapshot import (
     canonical_triangle,
     empty_mesh,
 )
+from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
@@ -307,10 +308,7 @@ class Transient2:
     def apply(self, step: Step, /) -> None:
         """Apply ``step`` through the 2D step table (:data:`geomexact.mesh2d.ops.
         OPERATIONS`) and record it; raises :class:`PreconditionError` when it cannot."""
-        # imported here: the ops are written against this class
-        from geomexact.mesh2d.ops import apply_in
-
-        apply_in(self, step)
+        apply_from(kind_of(Mesh2).operations, self, step)
 
     def seal(self) -> Mesh2:
         """Finish the edits and return the new snapshot; the transient is then unusable."""

@@ -22,7 +22,7 @@ from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates3d import orient3d
 from geomexact.mesh3d.snapshot import Edge, Face, Mesh3, Tetrahedron, undirected
 from geomexact.mesh3d.transient import Transient3
-from geomexact.trace.protocols import apply_from
+from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 
 __all__ = [
@@ -247,24 +247,17 @@ def split_tetra_in(t: Transient3, u: int, v: int) -> int:
 
 
 def _apply_split_tetra(t: Transient3, step: Step) -> None:
-    u, v = _ints(step, 2)
+    u, v = step_ints(step, 2)
     split_tetra_in(t, u, v)
 
 
-def _apply_insert_cuboid(t: Transient3, step: Step) -> None:
-    # the cuboid partition lives in ``cuboid/``, which builds on this module
-    from geomexact.mesh3d.cuboid.insertion import insert_cuboid_in
-
-    values = _ints(step, 27)
-    insert_cuboid_in(t, values[0], values[1:9], values[9:])
-
-
 def _apply_flip(t: Transient3, step: Step) -> None:
-    a, b, c = _ints(step, 3)
+    a, b, c = step_ints(step, 3)
     flip_in(t, step.op, (a, b, c))
 
 
-def _ints(step: Step, count: int) -> tuple[int, ...]:
+def step_ints(step: Step, count: int) -> tuple[int, ...]:
+    """The step's ``count`` vertex ids (PreconditionError when they are not that)."""
     if len(step.args) != count or not all(
             isinstance(arg, int) and not isinstance(arg, bool) for arg in step.args):
         raise PreconditionError(step.op, f"{step.op} takes {count} vertex ids, not {step.args}")
@@ -273,15 +266,17 @@ def _ints(step: Step, count: int) -> tuple[int, ...]:
 
 OPERATIONS: Mapping[str, Callable[[Transient3, Step], None]] = MappingProxyType({
     "split_tetra": _apply_split_tetra,
-    "insert_cuboid": _apply_insert_cuboid,
     **{op: _apply_flip for op in FLIP_OPS},
 })
-"""The 3D step table (:data:`geomexact.trace.protocols.OperationTable` of ``mesh3d``)."""
+"""The tetrahedral steps of this module (:data:`geomexact.trace.protocols.
+OperationTable`); the kind's whole table (``kind_of(Mesh3).operations``) adds
+``insert_cuboid`` of ``cuboid/insertion``, which builds on this module."""
 
 
 def apply_in(t: Transient3, step: Step) -> None:
-    """Apply ``step`` to the transient (it records the step)."""
-    apply_from(OPERATIONS, t, step)
+    """Apply ``step`` (any step of the kind's table) to the transient (it records the
+    step)."""
+    apply_from(kind_of(Mesh3).operations, t, step)
 
 
 # ---------------------------------------------------------------------------------------

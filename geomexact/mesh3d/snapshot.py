@@ -23,6 +23,7 @@ import immutables
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3
+from geomexact.trace.protocols import kind_of
 
 if TYPE_CHECKING:
     from geomexact.mesh3d.transient import Transient3
@@ -189,9 +190,8 @@ class Mesh3:
 
     def transient(self, *, batch: bool = False) -> Transient3:
         """A batch builder on this snapshot (the snapshot itself never changes)."""
-        from geomexact.mesh3d.transient import Transient3
-
-        return Transient3(self, batch=batch)
+        transient: Transient3 = kind_of(Mesh3).transient(self, batch=batch)
+        return transient
 
     # -- queries ------------------------------------------------------------------------
     def point(self, vertex: int) -> Point3:

@@ -4,7 +4,6 @@ next snapshot in O(1).  It never escapes the function that made it."""
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -27,6 +26,7 @@ from geomexact.mesh3d.snapshot import (
     empty_mesh3,
     tetrahedron_faces,
 )
+from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
@@ -201,10 +201,9 @@ class Transient3:
     # -- steps and sealing --------------------------------------------------------------
     def apply(self, step: Step, /) -> None:
         """Apply ``step`` through the 3D step table (:data:`geomexact.mesh3d.ops.
-        OPERATIONS`) and record it; :class:`PreconditionError` when it cannot."""
-        from geomexact.mesh3d.ops import apply_in
-
-        apply_in(self, step)
+        OPERATIONS` and ``insert_cuboid``: the kind's table) and record it;
+        :class:`PreconditionError` when it cannot."""
+        apply_from(kind_of(Mesh3).operations, self, step)
 
     def _repair_hints(self) -> None:
         faces, hints = self._faces, self._hints
@@ -334,25 +333,19 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
 
 def _cells_hash_sum(rows: Any) -> int:
     """The sum mod 2**128 of the cell hashes of the canonical tetrahedra ``rows``: by the
-    compiled cuboid kernel when it is built (the same arithmetic in unsigned __int128,
-    tested equal), else by :func:`~geomexact.kernel.digest.cell_hash`."""
-    import numpy as np
-
+    kind's acceleration where it is built (the cuboid kernel: the same arithmetic in
+    unsigned __int128, tested equal), else by :func:`~geomexact.kernel.digest.cell_hash`."""
     if not len(rows):
         return 0
     _digest.vertex_key(int(rows.max()))  # the keys of every id, cached
-    try:  # the optional extension (no stub: imported by name)
-        kernel = importlib.import_module("geomexact.mesh3d.cuboid.cuboid_kernel")
-    except ImportError:
-        total, cell_hash = 0, _digest.cell_hash
-        for tetrahedron in rows.tolist():
-            total += cell_hash(tetrahedron)
-        return total & (_digest.MODULUS - 1)
-    keys = np.array(_digest.VERTEX_KEYS[: int(rows.max()) + 1], dtype=np.uint64)
-    value: int = kernel.tetrahedra_hash_sum(keys, np.ascontiguousarray(rows, dtype=np.int64),
-                                            _digest._POSITION_MULTIPLIERS,
-                                            _digest.FINAL_MULTIPLIER)
-    return value
+    accelerated = kind_of(Mesh3).cell_hash_sum
+    value = None if accelerated is None else accelerated(rows)
+    if value is not None:
+        return value
+    total, cell_hash = 0, _digest.cell_hash
+    for tetrahedron in rows.tolist():
+        total += cell_hash(tetrahedron)
+    return total & (_digest.MODULUS - 1)
 
 
 def _rotate_to_smallest(faces: Any) -> Any:

@@ -6,7 +6,9 @@ is one such pair; ``geomexact.mesh3d`` will be another.  Nothing here names eith
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from typing import Protocol, TypeAlias, TypeVar
+from typing import Any, Protocol, TypeAlias, TypeVar
+
+import attrs
 
 from geomexact.errors import PreconditionError
 from geomexact.trace.step import Step
@@ -61,9 +63,41 @@ class CellSnapshot(Snapshot, Protocol):
 
 
 OperationTable: TypeAlias = Mapping[str, Callable[[T, Step], None]]
-"""Step name -> how to apply it to a transient of one mesh type.  Each mesh package defines
-its table once, complete at import (``geomexact.mesh2d.ops.OPERATIONS``,
-``geomexact.mesh3d.ops.OPERATIONS``)."""
+"""Step name -> how to apply it to a transient of one mesh type (``geomexact.mesh2d.ops.
+OPERATIONS``; a kind's whole table is its :class:`MeshKind`'s ``operations``)."""
+
+
+@attrs.frozen(slots=True)
+class MeshKind:
+    """What a snapshot type reaches only through the modules built on it: the transient
+    that opens on it (``transient(snapshot, batch=...)``), the whole step table, and the
+    accelerations beside the reference (a compiled replay of long traces: the mesh after
+    the steps with every digest checked, or None; a compiled sum of the cell hashes of
+    canonical cell rows).  The package of a mesh kind binds it (:func:`bind_kind`) at
+    import, from above the snapshot, transient and ops modules, so that none of them
+    imports a module built on it."""
+
+    transient: Callable[..., Any]
+    operations: OperationTable[Any]
+    replay_engine: Callable[[Any, Sequence[Step], Sequence[int]], Any] | None = None
+    cell_hash_sum: Callable[[Any], int | None] | None = None
+
+
+_KINDS: dict[type, MeshKind] = {}
+
+
+def bind_kind(snapshot_type: type, kind: MeshKind) -> None:
+    """Bind ``kind`` to ``snapshot_type`` (its package does, once, at import)."""
+    _KINDS[snapshot_type] = kind
+
+
+def kind_of(snapshot_type: type) -> MeshKind:
+    """The :class:`MeshKind` bound to ``snapshot_type``."""
+    try:
+        return _KINDS[snapshot_type]
+    except KeyError:
+        raise RuntimeError(f"{snapshot_type.__name__} has no bound mesh kind (its package "
+                           "binds one at import)") from None
 
 
 def apply_from(table: OperationTable[T], transient: T, step: Step) -> None:

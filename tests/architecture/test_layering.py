@@ -14,6 +14,7 @@ PACKAGE = Path(__file__).resolve().parents[2] / "geomexact"
 
 LAYERS: dict[str, int] = {
     "_lazy_exports": 0,
+    "_public_names": 0,
     "_version": 0,
     "errors": 0,
     "kernel": 1,

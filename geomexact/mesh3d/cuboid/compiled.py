@@ -25,6 +25,7 @@ from typing import Any, Final
 import attrs
 
 from geomexact.errors import PreconditionError
+from geomexact.kernel import digest as _digest
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.cuboid.census import CensusRow
 from geomexact.mesh3d.cuboid.numbering import CORNER_POSITIONS, check_pattern
@@ -51,6 +52,21 @@ AVAILABLE: bool = _cuboid_kernel is not None
 MAX_COORDINATE: Final = 1 << 20
 ROW_WIDTH: Final = 12
 _OPS: Final = ("split_tetra", "flip23", "flip32", "flip22", "flip44")
+
+
+def tetrahedra_hash_sum(rows: Any) -> int | None:
+    """The sum mod 2**128 of the cell hashes of the canonical tetrahedra ``rows`` (an
+    integer array whose ids' keys are cached), in the kernel; None when it is not built
+    (the acceleration of ``Mesh3``'s bulk digest, bound by ``geomexact.mesh3d``)."""
+    if _cuboid_kernel is None:
+        return None
+    import numpy as np
+
+    keys = np.array(_digest.VERTEX_KEYS[: int(rows.max()) + 1], dtype=np.uint64)
+    value: int = _cuboid_kernel.tetrahedra_hash_sum(
+        keys, np.ascontiguousarray(rows, dtype=np.int64), _digest._POSITION_MULTIPLIERS,
+        _digest.FINAL_MULTIPLIER)
+    return value
 
 
 def kernel_corners(box: Box) -> tuple[tuple[int, int, int], ...] | None:

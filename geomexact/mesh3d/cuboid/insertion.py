@@ -28,6 +28,7 @@ from geomexact.mesh3d.cuboid.numbering import BIT_COUNT
 from geomexact.mesh3d.cuboid.partition import partition_cuboid
 from geomexact.mesh3d.cuboid.split_order import split_sequence
 from geomexact.mesh3d.cuboid.templates import check_template
+from geomexact.mesh3d.ops import step_ints
 from geomexact.mesh3d.transient import Transient3
 from geomexact.trace.step import Step
 
@@ -74,6 +75,13 @@ def partition_codes(pattern: int, template: int, shape: Box | None = None,
         for step in steps if step.op != "split_tetra"
     )
     return CodedPartition(pattern, template, codes, flips)
+
+
+def apply_insert_cuboid(t: Transient3, step: Step) -> None:
+    """The ``insert_cuboid`` entry of the 3D step table (template, 8 corners, 18
+    points)."""
+    values = step_ints(step, 27)
+    insert_cuboid_in(t, values[0], values[1:9], values[9:])
 
 
 def insert_cuboid_in(t: Transient3, template: int, corners: Sequence[int],

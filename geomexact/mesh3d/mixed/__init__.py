@@ -13,9 +13,16 @@ from geomexact.mesh3d.mixed.cells import (
     standard_cell,
 )
 from geomexact.mesh3d.mixed.conversion import box_grid_mesh, from_tetrahedral
+from geomexact.mesh3d.mixed.ops import OPERATIONS as _OPERATIONS
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3, empty_mixed_mesh, mixed_volume
 from geomexact.mesh3d.mixed.transient import MixedTransient3, mixed_mesh_from_cells
 from geomexact.mesh3d.mixed.validation import check_mixed, validate_mixed
+from geomexact.trace.protocols import MeshKind as _MeshKind
+from geomexact.trace.protocols import bind_kind as _bind_kind
+
+# The mixed-cell mesh kind, bound here, above the modules it joins (the snapshot reaches
+# its transient and the step table through it: no import circle, tests/architecture).
+_bind_kind(MixedMesh3, _MeshKind(MixedTransient3, _OPERATIONS))
 
 __all__ = [
     "Cell",

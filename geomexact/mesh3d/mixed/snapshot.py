@@ -23,6 +23,7 @@ from geomexact.mesh3d.mixed.cells import (
     reversed_face,
     rotated_face,
 )
+from geomexact.trace.protocols import kind_of
 
 if TYPE_CHECKING:
     from geomexact.mesh3d.mixed.transient import MixedTransient3
@@ -66,9 +67,8 @@ class MixedMesh3:
 
     def transient(self, *, batch: bool = False) -> MixedTransient3:
         """A batch builder on this snapshot (the snapshot itself never changes)."""
-        from geomexact.mesh3d.mixed.transient import MixedTransient3
-
-        return MixedTransient3(self, batch=batch)
+        transient: MixedTransient3 = kind_of(MixedMesh3).transient(self, batch=batch)
+        return transient
 
     def point(self, vertex: int) -> Point3:
         return self.vertices[vertex]

@@ -13,6 +13,7 @@ from geomexact.kernel.points import Point3, point3
 from geomexact.mesh3d.mixed.cells import Cell, Face, cell_hash_of, reversed_face, rotated_face
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3, empty_mixed_mesh
 from geomexact.mesh3d.snapshot import MAX_VERTICES
+from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
@@ -134,9 +135,7 @@ class MixedTransient3:
     def apply(self, step: Step, /) -> None:
         """Apply ``step`` through the mixed step table (:data:`geomexact.mesh3d.mixed.ops.
         OPERATIONS`) and record it; :class:`PreconditionError` when it cannot."""
-        from geomexact.mesh3d.mixed.ops import apply_in
-
-        apply_in(self, step)
+        apply_from(kind_of(MixedMesh3).operations, self, step)
 
     def seal(self) -> MixedMesh3:
         """Finish the edits and return the new snapshot; the transient is then unusable."""
