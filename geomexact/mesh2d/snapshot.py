@@ -18,6 +18,7 @@ import attrs
 import immutables
 
 from geomexact.kernel import digest as _digest
+from geomexact.kernel.derived import Derived
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 from geomexact.trace.protocols import kind_of
@@ -134,9 +135,9 @@ class Mesh2:
     Equality (``==``) compares content: vertices, triangles, segments, markers, attributes.
     """
 
-    # the three large tables are built on first use when the snapshot was given a
-    # ``source`` (a kernel's arrays) instead: a command that only summarizes and writes
-    # the result never pays for them
+    # the three large tables are built on first use (kept in ``_derived``) when the
+    # snapshot was given a ``source`` (a kernel's arrays) instead: a command that only
+    # summarizes and writes the result never pays for them
     _vertices: immutables.Map[int, Point2] | None
     _halfedges: immutables.Map[Edge, int] | None
     _outgoing: immutables.Map[int, int] | None
@@ -148,6 +149,8 @@ class Mesh2:
     digest: int
     _source: TableSource | None = attrs.field(default=None, kw_only=True, repr=False)
     """The arrays the tables are built from when they are None (:class:`TableSource`)."""
+    _derived: Derived = attrs.field(init=False, factory=Derived, repr=False)
+    """The tables built from ``source`` (:class:`~geomexact.kernel.derived.Derived`)."""
 
     # -- tables -------------------------------------------------------------------------
     @property
@@ -178,23 +181,16 @@ class Mesh2:
     def source(self) -> TableSource | None:
         """The arrays this snapshot's tables come from, while they are not built yet
         (None once built, or when it was built from tables)."""
-        return self._source if self._halfedges is None else None
+        if self._halfedges is not None or self._derived.known("tables"):
+            return None
+        return self._source
 
     def _built(self) -> tuple[immutables.Map[int, Point2], immutables.Map[Edge, int],
                               immutables.Map[int, int]]:
-        """Build the tables from the source (once) and keep them."""
+        """The tables built from the source (once, then kept)."""
         source = self._source
         assert source is not None, "a snapshot without tables has a source"
-        built = source.tables()
-        # a table given beside the source (``attrs.evolve``) is kept
-        vertices = built[0] if self._vertices is None else self._vertices
-        halfedges = built[1] if self._halfedges is None else self._halfedges
-        outgoing = built[2] if self._outgoing is None else self._outgoing
-        object.__setattr__(self, "_vertices", vertices)
-        object.__setattr__(self, "_outgoing", outgoing)
-        object.__setattr__(self, "_halfedges", halfedges)
-        object.__setattr__(self, "_source", None)  # the arrays are not kept beside them
-        return vertices, halfedges, outgoing
+        return self._derived.get("tables", source.tables)
 
     # -- size ---------------------------------------------------------------------------
     @property

@@ -21,6 +21,7 @@ import attrs
 import immutables
 
 from geomexact.kernel import digest as _digest
+from geomexact.kernel.derived import Derived
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3
 from geomexact.trace.protocols import kind_of
@@ -86,7 +87,9 @@ class FaceSource:
 
     - ``points``: the :class:`Point3` of each vertex id 0..n-1;
     - ``faces``: (F x 3) int64 canonical oriented faces, one per row;
-    - ``apexes``: (F,) int64, the apex of each face.
+    - ``apexes``: (F,) int64, the apex of each face;
+    - ``tetrahedra``: the (T x 4) canonical tetrahedra, sorted and read-only, when the
+      builder has them (:meth:`Mesh3.tetrahedron_array`), else None.
 
     Each vertex's hint is the first face (in row order) that contains it.
     """
@@ -94,6 +97,7 @@ class FaceSource:
     points: Sequence[Point3]
     faces: Any
     apexes: Any
+    tetrahedra: Any = None
 
     def tables(self) -> tuple[immutables.Map[int, Point3], immutables.Map[Face, int],
                               immutables.Map[int, Face]]:
@@ -124,19 +128,19 @@ class Mesh3:
     the tetrahedra's cell hashes, as in 2D).
     """
 
-    # the three tables are built on first use when the snapshot was given a ``source`` (a
-    # bulk builder's arrays) instead: an octree run that only writes its mesh never pays
-    # for the million-entry face map
+    # the three tables are built on first use (kept in ``_derived``) when the snapshot was
+    # given a ``source`` (a bulk builder's arrays) instead: an octree run that only writes
+    # its mesh never pays for the million-entry face map
     _vertices: immutables.Map[int, Point3] | None
     _faces: immutables.Map[Face, int] | None
     _hints: immutables.Map[int, Face] | None
     tetrahedron_count: int
     digest: int
-    _derived: dict[str, Any] = attrs.field(factory=dict, eq=False, repr=False, kw_only=True)
-    """Read-only arrays derived from the tables, kept once computed (or given by a bulk
-    builder): never content, never compared."""
     _source: FaceSource | None = attrs.field(default=None, kw_only=True, repr=False)
     """The arrays the tables are built from while they are None (:class:`FaceSource`)."""
+    _derived: Derived = attrs.field(init=False, factory=Derived, repr=False)
+    """The tables built from ``source`` and the read-only arrays derived from them
+    (:class:`~geomexact.kernel.derived.Derived`): never content, never compared."""
 
     # -- tables -------------------------------------------------------------------------
     @property
@@ -160,22 +164,16 @@ class Mesh3:
     @property
     def source(self) -> FaceSource | None:
         """The arrays this snapshot's tables come from, while they are not built yet."""
-        return self._source if self._faces is None else None
+        if self._faces is not None or self._derived.known("tables"):
+            return None
+        return self._source
 
     def _built(self) -> tuple[immutables.Map[int, Point3], immutables.Map[Face, int],
                               immutables.Map[int, Face]]:
-        """Build the tables from the source (once) and keep them."""
+        """The tables built from the source (once, then kept)."""
         source = self._source
         assert source is not None, "a snapshot without tables has a source"
-        built = source.tables()
-        vertices = built[0] if self._vertices is None else self._vertices
-        faces = built[1] if self._faces is None else self._faces
-        hints = built[2] if self._hints is None else self._hints
-        object.__setattr__(self, "_vertices", vertices)
-        object.__setattr__(self, "_hints", hints)
-        object.__setattr__(self, "_faces", faces)
-        object.__setattr__(self, "_source", None)  # the arrays are not kept beside them
-        return vertices, faces, hints
+        return self._derived.get("tables", source.tables)
 
     # -- sizes and identity -------------------------------------------------------------
     @property
@@ -226,11 +224,13 @@ class Mesh3:
     def tetrahedron_array(self) -> Any:
         """Every tetrahedron, canonical, sorted, as a read-only (T x 4) int64 numpy array
         (one pass over the face table, vectorised; kept once computed)."""
+        return self._derived.get("tetrahedra", self._sorted_tetrahedra)
+
+    def _sorted_tetrahedra(self) -> Any:
         import numpy as np
 
-        cached = self._derived.get("tetrahedra")
-        if cached is not None:
-            return cached
+        if self._source is not None and self._source.tetrahedra is not None:
+            return self._source.tetrahedra
         faces, apexes = self._face_arrays()
         # the face opposite the smallest vertex: (a, b, c) -> d with d smallest; canonical
         # is (d, *canonical_face(c, b, a)) = (d, a, c, b) since a is the face's smallest
@@ -238,20 +238,19 @@ class Mesh3:
         rows = np.column_stack((apexes[mask], faces[mask][:, [0, 2, 1]])).reshape(-1, 4)
         rows = rows[np.lexsort(rows.T[::-1])]
         rows.setflags(write=False)
-        self._derived["tetrahedra"] = rows
         return rows
 
     def _face_arrays(self) -> tuple[Any, Any]:
         """The face table as read-only arrays: (F x 3) canonical faces and their (F,)
         apexes, in no particular order (kept once computed)."""
+        arrays: tuple[Any, Any] = self._derived.get("faces", self._face_table_arrays)
+        return arrays
+
+    def _face_table_arrays(self) -> tuple[Any, Any]:
         import numpy as np
 
-        cached = self._derived.get("faces")
-        if cached is not None:
-            return cached  # type: ignore[no-any-return]
         source = self.source
         if source is not None:
-            self._derived["faces"] = (source.faces, source.apexes)
             return source.faces, source.apexes
         count = len(self.faces)
         faces = np.fromiter(chain.from_iterable(self.faces.keys()), dtype=np.int64,
@@ -259,7 +258,6 @@ class Mesh3:
         apexes = np.fromiter(self.faces.values(), dtype=np.int64, count=count)
         faces.setflags(write=False)
         apexes.setflags(write=False)
-        self._derived["faces"] = (faces, apexes)
         return faces, apexes
 
     def has_tetrahedron(self, tetrahedron: Tetrahedron) -> bool:

@@ -326,8 +326,7 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
         hints=None,
         tetrahedron_count=int(array.shape[0]),
         digest=total,
-        derived={"tetrahedra": canonical},  # the face arrays: from the source
-        source=FaceSource(list(points), faces, apexes),
+        source=FaceSource(list(points), faces, apexes, canonical),
     )
 
 

@@ -108,3 +108,28 @@ def test_the_checker_sees_an_upward_import(tmp_path: Path) -> None:
     sample = tmp_path / "sample.py"
     sample.write_text("def f():\n    from geomexact.cli import main\n    return main\n")
     assert _imports_of(sample) == [(2, "geomexact.cli")]
+
+
+def test_values_do_not_change_after_construction() -> None:
+    """No ``object.__setattr__`` on a frozen value after it is made: only in
+    ``__attrs_post_init__`` (its derived fields, at construction) or ``__setstate__``;
+    a snapshot defers work through ``kernel.derived.Derived`` (issue 25, item 3)."""
+    allowed = {"__attrs_post_init__", "__setstate__", "__init__"}
+    wrong = []
+    for path in _sources():
+        if path.suffix != ".py":
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for function in ast.walk(tree):
+            if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            if function.name in allowed:
+                continue
+            for node in ast.walk(function):
+                if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+                        and node.func.attr == "__setattr__"
+                        and isinstance(node.func.value, ast.Name)
+                        and node.func.value.id == "object"):
+                    wrong.append(f"{path.relative_to(PACKAGE)}:{node.lineno} in "
+                                 f"{function.name}")
+    assert not wrong, "a frozen value changed after construction:\n" + "\n".join(wrong)

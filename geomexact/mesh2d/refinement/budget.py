@@ -66,18 +66,21 @@ def estimated_triangles(mesh: Mesh2, criterion: Criterion) -> int:
     if isinstance(criterion, RegionAreas):
         areas = dict(criterion.areas)
         region_area2: dict[Rational, Rational] = {}
-        for triangle in mesh.iter_triangles():
-            attributes = mesh.triangle_attributes.get(triangle)
+        points = mesh.point_list()
+        for a, b, c in mesh.iter_triangles():
+            attributes = mesh.triangle_attributes.get((a, b, c))
             if attributes and attributes[0] in areas:
-                corners = [mesh.point(vertex) for vertex in triangle]
                 region_area2[attributes[0]] = (region_area2.get(attributes[0], mpq(0))
-                                               + doubled_area(*corners))
+                                               + doubled_area(points[a], points[b], points[c]))
         return sum(_ceiling(area2 / areas[key]) for key, area2 in region_area2.items())
     if not isinstance(criterion, (MaxArea, MaxEdgeLength)):
         return 0
+    # the point list and the triangles come from a kernel's arrays when the mesh has them
+    # (reading them builds no persistent table)
+    points = mesh.point_list()
     area2 = mpq(0)
     for a, b, c in mesh.iter_triangles():
-        area2 += doubled_area(mesh.point(a), mesh.point(b), mesh.point(c))
+        area2 += doubled_area(points[a], points[b], points[c])
     if isinstance(criterion, MaxArea):
         return _ceiling(area2 / criterion.area)  # 2·|Ω| / A
     return _ceiling(2 * area2 / (criterion.length * criterion.length))  # 4·|Ω| / L²

@@ -6,12 +6,13 @@ snapshot in O(k log n) for k cells touched and shares the rest.  Specification:
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import attrs
 import immutables
 
 from geomexact.kernel import digest as _digest
+from geomexact.kernel.derived import Derived
 from geomexact.kernel.numbers import ZERO, Rational
 from geomexact.kernel.points import Point3
 from geomexact.mesh3d.mixed.cell_geometry import cell_volume
@@ -50,8 +51,9 @@ class MixedMesh3:
     cell_hashes: immutables.Map[Cell, int]
     faces: immutables.Map[Face, tuple[Cell, ...]]
     digest: int
-    _derived: dict[str, Any] = attrs.field(factory=dict, eq=False, repr=False, kw_only=True)
-    """Values derived from the tables, kept once computed: never content."""
+    _derived: Derived = attrs.field(init=False, factory=Derived, eq=False, repr=False)
+    """Values derived from the tables, kept once computed
+    (:class:`~geomexact.kernel.derived.Derived`): never content."""
 
     @property
     def vertex_count(self) -> int:
@@ -75,10 +77,8 @@ class MixedMesh3:
 
     def cell_list(self) -> list[Cell]:
         """Every cell, sorted (kept once computed)."""
-        cached = self._derived.get("cells")
-        if cached is None:
-            cached = self._derived["cells"] = sorted(self.cell_hashes)
-        return list(cached)
+        cells: list[Cell] = self._derived.get("cells", lambda: sorted(self.cell_hashes))
+        return list(cells)
 
     def has_cell(self, cell: Cell) -> bool:
         return cell in self.cell_hashes
