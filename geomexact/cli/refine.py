@@ -10,6 +10,8 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
+import attrs
+
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
@@ -260,148 +262,221 @@ def _second_longest_rule(args: argparse.Namespace) -> Any:
     return args.second_longest_rule
 
 
-def command_refine(args: argparse.Namespace) -> int:
-    """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
-    a region; writes the mesh, the trace and optionally every intermediate mesh."""
-    from geomexact.mesh2d.refinement.api import refine
+@attrs.frozen
+class RefineOutputs:
+    """The files one ``refine`` run writes (None: not asked for): ``-o`` (``mesh``), the
+    trace, the Polylla meshes (of the result, of the input, its non-convex polygons and
+    its convex decomposition), the region's input triangles and the directory of every
+    intermediate mesh."""
 
-    loaded = load(args.input, args.format, args.verbose)
-    criterion = _refine_criterion(args, _region_areas(args, loaded.value))
-    region = _refine_region(args)
-    method, method_note = _refine_method(args)
-    notes = [method_note] if method_note else []
-    construction = None
+    mesh: str | None
+    trace: str | None
+    polylla: str | None
+    polylla_input: str | None = None
+    polylla_reflex: str | None = None
+    polylla_convex: str | None = None
+    print_region: str | None = None
+    print_iter: str | None = None
+
+    def files(self) -> list[tuple[str, str | None]]:
+        """(option, path) of every single file, for the distinctness and overwrite
+        checks."""
+        return [("--trace", self.trace), ("--polylla", self.polylla),
+                ("--polylla", self.polylla_input), ("--polylla", self.polylla_reflex),
+                ("--polylla", self.polylla_convex), ("--print-region", self.print_region)]
+
+
+def _refine_outputs(args: argparse.Namespace) -> RefineOutputs:
+    """The outputs asked for, checked: distinct, and none overwritten without --force.
+    ``-o DIR/`` is Pineda's ``-output DIR -filename NAME``: DIR/NAME.off and, with
+    ``--polylla``, the Polylla meshes of the input and of the result beside it, and as
+    his program does the result's non-convex polygons and its convex decomposition."""
+    outputs = RefineOutputs(args.output, args.trace, args.polylla,
+                            print_region=args.print_region, print_iter=args.print_iter)
+    if args.output and (args.output.endswith(("/", "\\")) or Path(args.output).is_dir()):
+        stem = args.filename or Path(args.input).name.split(".")[0]
+        directory = Path(args.output)
+        directory.mkdir(parents=True, exist_ok=True)
+        outputs = attrs.evolve(outputs, mesh=str(directory / f"{stem}.off"))
+        if args.polylla is not None:
+            outputs = attrs.evolve(
+                outputs, polylla=str(directory / f"{stem}_polylla.off"),
+                polylla_input=str(directory / f"{stem}_input_polylla.off"),
+                polylla_reflex=str(directory / f"{stem}_polylla_reflex.off"),
+                polylla_convex=str(directory / f"{stem}_polylla_convex.off"))
+    elif args.filename:
+        raise UsageProblem("--filename names the files of --output DIR (a directory)")
+    if outputs.polylla == "":
+        raise UsageProblem("--polylla without a file name needs --output DIR")
+    files = outputs.files()
+    distinct_outputs([("-o", outputs.mesh, args.to),
+                      *((option, path, "file" if option == "--trace" else None)
+                        for option, path in files)])
+    for path in (outputs.mesh, *(path for _, path in files)):
+        if path and Path(path).exists() and not args.force:
+            raise OverwriteError(str(path))
+    if outputs.print_iter and not args.force:
+        existing = sorted(Path(outputs.print_iter).glob("step-*.off"))
+        if existing:
+            raise OverwriteError(str(existing[0]))
+    return outputs
+
+
+def _refine_input(args: argparse.Namespace, loaded: Any) -> tuple[Mesh2, Any, list[str]]:
+    """The mesh to refine (a PSLG triangulated first), that triangulation (or None) and
+    its notes."""
     if isinstance(loaded.value, PSLG):
         construction = triangulate_input(
             loaded, engine=_TRIANGULATION_ENGINE[args.engine],
             split_hint="refine does not split them: run 'geomexact triangulate "
                        "--split-segments' first and refine its mesh",
         )
-        notes += seed_warnings(loaded, construction)
-        mesh = construction.mesh
-    elif isinstance(loaded.value, Mesh2):
-        mesh = loaded.value
-    else:
-        raise wrong_kind(args.input, loaded.value, "refine",
-                         "2D triangle meshes and PSLGs")
-    polylla_input = polylla_reflex = polylla_convex = None
-    if args.output and (args.output.endswith(("/", "\\")) or Path(args.output).is_dir()):
-        # Pineda's -output DIR -filename NAME: NAME.off, and with --polylla the Polylla
-        # meshes of the input and of the result beside it, and as his program does the
-        # result's non-convex polygons and its convex decomposition
-        stem = args.filename or Path(args.input).name.split(".")[0]
-        directory = Path(args.output)
-        directory.mkdir(parents=True, exist_ok=True)
-        args.output = str(directory / f"{stem}.off")
-        if args.polylla is not None:
-            polylla_input = str(directory / f"{stem}_input_polylla.off")
-            args.polylla = str(directory / f"{stem}_polylla.off")
-            polylla_reflex = str(directory / f"{stem}_polylla_reflex.off")
-            polylla_convex = str(directory / f"{stem}_polylla_convex.off")
-    elif args.filename:
-        raise UsageProblem("--filename names the files of --output DIR (a directory)")
-    if args.polylla == "":
-        raise UsageProblem("--polylla without a file name needs --output DIR")
-    distinct_outputs([("-o", args.output, args.to), ("--trace", args.trace, "file"),
-                      ("--polylla", args.polylla, None), ("--polylla", polylla_input, None),
-                      ("--polylla", polylla_reflex, None), ("--polylla", polylla_convex, None),
-                      ("--print-region", args.print_region, None)])
-    outputs = [args.output, args.trace, args.polylla, polylla_input, polylla_reflex,
-               polylla_convex, args.print_region]
-    for path in outputs:
-        if path and Path(path).exists() and not args.force:
-            raise OverwriteError(str(path))
-    if args.print_iter and not args.force:
-        existing = sorted(Path(args.print_iter).glob("step-*.off"))
-        if existing:
-            raise OverwriteError(str(existing[0]))
-    from geomexact.mesh2d.refinement.budget import budget_of, estimated_triangles
+        return construction.mesh, construction, seed_warnings(loaded, construction)
+    if isinstance(loaded.value, Mesh2):
+        return loaded.value, None, []
+    raise wrong_kind(args.input, loaded.value, "refine", "2D triangle meshes and PSLGs")
 
-    max_steps: int | Literal["auto"] | None = args.max_steps
-    estimate = estimated_triangles(mesh, criterion)  # O(T) exact: once for both budgets
-    limit = budget_of(mesh.triangle_count, estimate) if max_steps == "auto" else max_steps
-    memory_steps = _memory_steps(mesh, estimate)
-    if limit is None or memory_steps < limit:
-        limit = memory_steps  # the run stops there with its partial result: exit 3
-    show = args.progress if args.progress is not None else sys.stderr.isatty()
-    progress = RefineProgress(estimate or None) if show else None
-    result = refine(
-        mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
-        centroid=args.centroid, second_longest_rule=_second_longest_rule(args),
-        max_steps=max_steps, step_cap=memory_steps, on_step=progress, engine=args.engine,
-        preset=args.preset, order=args.order, factor_stop=args.factor_stop,
-    )
-    if progress is not None:
-        progress.show(result.stats.steps, result.mesh.triangle_count, 0)
-    if method_note:  # after the run: a refusal stays one line
-        print(f"geomexact: {method_note}", file=sys.stderr)
-    trace = result.trace
-    if construction is not None:  # one trace from the PSLG's vertices to the result
+
+def _whole_trace(result: Any, construction: Any, args: argparse.Namespace) -> Trace:
+    """The run's trace, from the PSLG's vertices when it was triangulated first, with
+    the command's provenance."""
+    trace: Trace = result.trace
+    if construction is not None:
         first = construction.trace
         trace = Trace(first.input_digest, (*first.steps, *trace.steps),
                       (*first.digests, *trace.digests),
                       {**dict(trace.parameters), "triangulation": dict(first.parameters),
                        "triangulation_steps": len(first)}, trace.version)
-    trace = with_provenance(trace, args, engine=args.engine, input_path=args.input)
-    written: list[Path] = []
-    if args.output:
+    return with_provenance(trace, args, engine=args.engine, input_path=args.input)
+
+
+def _write_outputs(outputs: RefineOutputs, args: argparse.Namespace, start: Mesh2,
+                   result: Any, trace: Trace, region: Any,
+                   progress: RefineProgress | None) -> list[Path]:
+    """Write every output asked for; the paths written."""
+    def stage(name: str) -> None:
         if progress is not None:
-            progress.stage(f"writing {args.output}")
-        written += write(args.output, result.mesh, args.to, overwrite=args.force,
-                          numbers=args.numbers)
+            progress.stage(name)
+
+    def put(path: str | Path, value: Any, to: str | None = None,
+            numbers: Any = args.numbers) -> list[Path]:
+        return write(path, value, to, overwrite=args.force, numbers=numbers)
+
+    written: list[Path] = []
+    if outputs.mesh:
+        stage(f"writing {outputs.mesh}")
+        written += put(outputs.mesh, result.mesh, args.to)
     else:
         note_unwritten(args.input, "refined mesh")
-    if args.trace:
-        if progress is not None:
-            progress.stage(f"writing {args.trace}")
-        write_trace(args.trace, trace, overwrite=args.force)
-        written.append(Path(args.trace))
-    if args.polylla:
-        if progress is not None:
-            progress.stage("Polylla")
-        from geomexact.mesh2d.polygonal.polylla_meshing import polylla
-
-        polygons = polylla(result.mesh)
-        written += write(args.polylla, polygons, None, overwrite=args.force,
-                          numbers=args.numbers)
-        if polylla_input:
-            written += write(polylla_input, polylla(mesh), None, overwrite=args.force,
-                              numbers=args.numbers)
-        if polylla_reflex and polylla_convex:
-            from geomexact.mesh2d.polygonal.convex import convex_decomposition
-            from geomexact.mesh2d.polygonal.polygon_mesh import nonconvex_polygons
-
-            reflex = PolygonMesh(vertices=polygons.vertices, polygons=tuple(
-                polygons.polygons[index] for index in nonconvex_polygons(polygons)))
-            written += write(polylla_reflex, reflex, None, overwrite=args.force,
-                              numbers=args.numbers)
-            convex = convex_decomposition(
-                polygons, preset="pineda" if args.preset == "pineda" else None).mesh
-            written += write(polylla_convex, convex, None, overwrite=args.force,
-                              numbers=args.numbers)
-    if args.print_region:
-        written += write(args.print_region, _region_mesh(mesh, region), None,
-                          overwrite=args.force, numbers=args.numbers)
-    if args.print_iter:
+    if outputs.trace:
+        stage(f"writing {outputs.trace}")
+        write_trace(outputs.trace, trace, overwrite=args.force)
+        written.append(Path(outputs.trace))
+    if outputs.polylla:
+        stage("Polylla")
+        written += _write_polylla(outputs, args, start, result.mesh, put)
+    if outputs.print_region:
+        written += put(outputs.print_region, _region_mesh(start, region))
+    if outputs.print_iter:
         from geomexact.trace.playback import replay_iter
 
-        directory = Path(args.print_iter)
+        directory = Path(outputs.print_iter)
         directory.mkdir(parents=True, exist_ok=True)
         width = max(6, len(str(len(result.trace))))
         snapshots = [result.start, *replay_iter(result.start, result.trace)]
         for index, snapshot in enumerate(snapshots):
-            written += write(directory / f"step-{index:0{width}d}.off", snapshot, "off",
-                              overwrite=args.force, numbers="exact")
+            written += put(directory / f"step-{index:0{width}d}.off", snapshot, "off",
+                           numbers="exact")
+    return written
+
+
+def _write_polylla(outputs: RefineOutputs, args: argparse.Namespace, start: Mesh2,
+                   refined: Mesh2, put: Any) -> list[Path]:
+    """The Polylla mesh of the result, and as asked of the input, its non-convex
+    polygons and its convex decomposition."""
+    from geomexact.mesh2d.polygonal.polylla_meshing import polylla
+
+    assert outputs.polylla
+    polygons = polylla(refined)
+    written: list[Path] = put(outputs.polylla, polygons)
+    if outputs.polylla_input:
+        written += put(outputs.polylla_input, polylla(start))
+    if outputs.polylla_reflex and outputs.polylla_convex:
+        from geomexact.mesh2d.polygonal.convex import convex_decomposition
+        from geomexact.mesh2d.polygonal.polygon_mesh import nonconvex_polygons
+
+        reflex = PolygonMesh(vertices=polygons.vertices, polygons=tuple(
+            polygons.polygons[index] for index in nonconvex_polygons(polygons)))
+        written += put(outputs.polylla_reflex, reflex)
+        convex = convex_decomposition(
+            polygons, preset="pineda" if args.preset == "pineda" else None).mesh
+        written += put(outputs.polylla_convex, convex)
+    return written
+
+
+def command_refine(args: argparse.Namespace) -> int:
+    """Lepp refinement of a triangle mesh (a PSLG is triangulated first) to a criterion in
+    a region; writes the mesh, the trace and optionally every intermediate mesh."""
+    from geomexact.mesh2d.refinement.api import refine
+    from geomexact.mesh2d.refinement.budget import estimated_triangles
+
+    loaded = load(args.input, args.format, args.verbose)
+    criterion = _refine_criterion(args, _region_areas(args, loaded.value))
+    region = _refine_region(args)
+    method, method_note = _refine_method(args)
+    mesh, construction, seed_notes = _refine_input(args, loaded)
+    notes = ([method_note] if method_note else []) + seed_notes
+    outputs = _refine_outputs(args)
+    estimate = estimated_triangles(mesh, criterion)  # O(T) exact: once for both budgets
+    memory_steps = _memory_steps(mesh, estimate)  # the run stops there: exit 3
+    show = args.progress if args.progress is not None else sys.stderr.isatty()
+    progress = RefineProgress(estimate or None) if show else None
+    result = refine(
+        mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
+        centroid=args.centroid, second_longest_rule=_second_longest_rule(args),
+        max_steps=args.max_steps, step_cap=memory_steps, on_step=progress,
+        engine=args.engine, preset=args.preset, order=args.order,
+        factor_stop=args.factor_stop,
+    )
+    if progress is not None:
+        progress.show(result.stats.steps, result.mesh.triangle_count, 0)
+    if method_note:  # after the run: a refusal stays one line
+        print(f"geomexact: {method_note}", file=sys.stderr)
+    written = _write_outputs(outputs, args, mesh, result, _whole_trace(result, construction,
+                                                                       args),
+                             region, progress)
     if progress is not None:
         progress.stage("checking and summarising" if args.check else "summarising")
     violations = validate(result.mesh) if args.check else []
     checked = args.check_delaunay or not _delaunay_guaranteed(
         method, args.no_delaunay, mesh, triangulated=construction is not None)
     summary = mesh_summary(result.mesh, check_delaunay=checked)
+    not_delaunay = args.check_delaunay and not summary["is_delaunay"]
+    if progress is not None:
+        progress.done()
+    report = _refine_report(args, result, method, criterion, region, summary, checked,
+                            construction is not None, violations, written, notes)
+    if args.json:
+        print_json(report)
+    else:
+        _print_refine_text(args, result, method, summary, checked, written, violations)
+    memory_stop = _say_why_it_stopped(args, result, memory_steps)
+    if not_delaunay:
+        print("geomexact: the result is not Delaunay", file=sys.stderr)
+    if violations or not_delaunay:
+        return EXIT_FAILED
+    return EXIT_BUDGET if result.stats.status == "budget" or memory_stop else EXIT_OK
+
+
+def _refine_report(args: argparse.Namespace, result: Any, method: str, criterion: Any,
+                   region: Any, summary: dict[str, Any], checked: bool, triangulated: bool,
+                   violations: list[Any], written: list[Path],
+                   notes: list[str]) -> dict[str, Any]:
+    """The ``--json`` report of a run."""
     stats = result.stats
     report: dict[str, Any] = {
         "input": args.input,
-        "triangulated": construction is not None,
+        "triangulated": triangulated,
         "method": method,
         "criterion": criterion.parameters(),
         "region": region.parameters(),
@@ -419,28 +494,37 @@ def command_refine(args: argparse.Namespace) -> int:
         "valid": not violations if args.check else None,
         "written": [str(path) for path in written],
         "notes": notes,
+        "violations": violation_reports(violations),
     }
-    not_delaunay = args.check_delaunay and not summary["is_delaunay"]
-    if progress is not None:
-        progress.done()
-    if args.json:
-        report["violations"] = violation_reports(violations)
-        print_json(report)
-    else:
-        title = (f"{args.input}: Lepp-{method} refinement, {stats.steps} steps in "
-                 f"{stats.seconds:.3f} s, {stats.status}")
-        rows = {key: value for key, value in summary.items() if key != "total_area"}
-        if not checked:
-            rows["is_delaunay"] = "not checked (guaranteed by the method; --check-delaunay)"
-        rows["left"] = len(stats.left)
-        print_table(title, rows)
-        for path in written if len(written) <= 20 else written[:2]:
-            print(f"wrote {path}")
-        if len(written) > 20:
-            print(f"wrote {len(written) - 2} more files")
-        for violation in violations:
-            print(f"  {violation}")
-    memory_stop = stats.status == "budget" and dict(result.trace.parameters).get(
+    return report
+
+
+def _print_refine_text(args: argparse.Namespace, result: Any, method: str,
+                       summary: dict[str, Any], checked: bool, written: list[Path],
+                       violations: list[Any]) -> None:
+    """The text report of a run."""
+    stats = result.stats
+    title = (f"{args.input}: Lepp-{method} refinement, {stats.steps} steps in "
+             f"{stats.seconds:.3f} s, {stats.status}")
+    rows = {key: value for key, value in summary.items() if key != "total_area"}
+    if not checked:
+        rows["is_delaunay"] = "not checked (guaranteed by the method; --check-delaunay)"
+    rows["left"] = len(stats.left)
+    print_table(title, rows)
+    for path in written if len(written) <= 20 else written[:2]:
+        print(f"wrote {path}")
+    if len(written) > 20:
+        print(f"wrote {len(written) - 2} more files")
+    for violation in violations:
+        print(f"  {violation}")
+
+
+def _say_why_it_stopped(args: argparse.Namespace, result: Any, memory_steps: int) -> bool:
+    """One line on stderr for a run that stopped before meeting its criterion (the memory
+    budget, the default step budget, a step limit) and for the triangles left; True when
+    the memory budget stopped it."""
+    stats = result.stats
+    memory_stop: bool = stats.status == "budget" and dict(result.trace.parameters).get(
         "step_budget") == memory_steps
     if memory_stop:
         budget = active_budget()
@@ -461,11 +545,7 @@ def command_refine(args: argparse.Namespace) -> int:
     summary_of_left = stats.left_summary()
     if summary_of_left is not None:
         print(f"geomexact: {summary_of_left}", file=sys.stderr)
-    if not_delaunay:
-        print("geomexact: the result is not Delaunay", file=sys.stderr)
-    if violations or not_delaunay:
-        return EXIT_FAILED
-    return EXIT_BUDGET if stats.status == "budget" or memory_stop else EXIT_OK
+    return memory_stop
 
 
 def _memory_steps(mesh: Mesh2, estimate: int) -> int:
