@@ -389,6 +389,24 @@ def bulk_mesh2(
     )
 
 
+def numbered_corners(
+    rows: IntArray, first: int, done: int, base: int, vertex_count: int
+) -> IntArray | None:
+    """The 0-based corners of ``rows`` (a number, then vertex numbers, each), the rows
+    that follow the first ``done`` of a table numbered from ``first``; None unless
+    ``first`` is 0 or 1, the rows are numbered on from there and every corner is one of
+    the ``vertex_count`` vertices numbered from ``base``."""
+    start = first + done
+    corners = rows[:, 1:] - base
+    if (
+        first not in (0, 1)
+        or not np.array_equal(rows[:, 0], np.arange(start, start + len(rows)))
+        or int(corners.min()) < 0 or int(corners.max()) >= vertex_count
+    ):
+        return None
+    return corners
+
+
 def oriented_rows(
     points: Sequence[Point2], rows: IntArray, doubles: Doubles | None = None
 ) -> tuple[IntArray, int] | None:

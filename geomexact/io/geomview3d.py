@@ -13,10 +13,17 @@ default, rounding counted).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
-from geomexact.errors import UnsupportedValueError
-from geomexact.io.registry import NumberStyle, NumberText, Value, WriteReport, write_files
+from geomexact.io.registry import (
+    NumberStyle,
+    NumberText,
+    Value,
+    WriteReport,
+    write_files,
+    written_value,
+)
 from geomexact.mesh3d.snapshot import Mesh3
 
 PALETTE = (
@@ -32,14 +39,6 @@ PALETTE = (
 """The RGBA colours of the tetrahedra, in turn."""
 
 WIRE_COLOUR = "0 0 0 1"
-
-
-def _mesh3(value: Value, name: str) -> Mesh3:
-    if not isinstance(value, Mesh3):
-        raise UnsupportedValueError(
-            f"the {name} format writes a Mesh3, not a {type(value).__name__}"
-        )
-    return value
 
 
 def _vertex_rows(mesh: Mesh3, number: NumberText) -> list[str]:
@@ -91,24 +90,30 @@ def write_tetrahedra_off(
     path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
 ) -> WriteReport:
     """A :class:`Mesh3` as a coloured OFF of its tetrahedra's faces."""
-    number = NumberText(numbers)
-    text = tetrahedra_off_text(_mesh3(value, "geomview3d"), number)
-    return write_files([(path, text)], overwrite=overwrite, numbers=number)
+    return _write_text(path, value, overwrite, numbers, "geomview3d", tetrahedra_off_text)
 
 
 def write_boundary_off(
     path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
 ) -> WriteReport:
     """A :class:`Mesh3` as an OFF of its boundary faces."""
-    number = NumberText(numbers)
-    text = boundary_off_text(_mesh3(value, "geomview3d-boundary"), number)
-    return write_files([(path, text)], overwrite=overwrite, numbers=number)
+    return _write_text(path, value, overwrite, numbers, "geomview3d-boundary",
+                       boundary_off_text)
 
 
 def write_vect(
     path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
 ) -> WriteReport:
     """A :class:`Mesh3` as a VECT wireframe of its edges."""
+    return _write_text(path, value, overwrite, numbers, "vect", vect_text)
+
+
+def _write_text(
+    path: Path, value: Value, overwrite: bool, numbers: NumberStyle, format_name: str,
+    text_of: Callable[[Mesh3, NumberText], str],
+) -> WriteReport:
+    """Write ``text_of`` the :class:`Mesh3` ``value`` (the format ``format_name``) to
+    ``path``."""
     number = NumberText(numbers)
-    text = vect_text(_mesh3(value, "vect"), number)
+    text = text_of(written_value(value, Mesh3, format_name), number)
     return write_files([(path, text)], overwrite=overwrite, numbers=number)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.errors import FormatError
 from geomexact.io.files import read_lines
 from geomexact.io.registry import (
     NumberStyle,
@@ -29,6 +29,7 @@ from geomexact.io.registry import (
     quoted_tokens,
     token_lines,
     write_files,
+    written_value,
 )
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.snapshot import Mesh2
@@ -180,30 +181,27 @@ def write_mellado(
     """A Mesh2 in Mellado's text format: its vertices, its triangles (canonical order,
     counter-clockwise) and one ``n`` line per triangle, 0-based; markers, attributes and
     segments are dropped (and reported)."""
-    if not isinstance(value, Mesh2):
-        raise UnsupportedValueError(
-            f"the mellado format writes a Mesh2, not a {type(value).__name__}"
-        )
+    mesh = written_value(value, Mesh2, "mellado")
     number = NumberText(numbers)
-    ids = {vertex: index for index, vertex in enumerate(sorted(value.vertices.keys()))}
-    triangles = value.triangles()
+    ids = {vertex: index for index, vertex in enumerate(sorted(mesh.vertices.keys()))}
+    triangles = mesh.triangles()
     position = {triangle: index for index, triangle in enumerate(triangles)}
     out = [f"Vertices {len(ids)}"]
-    out += [f"v {number(value.point(v).x)} {number(value.point(v).y)}" for v in ids]
+    out += [f"v {number(mesh.point(v).x)} {number(mesh.point(v).y)}" for v in ids]
     out.append(f"Triangles {len(triangles)}")
     out += [f"t {ids[a]} {ids[b]} {ids[c]}" for a, b, c in triangles]
     out.append(f"Neighbors {len(triangles)}")
     for a, b, c in triangles:
         entries = []
         for u, v in ((b, c), (c, a), (a, b)):
-            apex = value.apex(v, u)
+            apex = mesh.apex(v, u)
             entries.append(-1 if apex is None else position[_canonical(v, u, apex)])
         out.append("n " + " ".join(map(str, entries)))
     return write_files(
         [(path, "".join(line + "\n" for line in out))],
         overwrite=overwrite,
         numbers=number,
-        dropped=dropped_parts(value, ()),
+        dropped=dropped_parts(mesh, ()),
     )
 
 

@@ -27,12 +27,18 @@ import math
 import os
 from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from pathlib import Path
-from typing import Any, Literal, Protocol, TypeAlias
+from typing import Any, Literal, Protocol, TypeAlias, TypeVar
 
 import attrs
 import gmpy2
 
-from geomexact.errors import FormatError, OverwriteError, PreconditionError, RationalParseError
+from geomexact.errors import (
+    FormatError,
+    OverwriteError,
+    PreconditionError,
+    RationalParseError,
+    UnsupportedValueError,
+)
 from geomexact.io.files import open_regular, output_set, read_lines
 from geomexact.kernel.numbers import (
     ZERO,
@@ -60,6 +66,7 @@ Value: TypeAlias = Mesh2 | PSLG | PolygonMesh | Mesh3 | MixedMesh3 | MixedMeshDa
 a writer accepts."""
 
 Tokens: TypeAlias = list[str]
+_Written = TypeVar("_Written", bound=Value)
 NumberedLine: TypeAlias = tuple[int, Tokens]
 
 
@@ -342,6 +349,23 @@ def expect_field_range(
     than ``low`` or more than ``high`` fields."""
     if not low <= len(tokens) <= high:
         raise FormatError(path, line, f"expected {what}, found {quoted_tokens(tokens)}")
+
+
+def expect_header_fields(path: str, line: int, tokens: Tokens, header: str, shape: str) -> None:
+    """FormatError when the header line ``tokens`` has more fields than its form
+    ``shape`` (``"count 4 attributes"``) names; ``header`` says which header it is
+    (``"the .ele header"``)."""
+    if len(tokens) > len(shape.split()):
+        raise FormatError(path, line, f"{header} is '{shape}', found {len(tokens)} fields")
+
+
+def parse_marker_flag(path: str, line: int, tokens: Tokens, index: int, what: str) -> int:
+    """The marker count ``what`` (``"face marker count"``) at ``tokens[index]`` of a
+    header, 0 when the header ends before it; a FormatError unless it is 0 or 1."""
+    markers = parse_int(path, line, tokens[index], what) if len(tokens) > index else 0
+    if markers not in (0, 1):
+        raise FormatError(path, line, f"{what} must be 0 or 1, not {markers}")
+    return markers
 
 
 def check_numbering(path: str, line: int, label: int, index: int, base: int, noun: str) -> int:
@@ -952,6 +976,16 @@ _PART_NOUNS = {
     "holes": ("hole", "holes"),
     "regions": ("region", "regions"),
 }
+
+
+def written_value(value: Value, kind: type[_Written], format_name: str) -> _Written:
+    """``value``, when it is a ``kind``: the one kind of value the format ``format_name``
+    writes; UnsupportedValueError (a ``TypeError``) otherwise."""
+    if not isinstance(value, kind):
+        raise UnsupportedValueError(
+            f"the {format_name} format writes a {kind.__name__}, not a {type(value).__name__}"
+        )
+    return value
 
 
 def dropped_parts(value: Value, holds: Collection[str]) -> tuple[str, ...]:

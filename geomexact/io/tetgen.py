@@ -17,13 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
-from geomexact.errors import FormatError, PreconditionError, UnsupportedValueError
+from geomexact.errors import FormatError, PreconditionError
 from geomexact.io.bulk import (
     NotPlain,
     PlainLines,
     integer_column,
     number_column,
     numbered,
+    numbered_corners,
     rows_text,
 )
 from geomexact.io.registry import (
@@ -36,13 +37,16 @@ from geomexact.io.registry import (
     check_numbering,
     counted,
     expect_exact_fields,
+    expect_header_fields,
     file_lines,
     file_stem,
     parse_count,
     parse_int,
+    parse_marker_flag,
     parse_number,
     with_extension,
     write_files,
+    written_value,
 )
 from geomexact.io.tetrahedron_orientation import flat_problem, mixed_problem, negative_note
 from geomexact.kernel.array_filters import orient3d_signs, point_doubles3
@@ -93,19 +97,13 @@ def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
         return bulk
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count 3 attributes markers'")
-    if len(tokens) > 4:
-        raise FormatError(
-            name, number,
-            f"the vertex header is 'count 3 attributes markers', found {len(tokens)} fields",
-        )
+    expect_header_fields(name, number, tokens, "the vertex header", "count 3 attributes markers")
     count = parse_count(name, number, tokens[0], "vertex count")
     dimension = parse_int(name, number, tokens[1], "dimension") if len(tokens) > 1 else 2
     if dimension != 3:
         raise FormatError(name, number, f"dimension is {dimension}; a TetGen mesh is 3")
     attributes = parse_count(name, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
-    markers = parse_int(name, number, tokens[3], "boundary marker count") if len(tokens) > 3 else 0
-    if markers not in (0, 1):
-        raise FormatError(name, number, f"boundary marker count must be 0 or 1, not {markers}")
+    markers = parse_marker_flag(name, number, tokens, 3, "boundary marker count")
     fields = 4 + attributes + markers
     shape = (
         "a vertex line 'number x y z" + " attributes" * bool(attributes)
@@ -227,15 +225,11 @@ def _bulk_tetrahedra(
                 rows = found.reshape(-1, 5)
                 if not numbers:
                     first = int(rows[0, 0])
-                start = first + len(numbers)
-                corners = rows[:, 1:] - base
+                corners = numbered_corners(rows, first, len(numbers), base, len(points))
+                if corners is None:
+                    return None
                 ordered = np.sort(corners, axis=1)
-                if (
-                    first not in (0, 1)
-                    or not np.array_equal(rows[:, 0], np.arange(start, start + len(rows)))
-                    or int(corners.min()) < 0 or int(corners.max()) >= len(points)
-                    or bool(np.any(ordered[:, 1:] == ordered[:, :-1]))
-                ):
+                if bool(np.any(ordered[:, 1:] == ordered[:, :-1])):
                     return None
                 chunk = list(zip(*(corners[:, k].tolist() for k in range(4)), strict=True))
                 # the certified filter on all of them at once, orient3d on the undecided
@@ -274,10 +268,7 @@ def _read_tetrahedra(
         return bulk
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count 4 attributes'")
-    if len(tokens) > 3:
-        raise FormatError(
-            name, number, f"the .ele header is 'count 4 attributes', found {len(tokens)} fields"
-        )
+    expect_header_fields(name, number, tokens, "the .ele header", "count 4 attributes")
     count = parse_count(name, number, tokens[0], "tetrahedron count")
     corners = (
         parse_int(name, number, tokens[1], "corners per tetrahedron") if len(tokens) > 1 else 4
@@ -347,14 +338,9 @@ def _check_faces(path: Path, mesh: Mesh3, base: int) -> None:
     name = str(path)
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count markers'")
-    if len(tokens) > 2:
-        raise FormatError(
-            name, number, f"the .face header is 'count markers', found {len(tokens)} fields"
-        )
+    expect_header_fields(name, number, tokens, "the .face header", "count markers")
     count = parse_count(name, number, tokens[0], "face count")
-    markers = parse_int(name, number, tokens[1], "face marker count") if len(tokens) > 1 else 0
-    if markers not in (0, 1):
-        raise FormatError(name, number, f"face marker count must be 0 or 1, not {markers}")
+    markers = parse_marker_flag(name, number, tokens, 1, "face marker count")
     boundary = {frozenset(face) for face in mesh.boundary_faces()}
     if count != len(boundary):
         raise FormatError(
@@ -477,12 +463,9 @@ def write_tetgen(
     path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
 ) -> WriteReport:
     """A :class:`Mesh3` as ``stem.node``, ``stem.ele`` and ``stem.face``."""
-    if not isinstance(value, Mesh3):
-        raise UnsupportedValueError(
-            f"the tetgen format writes a Mesh3, not a {type(value).__name__}"
-        )
+    mesh = written_value(value, Mesh3, "tetgen")
     number = NumberText(numbers)
-    texts = tetgen_texts(value, number)
+    texts = tetgen_texts(mesh, number)
     outputs = tetgen_output_paths(path)
     return write_files(list(zip(outputs, texts, strict=True)), overwrite=overwrite,
                        numbers=number, members=outputs)

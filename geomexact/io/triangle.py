@@ -22,7 +22,7 @@ from pathlib import Path
 import attrs
 import numpy as np
 
-from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.errors import FormatError
 from geomexact.io.bulk import (
     Doubles,
     IntArray,
@@ -31,6 +31,7 @@ from geomexact.io.bulk import (
     integer_column,
     neighbour_array,
     number_column,
+    numbered_corners,
     oriented_rows,
     row_chunks,
     rows_text,
@@ -56,6 +57,7 @@ from geomexact.io.registry import (
     dropped_parts,
     expect_exact_fields,
     expect_fields,
+    expect_header_fields,
     expected_neighbours,
     file_lines,
     file_stem,
@@ -63,12 +65,14 @@ from geomexact.io.registry import (
     note_duplicate_points,
     parse_count,
     parse_int,
+    parse_marker_flag,
     parse_number,
     quoted_tokens,
     section_too_short,
     uniform_attributes,
     with_extension,
     write_files,
+    written_value,
 )
 from geomexact.kernel.array_filters import point_doubles
 from geomexact.kernel.numbers import Rational
@@ -98,13 +102,9 @@ class VertexTable:
 
 def _read_vertex_header(path: str, number: int, tokens: list[str]) -> tuple[int, int, int]:
     """(count, attribute count, markers flag) from ``n [dim [attrs [markers]]]``."""
-    if len(tokens) > 4:
-        raise FormatError(
-            path,
-            number,
-            "the vertex header is 'count dimension attributes markers', found "
-            f"{len(tokens)} fields",
-        )
+    expect_header_fields(
+        path, number, tokens, "the vertex header", "count dimension attributes markers"
+    )
     count = parse_count(path, number, tokens[0], "vertex count")
     if len(tokens) > 1:
         dimension = parse_int(path, number, tokens[1], "dimension")
@@ -113,9 +113,7 @@ def _read_vertex_header(path: str, number: int, tokens: list[str]) -> tuple[int,
                 path, number, f"dimension is {dimension}; only 2D files are supported"
             )
     attributes = parse_count(path, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
-    markers = parse_int(path, number, tokens[3], "boundary marker count") if len(tokens) > 3 else 0
-    if markers not in (0, 1):
-        raise FormatError(path, number, f"boundary marker count must be 0 or 1, not {markers}")
+    markers = parse_marker_flag(path, number, tokens, 3, "boundary marker count")
     return count, attributes, markers
 
 
@@ -336,16 +334,13 @@ def write_node(
     """The vertices of a PSLG (markers, attributes) as a ``.node`` file; its segments,
     holes and regions are not part of a ``.node`` (write a ``.poly`` for them): they are
     dropped and reported."""
-    if not isinstance(value, PSLG):
-        raise UnsupportedValueError(
-            f"the node format writes a PSLG, not a {type(value).__name__}"
-        )
+    pslg = written_value(value, PSLG, "node")
     number = NumberText(numbers)
     return write_files(
-        [(path, _pslg_node_text(value, number))],
+        [(path, _pslg_node_text(pslg, number))],
         overwrite=overwrite,
         numbers=number,
-        dropped=dropped_parts(value, ("vertex markers", "vertex attributes")),
+        dropped=dropped_parts(pslg, ("vertex markers", "vertex attributes")),
     )
 
 
@@ -372,14 +367,9 @@ def _read_poly_sections(
     fields: what follows them is ignored (and noted in ``notes``)."""
     ignored: list[int] = []  # lines whose extra fields were ignored
     number, tokens = lines.next("the segment header 'count markers'")
-    if len(tokens) > 2:
-        raise FormatError(
-            path, number, f"the segment header is 'count markers', found {len(tokens)} fields"
-        )
+    expect_header_fields(path, number, tokens, "the segment header", "count markers")
     count = parse_count(path, number, tokens[0], "segment count")
-    markers = parse_int(path, number, tokens[1], "segment marker count") if len(tokens) > 1 else 0
-    if markers not in (0, 1):
-        raise FormatError(path, number, f"segment marker count must be 0 or 1, not {markers}")
+    markers = parse_marker_flag(path, number, tokens, 1, "segment marker count")
     header_line = number
     segments: list[tuple[int, int, int]] = []
     segment_lines: list[int | None] = []
@@ -551,13 +541,10 @@ def write_poly(
     path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
 ) -> WriteReport:
     """A PSLG as one self-contained ``.poly`` file (vertices inline, 0-based)."""
-    if not isinstance(value, PSLG):
-        raise UnsupportedValueError(
-            f"the poly format writes a PSLG, not a {type(value).__name__}"
-        )
+    pslg = written_value(value, PSLG, "poly")
     number = NumberText(numbers)
-    text = _pslg_node_text(value, number) + "\n".join(
-        _poly_sections_text(value.segments, value.holes, value.regions, number)
+    text = _pslg_node_text(pslg, number) + "\n".join(
+        _poly_sections_text(pslg.segments, pslg.holes, pslg.regions, number)
     ) + "\n"
     return write_files([(path, text)], overwrite=overwrite, numbers=number)
 
@@ -584,12 +571,7 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
         return bulk
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count corners attributes'")
-    if len(tokens) > 3:
-        raise FormatError(
-            name,
-            number,
-            f"the .ele header is 'count corners attributes', found {len(tokens)} fields",
-        )
+    expect_header_fields(name, number, tokens, "the .ele header", "count corners attributes")
     count = parse_count(name, number, tokens[0], "triangle count")
     corners = parse_int(name, number, tokens[1], "corners per triangle") if len(tokens) > 1 else 3
     if corners != 3:
@@ -684,13 +666,9 @@ def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
                 rows = values.reshape(-1, 4)
                 if not parts:
                     first = int(rows[0, 0])
-                start = first + len(triangle_lines)
-                corners = rows[:, 1:] - base
-                if (
-                    first not in (0, 1)
-                    or not np.array_equal(rows[:, 0], np.arange(start, start + len(rows)))
-                    or int(corners.min()) < 0 or int(corners.max()) >= len(nodes.points)
-                ):
+                corners = numbered_corners(rows, first, len(triangle_lines), base,
+                                           len(nodes.points))
+                if corners is None:
                     return None
                 if doubles is None:
                     doubles = point_doubles(nodes.points)
@@ -722,10 +700,7 @@ def _check_neigh(path: Path, elements: ElementTable) -> None:
     first = elements.first_number
     lines = file_lines(path)
     number, tokens = lines.next("the header 'count 3'")
-    if len(tokens) > 2:
-        raise FormatError(
-            name, number, f"the .neigh header is 'count 3', found {len(tokens)} fields"
-        )
+    expect_header_fields(name, number, tokens, "the .neigh header", "count 3")
     listed = parse_count(name, number, tokens[0], "triangle count")
     if listed != count:
         raise FormatError(
@@ -902,11 +877,7 @@ def write_triangle(
 ) -> WriteReport:
     """A mesh as ``stem.node``, ``stem.ele`` and ``stem.neigh`` (0-based, triangles in
     canonical order), plus ``stem.poly`` (vertex count 0) when it has segments."""
-    if not isinstance(value, Mesh2):
-        raise UnsupportedValueError(
-            f"the triangle format writes a Mesh2, not a {type(value).__name__}"
-        )
-    mesh = value
+    mesh = written_value(value, Mesh2, "triangle")
     stem = _mesh_stem(path)
     number = NumberText(numbers)
     vertex_markers = mesh.vertex_markers

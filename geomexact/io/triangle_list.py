@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.errors import FormatError
 from geomexact.io.files import read_lines
 from geomexact.io.registry import (
     NumberStyle,
@@ -26,6 +26,7 @@ from geomexact.io.registry import (
     quoted_tokens,
     token_lines,
     write_files,
+    written_value,
 )
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2, point2
@@ -82,16 +83,13 @@ def write_triangle_list(
 ) -> WriteReport:
     """A Mesh2's triangles, one ``x1 y1 x2 y2 x3 y3`` line each (canonical order); its
     markers, attributes, segments and unused vertices are dropped (and reported)."""
-    if not isinstance(value, Mesh2):
-        raise UnsupportedValueError(
-            f"the trilist format writes a Mesh2, not a {type(value).__name__}"
-        )
+    mesh = written_value(value, Mesh2, "trilist")
     number = NumberText(numbers)
-    text = {index: f"{number(p.x)} {number(p.y)}" for index, p in value.vertices.items()}
-    triangles = value.triangles()
+    text = {index: f"{number(p.x)} {number(p.y)}" for index, p in mesh.vertices.items()}
+    triangles = mesh.triangles()
     out = [f"{text[a]} {text[b]} {text[c]}" for a, b, c in triangles]
-    dropped = dropped_parts(value, ())
-    unused = value.vertex_count - len({vertex for triangle in triangles for vertex in triangle})
+    dropped = dropped_parts(mesh, ())
+    unused = mesh.vertex_count - len({vertex for triangle in triangles for vertex in triangle})
     if unused:
         dropped += (f"{unused} vertex in no triangle" if unused == 1
                     else f"{unused} vertices in no triangle",)

@@ -18,13 +18,8 @@ import numpy as np
 from geomexact.errors import PreconditionError
 from geomexact.kernel.components import component_labels
 from geomexact.kernel.predicate_results import SphereLocation
-from geomexact.kernel.predicates3d import insphere
-from geomexact.mesh3d.snapshot import (
-    Mesh3,
-    Tetrahedron,
-    canonical_tetrahedron,
-    opposite_face,
-)
+from geomexact.mesh3d.measures import interior_face_spheres
+from geomexact.mesh3d.snapshot import Mesh3, Tetrahedron, canonical_tetrahedron
 
 __all__ = ["PolyhedralCell", "polyhedral_cells"]
 
@@ -50,13 +45,8 @@ def polyhedral_cells(mesh: Mesh3) -> tuple[PolyhedralCell, ...]:
     index = {tetrahedron: n for n, tetrahedron in enumerate(tetrahedra)}
     first: list[int] = []
     second: list[int] = []
-    faces = mesh.faces
-    for face, apex in faces.items():  # one insphere per interior face: Delaunay and groups
-        other = faces.get(opposite_face(face))
-        if other is None or face > opposite_face(face):
-            continue
-        a, b, c = face
-        location = insphere(*(mesh.point(v) for v in (a, b, c, apex, other)))
+    # one insphere per interior face: Delaunay and groups
+    for (a, b, c), apex, other, location in interior_face_spheres(mesh):
         if location == SphereLocation.INSIDE:
             raise PreconditionError("polyhedral_cells", "the mesh is not Delaunay: group "
                                     "its co-spherical tetrahedra after making it Delaunay")

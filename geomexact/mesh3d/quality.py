@@ -14,6 +14,7 @@ import gmpy2
 import numpy as np
 
 from geomexact.kernel.numbers import Rational
+from geomexact.kernel.vectors import cross3, dot3, sub3
 
 __all__ = [
     "QualitySummary",
@@ -126,16 +127,7 @@ def _lattice_shapes(vertices: Any, tetrahedra: Any) -> Any:
 Vector = tuple[int, int, int]
 
 
-def _sub(p: Vector, q: Vector) -> Vector:
-    return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
 
-
-def _cross(p: Vector, q: Vector) -> Vector:
-    return (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])
-
-
-def _dot(p: Vector, q: Vector) -> int:
-    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
 
 
 def _root_of_quotient(numerator: int, denominator: int) -> float:
@@ -157,16 +149,16 @@ def exact_shape_quality(b: Vector, c: Vector, d: Vector) -> tuple[list[float], f
     p = ((0, 0, 0), b, c, d)
     angles = []
     for i, j, k, m in _EDGES:
-        edge = _sub(p[j], p[i])
-        first = _cross(edge, _sub(p[k], p[i]))
-        second = _cross(edge, _sub(p[m], p[i]))
-        dot = _dot(first, second)
-        root = math.sqrt(dot * dot / (_dot(first, first) * _dot(second, second)))
+        edge = sub3(p[j], p[i])
+        first = cross3(edge, sub3(p[k], p[i]))
+        second = cross3(edge, sub3(p[m], p[i]))
+        dot = dot3(first, second)
+        root = math.sqrt(dot * dot / (dot3(first, first) * dot3(second, second)))
         angles.append(math.degrees(math.acos(-root if dot < 0 else root)))
-    terms = (_cross(c, d), _cross(d, b), _cross(b, c))
-    weights = (_dot(b, b), _dot(c, c), _dot(d, d))
+    terms = (cross3(c, d), cross3(d, b), cross3(b, c))
+    weights = (dot3(b, b), dot3(c, c), dot3(d, d))
     centre = tuple(sum(w * t[a] for w, t in zip(weights, terms, strict=True)) for a in range(3))
-    volume = 2 * _dot(b, terms[0])
-    shortest = min(_dot(edge, edge) for edge in (_sub(p[j], p[i]) for i, j, _, _ in _EDGES))
+    volume = 2 * dot3(b, terms[0])
+    shortest = min(dot3(edge, edge) for edge in (sub3(p[j], p[i]) for i, j, _, _ in _EDGES))
     ratio = _root_of_quotient(sum(x * x for x in centre), volume * volume * shortest)
     return angles, ratio

@@ -35,6 +35,7 @@ import numpy as np
 from geomexact._version import __version__
 from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point3
+from geomexact.kernel.vectors import cross3, dot3, sub3
 from geomexact.mesh3d.ops import (
     FLIP_OF_KIND,
     FaceConfiguration,
@@ -137,32 +138,32 @@ def tetrahedron_measures(a: Point3, b: Point3, c: Point3, d: Point3) -> tuple[fl
     areas = []
     for k in range(4):
         i, j, m = (n for n in range(4) if n != k)
-        u = _sub(p[j], p[i])
-        v = _sub(p[m], p[i])
-        normal = _cross(u, v)
+        u = sub3(p[j], p[i])
+        v = sub3(p[m], p[i])
+        normal = cross3(u, v)
         # orient outward: away from vertex k
-        if _dot(normal, _sub(p[k], p[i])) > 0:
+        if dot3(normal, sub3(p[k], p[i])) > 0:
             normal = (-normal[0], -normal[1], -normal[2])
-        length = math.sqrt(_dot(normal, normal))
+        length = math.sqrt(dot3(normal, normal))
         normals.append(normal)
         areas.append(length)
     if min(areas) == 0.0:
         return 0.0, 0.0
     largest_cosine = -1.0
     for k, m in combinations(range(4), 2):  # faces k and m share the edge opposite them
-        cosine = -_dot(normals[k], normals[m]) / (areas[k] * areas[m])
+        cosine = -dot3(normals[k], normals[m]) / (areas[k] * areas[m])
         largest_cosine = max(largest_cosine, cosine)
     smallest_angle = math.degrees(math.acos(min(1.0, max(-1.0, largest_cosine))))
-    b0, c0, d0 = _sub(p[1], p[0]), _sub(p[2], p[0]), _sub(p[3], p[0])
-    triple = _dot(b0, _cross(c0, d0))  # 6 volume (signed)
+    b0, c0, d0 = sub3(p[1], p[0]), sub3(p[2], p[0]), sub3(p[3], p[0])
+    triple = dot3(b0, cross3(c0, d0))  # 6 volume (signed)
     if triple == 0.0:
         return 0.0, 0.0
-    weights = (_dot(b0, b0), _dot(c0, c0), _dot(d0, d0))
-    terms = (_cross(c0, d0), _cross(d0, b0), _cross(b0, c0))
+    weights = (dot3(b0, b0), dot3(c0, c0), dot3(d0, d0))
+    terms = (cross3(c0, d0), cross3(d0, b0), cross3(b0, c0))
     cx, cy, cz = (weights[0] * terms[0][n] + weights[1] * terms[1][n]
                   + weights[2] * terms[2][n] for n in range(3))
     centre = (cx, cy, cz)
-    circumradius = math.sqrt(_dot(centre, centre)) / abs(2.0 * triple)
+    circumradius = math.sqrt(dot3(centre, centre)) / abs(2.0 * triple)
     # inradius = 3 V / total area = (|triple| / 2) / (sum of |normal| / 2)
     inradius = abs(triple) / sum(areas)
     if not 0.0 < circumradius < math.inf:  # flat in doubles: the centre cancels out
@@ -170,19 +171,8 @@ def tetrahedron_measures(a: Point3, b: Point3, c: Point3, d: Point3) -> tuple[fl
     return smallest_angle, min(1.0, 3.0 * inradius / circumradius)
 
 
-Vector = tuple[float, float, float]
 
 
-def _sub(p: Vector, q: Vector) -> Vector:
-    return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
-
-
-def _cross(p: Vector, q: Vector) -> Vector:
-    return (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])
-
-
-def _dot(p: Vector, q: Vector) -> float:
-    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
 
 
 class _Qualities:

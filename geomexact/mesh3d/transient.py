@@ -28,26 +28,67 @@ from geomexact.mesh3d.snapshot import (
 )
 from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
-from geomexact.trace.tables import open_table, sealed_table, table_snapshot
+from geomexact.trace.tables import EditableTable, open_table, sealed_table, table_snapshot
 
-__all__ = ["Transient3", "mesh3_from_positive_arrays", "mesh3_from_tetrahedra"]
+__all__ = ["SpaceTransient", "Transient3", "mesh3_from_positive_arrays",
+           "mesh3_from_tetrahedra"]
 
 
-class Transient3:
+class SpaceTransient:
+    """What the transients of 3D meshes (:class:`Transient3` and the mixed meshes') have
+    in common: the vertex table, the digest kept current and the steps recorded with the
+    digest after each; a subclass's ``__init__`` opens them on its snapshot."""
+
+    __slots__ = ("_digest", "_sealed", "_vertices", "step_digests", "steps")
+
+    _vertices: EditableTable[int, Point3]
+    _digest: int
+    _sealed: bool
+    steps: list[Step]
+    step_digests: list[int]
+
+    @property
+    def digest(self) -> int:
+        return self._digest
+
+    @property
+    def vertex_count(self) -> int:
+        return len(self._vertices)
+
+    def point(self, vertex: int) -> Point3:
+        """The point of ``vertex``; :class:`PreconditionError` when there is none (a step
+        naming a vertex the mesh does not have)."""
+        try:
+            return self._vertices[vertex]
+        except KeyError:
+            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
+
+    def _check_open(self) -> None:
+        if self._sealed:
+            raise TransientSealedError("this transient was sealed; start a new one")
+
+    def add_vertex(self, point: Point3) -> int:
+        """Append a vertex (in no cell yet) and return its id."""
+        self._check_open()
+        vertex = len(self._vertices)
+        if vertex >= MAX_VERTICES:
+            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+        self._vertices[vertex] = point
+        self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, point[:3]))
+        return vertex
+
+    def record(self, step: Step) -> None:
+        """Append ``step`` (just completed) and the digest after it to the record."""
+        self._check_open()
+        self.steps.append(step)
+        self.step_digests.append(self._digest)
+
+
+class Transient3(SpaceTransient):
     """Mutable edits on a :class:`Mesh3`, with the digest kept current (O(1) per element)
     and the steps recorded with the digest after each."""
 
-    __slots__ = (
-        "_digest",
-        "_faces",
-        "_hints",
-        "_sealed",
-        "_stale",
-        "_tetrahedron_count",
-        "_vertices",
-        "step_digests",
-        "steps",
-    )
+    __slots__ = ("_faces", "_hints", "_stale", "_tetrahedron_count")
 
     def __init__(self, mesh: Mesh3, *, batch: bool = False) -> None:
         """Open on ``mesh``; ``batch`` edits plain dicts instead of the maps' mutations
@@ -65,24 +106,8 @@ class Transient3:
 
     # -- reads --------------------------------------------------------------------------
     @property
-    def vertex_count(self) -> int:
-        return len(self._vertices)
-
-    @property
     def tetrahedron_count(self) -> int:
         return self._tetrahedron_count
-
-    @property
-    def digest(self) -> int:
-        return self._digest
-
-    def point(self, vertex: int) -> Point3:
-        """The point of ``vertex``; :class:`PreconditionError` when there is none (a step
-        naming a vertex the mesh does not have)."""
-        try:
-            return self._vertices[vertex]
-        except KeyError:
-            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
 
     def apex(self, a: int, b: int, c: int) -> int | None:
         """The apex of the tetrahedron on the positive side of the oriented face abc."""
@@ -136,20 +161,6 @@ class Transient3:
         return [tetrahedron for tetrahedron in self.star(u) if v in tetrahedron]
 
     # -- edits --------------------------------------------------------------------------
-    def _check_open(self) -> None:
-        if self._sealed:
-            raise TransientSealedError("this transient was sealed; start a new one")
-
-    def add_vertex(self, point: Point3) -> int:
-        """Append a vertex (in no tetrahedron yet) and return its id."""
-        self._check_open()
-        vertex = len(self._vertices)
-        if vertex >= MAX_VERTICES:
-            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
-        self._vertices[vertex] = point
-        self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, point[:3]))
-        return vertex
-
     def add_tetrahedron(self, a: int, b: int, c: int, d: int) -> None:
         """Add the tetrahedron abcd, which the caller knows to be positively oriented;
         :class:`PreconditionError` when a face of it already has a tetrahedron on that
@@ -191,12 +202,6 @@ class Transient3:
         self._digest = _digest.remove(
             self._digest, _digest.cell_hash(canonical_tetrahedron(a, b, c, d))
         )
-
-    def record(self, step: Step) -> None:
-        """Append ``step`` (just completed) and the digest after it to the record."""
-        self._check_open()
-        self.steps.append(step)
-        self.step_digests.append(self._digest)
 
     # -- steps and sealing --------------------------------------------------------------
     def apply(self, step: Step, /) -> None:

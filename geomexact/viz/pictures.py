@@ -12,7 +12,7 @@ not depend on its content.
 from __future__ import annotations
 
 import io as _io
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any, Literal, cast
 
@@ -309,11 +309,20 @@ def figure(
 ) -> Figure:
     """A new matplotlib :class:`Figure` (not registered with pyplot) showing ``value``;
     ``options`` go to :func:`draw`."""
+    return titled_figure(size, dpi, title,
+                         lambda ax: _default_title(draw(ax, value, **options)))
+
+
+def titled_figure(
+    size: tuple[float, float], dpi: int, title: str | None, draw_on: Callable[[Any], str]
+) -> Figure:
+    """A new :class:`Figure` (not registered with pyplot) of ``size`` inches at ``dpi``
+    with one axes, which ``draw_on`` draws on, returning the default title; above it,
+    ``title``, or that default when ``title`` is None."""
     fig = Figure(figsize=size, dpi=dpi)
     FigureCanvasAgg(fig)
-    ax = fig.add_axes((0.02, 0.02, 0.96, 0.9))
-    scene = draw(ax, value, **options)
-    fig.suptitle(title if title is not None else _default_title(scene), fontsize=11)
+    default = draw_on(fig.add_axes((0.02, 0.02, 0.96, 0.9)))
+    fig.suptitle(title if title is not None else default, fontsize=11)
     return fig
 
 
@@ -337,6 +346,12 @@ def figure_bytes(fig: Figure, format: str = "png") -> bytes:
     return buffer.getvalue()
 
 
+def write_figure(fig: Figure, path: str | Path, *, overwrite: bool) -> None:
+    """Write ``fig`` to ``path`` in the format its extension names (:func:`figure_bytes`),
+    atomically, refusing to replace a file unless ``overwrite``."""
+    write_bytes_atomic(path, figure_bytes(fig, picture_format(path)), overwrite=overwrite)
+
+
 def plot(
     value: Viewable,
     path: str | Path | None = None,
@@ -357,7 +372,7 @@ def plot(
     """
     fig = figure(value, title=title, size=size, dpi=dpi, **options)
     if path is not None:
-        write_bytes_atomic(path, figure_bytes(fig, picture_format(path)), overwrite=overwrite)
+        write_figure(fig, path, overwrite=overwrite)
     return fig
 
 
@@ -405,6 +420,6 @@ def plot_step(
     fig = figure(scene, title=title, highlight_triangles=added, removed_triangles=removed,
                  **options)
     if path is not None:
-        write_bytes_atomic(path, figure_bytes(fig, picture_format(path)), overwrite=overwrite)
+        write_figure(fig, path, overwrite=overwrite)
     return fig
 

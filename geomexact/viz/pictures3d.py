@@ -30,7 +30,6 @@ from geomexact.errors import MissingDependencyError
 
 try:
     from matplotlib import colormaps
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.cm import ScalarMappable
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import Normalize, to_rgb
@@ -39,11 +38,10 @@ try:
 except ImportError as error:  # the "pictures" extra
     raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
 
-from geomexact.io.files import write_bytes_atomic
 from geomexact.mesh3d.mixed.cells import CellKind
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
-from geomexact.viz.pictures import DEFAULT_DPI, DEFAULT_SIZE, figure_bytes, picture_format
+from geomexact.viz.pictures import DEFAULT_DPI, DEFAULT_SIZE, titled_figure, write_figure
 from geomexact.viz.scene3d import (
     KIND_ORDER,
     KIND_PLURALS,
@@ -376,12 +374,8 @@ def figure_mesh3(
     """A new matplotlib :class:`Figure` (not registered with pyplot) showing ``mesh``;
     ``options`` go to :func:`draw_mesh3`.  The default title counts vertices and cells
     (and what a clip kept)."""
-    fig = Figure(figsize=size, dpi=dpi)
-    FigureCanvasAgg(fig)
-    ax = fig.add_axes((0.02, 0.02, 0.96, 0.9))
-    drawing = draw_mesh3(ax, mesh, **options)
-    fig.suptitle(title if title is not None else default_title3(drawing), fontsize=11)
-    return fig
+    return titled_figure(size, dpi, title,
+                         lambda ax: default_title3(draw_mesh3(ax, mesh, **options)))
 
 
 def plot_mesh3(
@@ -413,7 +407,7 @@ def plot_mesh3(
     """
     fig = figure_mesh3(mesh, title=title, size=size, dpi=dpi, **options)
     if path is not None:
-        write_bytes_atomic(path, figure_bytes(fig, picture_format(path)), overwrite=overwrite)
+        write_figure(fig, path, overwrite=overwrite)
     return fig
 
 

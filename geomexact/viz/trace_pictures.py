@@ -21,10 +21,9 @@ try:
 except ImportError as error:  # the "pictures" extra
     raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
 
-from geomexact.io.files import write_bytes_atomic
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.snapshot import Mesh3
-from geomexact.viz.pictures import DEFAULT_DPI, draw, figure_bytes, picture_format
+from geomexact.viz.pictures import DEFAULT_DPI, draw, write_figure
 from geomexact.viz.pictures3d import draw_mesh3
 
 __all__ = ["PAIR_SIZE", "figure_pair", "highlights_cells", "plot_pair"]
@@ -91,5 +90,5 @@ def plot_pair(
     atomically, refusing to replace a file unless ``overwrite``) when given."""
     fig = figure_pair(left, right, **options)
     if path is not None:
-        write_bytes_atomic(path, figure_bytes(fig, picture_format(path)), overwrite=overwrite)
+        write_figure(fig, path, overwrite=overwrite)
     return fig

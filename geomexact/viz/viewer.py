@@ -182,12 +182,17 @@ in place of ``{{step_controls}}``; its script is :data:`STEP_CONTROLS_JS`."""
 STEP_CONTROLS_JS = "step_controls.js"
 """The script of :data:`STEP_CONTROLS`, inlined before each page's own script."""
 
-_INCLUDES = {"head": PAGE_HEAD, "step_controls": STEP_CONTROLS}
+PAGE_END = "page_end.html"
+"""The end the 2D and 3D pages share (the payload and the script elements, the closing
+tags), put in place of ``{{end}}``."""
+
+_INCLUDES = {"head": PAGE_HEAD, "step_controls": STEP_CONTROLS, "end": PAGE_END}
 
 
 def fill_page(template: str, values: dict[str, str]) -> str:
-    """The page ``template`` (a viewer file whose ``{{head}}`` and ``{{step_controls}}``
-    are replaced by :data:`PAGE_HEAD` and :data:`STEP_CONTROLS` first) with each
+    """The page ``template`` (a viewer file whose ``{{head}}``, ``{{step_controls}}`` and
+    ``{{end}}`` are replaced by :data:`PAGE_HEAD`, :data:`STEP_CONTROLS` and
+    :data:`PAGE_END` first) with each
     ``{{name}}`` replaced by ``values[name]`` in one pass, so no value can bring in another
     placeholder."""
     text = page_asset(template)

@@ -49,6 +49,7 @@ import attrs
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, mpq
 from geomexact.kernel.points import Point3, point3
+from geomexact.kernel.vectors import cross3, dot3, sub3
 from geomexact.mesh3d.cuboid.boxes import Box, box_of_extents
 from geomexact.mesh3d.cuboid.numbering import (
     CORNER_POSITIONS,
@@ -193,22 +194,10 @@ def face_polygons(pattern: int, face: int, shape: Box) -> tuple[tuple[int, ...],
     return tuple(_cocircular_polygons(points))
 
 
-def _minus(p: Position, q: Position) -> Position:
-    return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
-
-
-def _cross(p: Position, q: Position) -> Position:
-    return (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])
-
-
 def _normal(polygon: Sequence[int]) -> Position:
     """The (unnormalised) right-hand normal of a planar convex polygon of codes."""
     a, b, c = (POSITIONS[code] for code in polygon[:3])
-    return _cross(_minus(b, a), _minus(c, a))
-
-
-def _dot(p: Position, q: Position) -> int:
-    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
+    return cross3(sub3(b, a), sub3(c, a))
 
 
 def _cone(apex: int, polygon: Sequence[int],
@@ -219,7 +208,7 @@ def _cone(apex: int, polygon: Sequence[int],
     base = list(polygon)
     top = POSITIONS[apex] if at is None else at
     origin = POSITIONS[base[0]]
-    if _dot(_normal(base), (top[0] - origin[0], top[1] - origin[1],  # type: ignore[arg-type]
+    if dot3(_normal(base), (top[0] - origin[0], top[1] - origin[1],  # type: ignore[arg-type]
                             top[2] - origin[2])) < 0:
         base.reverse()
     kind = CellKind.TETRA if len(base) == 3 else CellKind.PYRAMID
@@ -392,7 +381,7 @@ def polyhedral_template(pattern: int, shape: Box) -> CellTemplate:
         planes: dict[tuple[Position, int], list[tuple[int, int, int]]] = {}
         for triangle in outer:
             normal = _reduced(_normal(triangle))
-            planes.setdefault((normal, _dot(normal, POSITIONS[triangle[0]])), []).append(
+            planes.setdefault((normal, dot3(normal, POSITIONS[triangle[0]])), []).append(
                 triangle)
         faces = []
         for group in planes.values():

@@ -20,6 +20,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from geomexact.kernel.vectors import cross3, dot3, sub3
 from geomexact.mesh3d.cospherical import PolyhedralCell, polyhedral_cells
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.cuboid.numbering import (
@@ -154,25 +155,16 @@ def papers_patterns() -> tuple[int, ...]:
         if not any(all(pattern >> edge & 1 for edge in edges) for edges in FACE_EDGES))
 
 
-def _minus(a: Lattice, b: Lattice) -> Lattice:
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
-
-def _cross(a: Lattice, b: Lattice) -> Lattice:
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def _dot(a: Lattice, b: Lattice) -> int:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 def _planes(shape: CellShape) -> Iterator[tuple[Lattice, list[int]]]:
     """Every plane through three of ``shape``'s points: (normal, the side of each point:
     the sign-carrying dot product), each plane once per triple that spans it."""
     for i, j, k in itertools.combinations(range(len(shape)), 3):
-        normal = _cross(_minus(shape[j], shape[i]), _minus(shape[k], shape[i]))
+        normal = cross3(sub3(shape[j], shape[i]), sub3(shape[k], shape[i]))
         if normal != (0, 0, 0):
-            yield normal, [_dot(normal, _minus(point, shape[i])) for point in shape]
+            yield normal, [dot3(normal, sub3(point, shape[i])) for point in shape]
 
 
 def hull_faces(shape: CellShape) -> tuple[tuple[int, ...], ...]:
@@ -189,8 +181,8 @@ def hull_faces(shape: CellShape) -> tuple[tuple[int, ...], ...]:
         successor = {}
         for u, v in itertools.permutations(members, 2):
             # v follows u when every other vertex of the face lies to the left of u -> v
-            if all(_dot(outward, _cross(_minus(shape[v], shape[u]),
-                                        _minus(shape[w], shape[u]))) > 0
+            if all(dot3(outward, cross3(sub3(shape[v], shape[u]),
+                                        sub3(shape[w], shape[u]))) > 0
                    for w in members if w not in (u, v)):
                 successor[u] = v
         start = min(members)

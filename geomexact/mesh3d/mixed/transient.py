@@ -7,12 +7,12 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 
-from geomexact.errors import PreconditionError, TransientSealedError
+from geomexact.errors import PreconditionError
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.points import Point3, point3
 from geomexact.mesh3d.mixed.cells import Cell, Face, cell_hash_of, reversed_face, rotated_face
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3, empty_mixed_mesh
-from geomexact.mesh3d.snapshot import MAX_VERTICES
+from geomexact.mesh3d.transient import SpaceTransient
 from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
@@ -20,12 +20,11 @@ from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 __all__ = ["MixedTransient3", "mixed_mesh_from_cells"]
 
 
-class MixedTransient3:
+class MixedTransient3(SpaceTransient):
     """Mutable edits on a :class:`MixedMesh3`, the digest kept current (O(1) per
     element), the steps recorded with the digest after each."""
 
-    __slots__ = ("_cells", "_digest", "_faces", "_sealed", "_vertices", "step_digests",
-                 "steps")
+    __slots__ = ("_cells", "_faces")
 
     def __init__(self, mesh: MixedMesh3, *, batch: bool = False) -> None:
         """Open on ``mesh``; ``batch`` edits plain dicts (O(n) to open and seal, cheaper
@@ -40,23 +39,8 @@ class MixedTransient3:
 
     # -- reads --------------------------------------------------------------------------
     @property
-    def digest(self) -> int:
-        return self._digest
-
-    @property
-    def vertex_count(self) -> int:
-        return len(self._vertices)
-
-    @property
     def cell_count(self) -> int:
         return len(self._cells)
-
-    def point(self, vertex: int) -> Point3:
-        """The point of ``vertex``; :class:`PreconditionError` when there is none."""
-        try:
-            return self._vertices[vertex]
-        except KeyError:
-            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
 
     def points_of(self, cell: Cell) -> dict[int, Point3]:
         """The points of the cell's vertices (:class:`PreconditionError` for a missing
@@ -80,20 +64,6 @@ class MixedTransient3:
         return self._faces.get(reversed_face(face), ())
 
     # -- edits --------------------------------------------------------------------------
-    def _check_open(self) -> None:
-        if self._sealed:
-            raise TransientSealedError("this transient was sealed; start a new one")
-
-    def add_vertex(self, point: Point3) -> int:
-        """Append a vertex (in no cell yet) and return its id."""
-        self._check_open()
-        vertex = len(self._vertices)
-        if vertex >= MAX_VERTICES:
-            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
-        self._vertices[vertex] = point
-        self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, point[:3]))
-        return vertex
-
     def insert_cell(self, cell: Cell) -> None:
         """Add ``cell`` as it is (no geometric check: the steps check before calling);
         :class:`PreconditionError` when it is already there or names a missing vertex."""
@@ -124,12 +94,6 @@ class MixedTransient3:
             else:
                 del faces[face]
         self._digest = _digest.remove(self._digest, value)
-
-    def record(self, step: Step) -> None:
-        """Append ``step`` (just completed) and the digest after it to the record."""
-        self._check_open()
-        self.steps.append(step)
-        self.step_digests.append(self._digest)
 
     # -- steps and sealing --------------------------------------------------------------
     def apply(self, step: Step, /) -> None:

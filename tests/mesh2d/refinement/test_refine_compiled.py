@@ -28,7 +28,7 @@ from geomexact.mesh2d.refinement.criteria import (
 from geomexact.mesh2d.refinement.driver import RunOptions
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
 from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
-from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
+from geomexact.mesh2d.refinement.engines.compiled import KernelRun, run_compiled, unsupported
 from geomexact.mesh2d.refinement.presets import rules
 from geomexact.mesh2d.refinement.regions import Circle, Rectangle, Region, as_region
 
@@ -90,12 +90,11 @@ def test_factor_kernel_state() -> None:
     for region in (None, Rectangle(0, 0, mpq(1, 2), mpq(1, 5)), Circle(5, 5, 1)):
         criterion = AverageAreaFactor("1/7")
         reg = as_region(region)
-        kernel = lepp_kernel.Kernel(start, criterion, reg, region is None, True, None, None,
-                                    Progress, None, True)
+        kernel = lepp_kernel.Kernel(start, KernelRun(criterion, reg, average=True))
         assert kernel.mean_state() == mean_state(start, criterion, region=region)
         kernel.run()
-    assert lepp_kernel.Kernel(start, MaxArea("0.1"), as_region(None), True, True, None, None,
-                              Progress, None).mean_state() is None
+    assert lepp_kernel.Kernel(start, KernelRun(MaxArea("0.1"), as_region(None))
+                              ).mean_state() is None
 
 
 # --- methods centroid and quasi (centroid="area": insert_in_quadrilateral) ------------------
@@ -120,8 +119,7 @@ def test_float_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]],
             (pu, px, pv), (px, pv, pw), (pv, pw, pu), (pw, pu, px))):
         return  # not a strictly convex quadrilateral u, x, v, w
     start = mesh_from_triangles([pu, pv, pw, px], [(0, 1, 2), (1, 0, 3)])
-    kernel = lepp_kernel.Kernel(start, MaxArea(1), as_region(None), True, True, None, None,
-                                Progress, None)
+    kernel = lepp_kernel.Kernel(start, KernelRun(MaxArea(1), as_region(None)))
     point = kernel.float_centroid(0, 1, 2, 3)
     if point is not None:
         assert point == rounded_area_centroid(pu, pv, pw, px)
@@ -147,8 +145,7 @@ def test_grid_centroid_is_rounded_area_centroid(raw: list[tuple[int, int]], deno
             (pu, px, pv), (px, pv, pw), (pv, pw, pu), (pw, pu, px))):
         return  # not a strictly convex quadrilateral u, x, v, w
     start = mesh_from_triangles([pu, pv, pw, px], [(0, 1, 2), (1, 0, 3)])
-    kernel = lepp_kernel.Kernel(start, MaxArea(1), as_region(None), True, True, None, None,
-                                Progress, None)
+    kernel = lepp_kernel.Kernel(start, KernelRun(MaxArea(1), as_region(None)))
     point = kernel.grid_centroid(0, 1, 2, 3)
     if denominator != 3:
         assert point is not None or denominator == 1 << 40

@@ -47,7 +47,6 @@ import attrs
 
 from geomexact.kernel.numbers import mpq
 from geomexact.mesh2d.engine_names import compiled_kernel
-from geomexact.mesh2d.refinement.centroids import rounded_area_centroid
 from geomexact.mesh2d.refinement.criteria import (
     AnyOf,
     AverageAreaFactor,
@@ -84,6 +83,38 @@ class CompiledRun:
     searches: int
     hops: int
     left_reasons: tuple[LeftReason, ...] = ()
+
+
+@attrs.frozen(slots=True)
+class KernelRun:
+    """What one run of the Lepp kernel does (the kernel's constructor reads it; its
+    docstring says what each field means): the criterion in the region, how it is rated
+    in C, the method and the rules, the step limit and the progress callback."""
+
+    criterion: Any
+    region: Any
+    delaunay: bool = True
+    max_steps: int | None = None
+    on_step: Callable[[Any], None] | None = None
+    progress: Any = Progress
+    max_area_doubled: Any = None
+    average: bool = False
+    method: str = "bisection"
+    constraint_midpoints: bool = True
+    threshold: Any = None
+    area_rate: Callable[..., Any] | None = None
+    grouped: bool = False
+    centroid_kind: str = "area"
+    order: str = "worst-first"
+    second_longest_rule: str | None = None
+    factor_stop: str = "action"
+    rate_attributes: bool = False
+    region_doubled: dict[Any, Any] | None = None
+
+    @property
+    def whole(self) -> bool:
+        """The region is the whole mesh (no vertex test)."""
+        return isinstance(self.region, Whole)
 
 
 def unsupported(mesh: Mesh2, run: RunOptions) -> str | None:
@@ -158,21 +189,15 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
     # the kernel counts steps in int64: a larger limit is never reached anyway
     limit = None if max_steps is None or max_steps >= 1 << 62 else max_steps
     assert _lepp_kernel is not None
-    kernel = _lepp_kernel.Kernel(
-        mesh, criterion, region, isinstance(region, Whole), run.delaunay,
-        limit, on_step, Progress, doubled, type(criterion) is AverageAreaFactor,
+    kernel = _lepp_kernel.Kernel(mesh, KernelRun(
+        criterion, region, delaunay=run.delaunay, max_steps=limit, on_step=on_step,
+        max_area_doubled=doubled, average=type(criterion) is AverageAreaFactor,
         method=run.method, constraint_midpoints=run.constraint_midpoints,
-        centroid=rounded_area_centroid,
-        threshold=None if angle is None else angle.threshold,
-        area_rate=area_rate,
-        grouped=grouped,
-        centroid_kind=run.rules.centroid,
-        order=run.rules.order,
+        threshold=None if angle is None else angle.threshold, area_rate=area_rate,
+        grouped=grouped, centroid_kind=run.rules.centroid, order=run.rules.order,
         second_longest_rule=run.rules.second_longest_rule,
-        factor_stop=run.rules.factor_stop,
-        rate_attributes=_needs_attributes(criterion),
-        region_doubled=_region_doubled(sized),
-    )
+        factor_stop=run.rules.factor_stop, rate_attributes=_needs_attributes(criterion),
+        region_doubled=_region_doubled(sized)))
     status = kernel.run()
     result, steps, digests = kernel.finish(mesh)
     return CompiledRun(
@@ -205,10 +230,8 @@ def replay_compiled(start: Mesh2, steps: Sequence[Step], digests: Sequence[int]
     assert _lepp_kernel is not None
     # a criterion nothing fails: the kernel's queue stays empty
     nothing = MaxArea(mpq(2) ** 200)
-    kernel = _lepp_kernel.Kernel(
-        start, nothing, Whole(), True, False, None, None, Progress, 2 * nothing.area,
-        method="bisection", centroid=rounded_area_centroid,
-    )
+    kernel = _lepp_kernel.Kernel(start, KernelRun(nothing, Whole(), delaunay=False,
+                                                  max_area_doubled=2 * nothing.area))
     if kernel.replay(list(steps), list(digests), len(steps)) != len(steps):
         return None
     mesh: Mesh2 = kernel.finish(start)[0]

@@ -378,34 +378,32 @@ cdef class Kernel:
         gx_map_free(&self.start_apex)
         free(self.start_hints)
 
-    def __init__(self, start, criterion, region, bint whole, bint delaunay, max_steps,
-                 on_step, progress, max_area_doubled, bint average=False,
-                 method="bisection", bint constraint_midpoints=True, centroid=None,
-                 threshold=None, area_rate=None, bint grouped=False, centroid_kind="area",
-                 order="worst-first",
-                 second_longest_rule=None, factor_stop="action", bint rate_attributes=False,
-                 region_doubled=None):
-        """``max_area_doubled``: twice the area of a ``MaxArea`` criterion (rated in C on
-        grid triangles), else None (``criterion.rate`` rates every triangle).
-        ``average``: the criterion is an ``AverageAreaFactor`` (every triangle of the
-        region is bad, key −(doubled area), rated in C on grid triangles; the run stops
-        when the region's mean area reaches ``criterion.target_mean_area``).
-        ``method``: ``"bisection"``, ``"centroid"`` or ``"quasi"``;
-        ``constraint_midpoints`` as ``refine()``; ``centroid``: the function giving the
-        point inserted into a terminal quadrilateral (``rounded_area_centroid``), recorded
-        as ``insert_in_quadrilateral`` (required for the methods other than bisection).
-        ``threshold``: the ``AngleThreshold`` of a ``MinAngle`` criterion, rated in C
-        (``criterion.rate`` is then unused), with the small-angle rules of
-        ``Refinement``.  ``centroid_kind`` (``"area"``: ``centroid``, recorded as
-        ``insert_in_quadrilateral``; ``"area-exact"``, ``"vertices"``: the exact
-        centroids of ``geomexact.mesh2d.ops``, recorded as ``insert_centroid`` and
-        ``insert_vertex_centroid``; ``"midpoint"``: the terminal edge bisected),
-        ``order``, ``second_longest_rule`` and ``factor_stop``: the rules of
-        ``geomexact.mesh2d.refinement.presets``.  ``rate_attributes``: the criterion
-        reads triangle attributes (its ``rate_attributed``, and ``area_rate``, take them
-        as a fourth argument); ``region_doubled``: that criterion is a ``RegionAreas``
-        (alone or after the angle) with these doubled areas by region, rated in C on
-        grid triangles."""
+    def __init__(self, start, run):
+        """One run on the snapshot ``start``, as ``run`` (a
+        :class:`~geomexact.mesh2d.refinement.engines.compiled.KernelRun`) says:
+        ``criterion`` rated by its ``rate`` (``rate_attributed`` with ``rate_attributes``)
+        in ``region``; ``max_area_doubled``: twice the area of a ``MaxArea`` (rated in C on
+        grid triangles); ``average``: an ``AverageAreaFactor`` (every triangle of the
+        region is bad, key −(doubled area); the run stops when the region's mean area
+        reaches ``criterion.target_mean_area``); ``threshold``: the ``AngleThreshold`` of a
+        ``MinAngle`` rated in C, with the small-angle rules of ``Refinement``;
+        ``area_rate``: the size criterion after the angle (``grouped``: its key is
+        (position, key), AnyOf's ``rate_beyond_angle``); ``region_doubled``: a
+        ``RegionAreas``'s doubled areas by region, rated in C on grid triangles;
+        ``method``, ``delaunay``, ``constraint_midpoints``, ``centroid_kind``, ``order``,
+        ``second_longest_rule`` and ``factor_stop``: as ``refine()`` and the rules of
+        ``geomexact.mesh2d.refinement.presets``; ``max_steps``, ``on_step`` (called with
+        ``progress(...)``) as ``refine()``."""
+        criterion, region = run.criterion, run.region
+        cdef bint whole = run.whole, delaunay = run.delaunay, average = run.average
+        cdef bint constraint_midpoints = run.constraint_midpoints
+        cdef bint grouped = run.grouped, rate_attributes = run.rate_attributes
+        max_steps, on_step, progress = run.max_steps, run.on_step, run.progress
+        max_area_doubled, method, threshold = run.max_area_doubled, run.method, run.threshold
+        area_rate, centroid_kind, order = run.area_rate, run.centroid_kind, run.order
+        second_longest_rule, factor_stop = run.second_longest_rule, run.factor_stop
+        region_doubled = run.region_doubled
+        centroid = rounded_area_centroid
         cdef Py_ssize_t i, count = start.vertex_count
         cdef Vertex *vertex
         cdef int64_t[:, ::1] triangles
@@ -465,8 +463,6 @@ cdef class Kernel:
             self.method = 2
         else:
             raise ValueError(f"unknown method {method!r}")
-        if self.method and centroid is None and centroid_kind == "area":
-            raise ValueError("the centroid and quasi methods need a centroid function")
         self.legalize = delaunay and self.method != 2
         self.quasi_flips = delaunay and self.method == 2
         self.constraint_midpoints = constraint_midpoints
