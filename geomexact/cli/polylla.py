@@ -17,7 +17,7 @@ from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
 from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.cli.writing import distinct_outputs, note_unwritten, write
+from geomexact.cli.writing import distinct_outputs, write_output
 from geomexact.errors import OverwriteError
 from geomexact.mesh2d.delaunay.triangulation import triangulate
 from geomexact.mesh2d.pslg import PSLG
@@ -58,11 +58,7 @@ def command_polylla(args: argparse.Namespace) -> int:
         nonconvex = decomposition.nonconvex_before  # by its reflex rule
     seconds = time.perf_counter() - started
     violations = result.validate(mesh) if args.check else []
-    written: list[Path] = []
-    if args.output:
-        written += write(args.output, result, args.to, overwrite=args.force, numbers=args.numbers)
-    else:
-        note_unwritten(args.input, "polygon mesh")
+    written = write_output(args, args.output, result, "polygon mesh")
     if args.picture:
         from geomexact.viz import pictures
 

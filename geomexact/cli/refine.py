@@ -26,7 +26,7 @@ from geomexact.cli.memory import BYTES_PER_TRIANGLE, active_budget, size_text
 from geomexact.cli.progress import add_progress_flags
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table, violation_reports
-from geomexact.cli.writing import distinct_outputs, note_unwritten, write
+from geomexact.cli.writing import distinct_outputs, write, write_output
 from geomexact.errors import OverwriteError
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import DelaunayEngine, is_delaunay
@@ -362,12 +362,9 @@ def _write_outputs(outputs: RefineOutputs, args: argparse.Namespace, start: Mesh
             numbers: Any = args.numbers) -> list[Path]:
         return write(path, value, to, overwrite=args.force, numbers=numbers)
 
-    written: list[Path] = []
     if outputs.mesh:
         stage(f"writing {outputs.mesh}")
-        written += put(outputs.mesh, result.mesh, args.to)
-    else:
-        note_unwritten(args.input, "refined mesh")
+    written = write_output(args, outputs.mesh, result.mesh, "refined mesh")
     if outputs.trace:
         stage(f"writing {outputs.trace}")
         write_trace(outputs.trace, trace, overwrite=args.force)

@@ -17,7 +17,7 @@ from geomexact.cli.kinds import wrong_kind
 from geomexact.cli.loading import load, seed_warnings, triangulate_input
 from geomexact.cli.provenance import with_provenance
 from geomexact.cli.reporting import print_json, print_table
-from geomexact.cli.writing import distinct_outputs, note_unwritten, refuse_existing, write
+from geomexact.cli.writing import distinct_outputs, refuse_existing, write_output
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import make_delaunay
 from geomexact.mesh2d.pslg import PSLG
@@ -54,11 +54,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
         raise wrong_kind(args.input, loaded.value, "triangulate",
                          "2D PSLGs and triangle meshes (made Delaunay by flips)")
     seconds = time.perf_counter() - started
-    written: list[Path] = []
-    if args.output:
-        written += write(args.output, mesh, args.to, overwrite=args.force, numbers=args.numbers)
-    else:
-        note_unwritten(args.input, "triangulation")
+    written = write_output(args, args.output, mesh, "triangulation")
     if args.trace:
         trace_path = Path(args.trace)
         trace = with_provenance(trace, args, engine=args.engine, input_path=args.input)

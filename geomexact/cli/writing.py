@@ -3,6 +3,7 @@ and saying what a format rounded or dropped."""
 
 from __future__ import annotations
 
+import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -49,6 +50,17 @@ def note_unwritten(input_path: str, what: str) -> None:
     and the ``-o`` that would have."""
     print(f"geomexact: note: no -o given: the {what} was not written (to write it: "
           f"-o {numbered_output(input_path)})", file=sys.stderr)
+
+
+def write_output(args: argparse.Namespace, path: str | None, value: Writable,
+                 what: str) -> list[Path]:
+    """Write ``value`` to the command's ``-o`` ``path`` (with its ``--to``, ``--force`` and
+    ``--numbers``), or say that no ``-o`` was given (:func:`note_unwritten`): the paths
+    written."""
+    if path:
+        return write(path, value, args.to, overwrite=args.force, numbers=args.numbers)
+    note_unwritten(args.input, what)
+    return []
 
 
 def write(
