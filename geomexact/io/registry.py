@@ -359,6 +359,15 @@ def expect_header_fields(path: str, line: int, tokens: Tokens, header: str, shap
         raise FormatError(path, line, f"{header} is '{shape}', found {len(tokens)} fields")
 
 
+def read_header(path: Path, header: str, shape: str) -> tuple[Lines, int, Tokens]:
+    """The lines of the file ``path``, after its header line of form ``shape``, and that
+    line's number and tokens (FormatErrors of :func:`expect_header_fields`)."""
+    lines = file_lines(path)
+    number, tokens = lines.next(f"the header '{shape}'")
+    expect_header_fields(str(path), number, tokens, header, shape)
+    return lines, number, tokens
+
+
 def parse_marker_flag(path: str, line: int, tokens: Tokens, index: int, what: str) -> int:
     """The marker count ``what`` (``"face marker count"``) at ``tokens[index]`` of a
     header, 0 when the header ends before it; a FormatError unless it is 0 or 1."""

@@ -37,13 +37,13 @@ from geomexact.io.registry import (
     check_numbering,
     counted,
     expect_exact_fields,
-    expect_header_fields,
     file_lines,
     file_stem,
     parse_count,
     parse_int,
     parse_marker_flag,
     parse_number,
+    read_header,
     with_extension,
     write_files,
     written_value,
@@ -95,9 +95,7 @@ def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
     bulk = _bulk_nodes(path, notes)
     if bulk is not None:
         return bulk
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count 3 attributes markers'")
-    expect_header_fields(name, number, tokens, "the vertex header", "count 3 attributes markers")
+    lines, number, tokens = read_header(path, "the vertex header", "count 3 attributes markers")
     count = parse_count(name, number, tokens[0], "vertex count")
     dimension = parse_int(name, number, tokens[1], "dimension") if len(tokens) > 1 else 2
     if dimension != 3:
@@ -266,9 +264,7 @@ def _read_tetrahedra(
     bulk = _bulk_tetrahedra(path, points, base, notes)
     if bulk is not None:
         return bulk
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count 4 attributes'")
-    expect_header_fields(name, number, tokens, "the .ele header", "count 4 attributes")
+    lines, number, tokens = read_header(path, "the .ele header", "count 4 attributes")
     count = parse_count(name, number, tokens[0], "tetrahedron count")
     corners = (
         parse_int(name, number, tokens[1], "corners per tetrahedron") if len(tokens) > 1 else 4
@@ -336,9 +332,7 @@ def _read_tetrahedra(
 def _check_faces(path: Path, mesh: Mesh3, base: int) -> None:
     """FormatError unless the ``.face`` file lists exactly the boundary faces."""
     name = str(path)
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count markers'")
-    expect_header_fields(name, number, tokens, "the .face header", "count markers")
+    lines, number, tokens = read_header(path, "the .face header", "count markers")
     count = parse_count(name, number, tokens[0], "face count")
     markers = parse_marker_flag(name, number, tokens, 1, "face marker count")
     boundary = {frozenset(face) for face in mesh.boundary_faces()}

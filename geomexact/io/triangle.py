@@ -68,6 +68,7 @@ from geomexact.io.registry import (
     parse_marker_flag,
     parse_number,
     quoted_tokens,
+    read_header,
     section_too_short,
     uniform_attributes,
     with_extension,
@@ -569,9 +570,7 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
     bulk = _bulk_ele(path, nodes)
     if bulk is not None:
         return bulk
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count corners attributes'")
-    expect_header_fields(name, number, tokens, "the .ele header", "count corners attributes")
+    lines, number, tokens = read_header(path, "the .ele header", "count corners attributes")
     count = parse_count(name, number, tokens[0], "triangle count")
     corners = parse_int(name, number, tokens[1], "corners per triangle") if len(tokens) > 1 else 3
     if corners != 3:
@@ -698,9 +697,7 @@ def _check_neigh(path: Path, elements: ElementTable) -> None:
     triangles = elements.table.triangles
     count = len(triangles)
     first = elements.first_number
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count 3'")
-    expect_header_fields(name, number, tokens, "the .neigh header", "count 3")
+    lines, number, tokens = read_header(path, "the .neigh header", "count 3")
     listed = parse_count(name, number, tokens[0], "triangle count")
     if listed != count:
         raise FormatError(

@@ -100,9 +100,7 @@ def orient2d_signs(
 ) -> SignArray:
     """``orient2d(p[a[i]], p[b[i]], p[c[i]])`` for every i as 1 (counterclockwise) or -1
     (clockwise) where its float filter certifies it, else 0 (undecided).  O(n)."""
-    ax, ay = _doubles(fx, fy, a)
-    bx, by = _doubles(fx, fy, b)
-    cx, cy = _doubles(fx, fy, c)
+    (ax, ay), (bx, by), (cx, cy) = (_doubles(fx, fy, i) for i in (a, b, c))
     acx = ax - cx
     acy = ay - cy
     bcx = bx - cx
@@ -130,10 +128,7 @@ def squared_length_signs(
     """``compare_squared_lengths(p[a[i]], p[b[i]], p[c[i]], p[d[i]])`` (the sign of
     ``|ab|^2 - |cd|^2``) for every i where its float filter certifies it, else 0
     (undecided).  O(n)."""
-    ax, ay = _doubles(fx, fy, a)
-    bx, by = _doubles(fx, fy, b)
-    cx, cy = _doubles(fx, fy, c)
-    dx, dy = _doubles(fx, fy, d)
+    (ax, ay), (bx, by), (cx, cy), (dx, dy) = (_doubles(fx, fy, i) for i in (a, b, c, d))
     ux = bx - ax
     uy = by - ay
     vx = dx - cx
@@ -156,10 +151,7 @@ def incircle_signs(
 ) -> SignArray:
     """``incircle(p[a[i]], p[b[i]], p[c[i]], p[d[i]])`` for every i as 1 (inside) or -1
     (outside) where its float filter certifies it, else 0 (undecided).  O(n)."""
-    ax, ay = _doubles(fx, fy, a)
-    bx, by = _doubles(fx, fy, b)
-    cx, cy = _doubles(fx, fy, c)
-    dx, dy = _doubles(fx, fy, d)
+    (ax, ay), (bx, by), (cx, cy), (dx, dy) = (_doubles(fx, fy, i) for i in (a, b, c, d))
     adx = ax - dx
     ady = ay - dy
     bdx = bx - dx

@@ -1,5 +1,5 @@
-"""Space vectors as plain triples of ints or of floats: difference, cross product and dot
-product, in the coordinates' own arithmetic (exact for ints)."""
+"""Space vectors as plain triples of numbers (typed for ints or floats): difference, cross
+product and dot product, in the numbers' own arithmetic (exact for exact numbers)."""
 
 from __future__ import annotations
 

@@ -171,10 +171,6 @@ def tetrahedron_measures(a: Point3, b: Point3, c: Point3, d: Point3) -> tuple[fl
     return smallest_angle, min(1.0, 3.0 * inradius / circumradius)
 
 
-
-
-
-
 class _Qualities:
     """The criterion's quality of tetrahedra, by sorted vertex ids, computed once each."""
 
