@@ -22,6 +22,7 @@ from geomexact.kernel.derived import Derived
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 from geomexact.trace.protocols import kind_of
+from geomexact.trace.sourced_snapshot import SourcedSnapshot
 
 if TYPE_CHECKING:
     import numpy as np
@@ -116,8 +117,12 @@ class TableSource:
         return vertices, halfedges, outgoing
 
 
+_Tables2: TypeAlias = tuple[immutables.Map[int, Point2], immutables.Map[Edge, int],
+                           immutables.Map[int, int]]
+
+
 @attrs.frozen(slots=True, eq=False)
-class Mesh2:
+class Mesh2(SourcedSnapshot[Point2, _Tables2]):
     """An immutable 2D triangle mesh with exact rational vertices.
 
     Tables (all persistent maps):
@@ -152,30 +157,18 @@ class Mesh2:
     _derived: Derived = attrs.field(init=False, factory=Derived, repr=False)
     """The tables built from ``source`` (:class:`~geomexact.kernel.derived.Derived`)."""
 
-    # -- tables -------------------------------------------------------------------------
-    @property
-    def vertices(self) -> immutables.Map[int, Point2]:
-        """id -> :class:`Point2`."""
-        table = self._vertices
-        if table is None:
-            table = self._built()[0]
-        return table
-
+    # -- tables (``vertices``: :class:`SourcedSnapshot`) ---------------------------------
     @property
     def halfedges(self) -> immutables.Map[Edge, int]:
         """``(u, v)`` -> apex w of the counter-clockwise triangle (u, v, w)."""
         table = self._halfedges
-        if table is None:
-            table = self._built()[1]
-        return table
+        return self._built()[1] if table is None else table
 
     @property
     def outgoing(self) -> immutables.Map[int, int]:
         """vertex -> some w such that (vertex, w) is a half-edge."""
         table = self._outgoing
-        if table is None:
-            table = self._built()[2]
-        return table
+        return self._built()[2] if table is None else table
 
     @property
     def source(self) -> TableSource | None:
@@ -185,27 +178,7 @@ class Mesh2:
             return None
         return self._source
 
-    def _built(self) -> tuple[immutables.Map[int, Point2], immutables.Map[Edge, int],
-                              immutables.Map[int, int]]:
-        """The tables built from the source (once, then kept)."""
-        source = self._source
-        assert source is not None, "a snapshot without tables has a source"
-        return self._derived.get("tables", source.tables)
-
-    # -- size ---------------------------------------------------------------------------
-    @property
-    def vertex_count(self) -> int:
-        """Number of vertices (ids are 0..vertex_count-1)."""
-        table = self._vertices
-        if table is None and self._source is not None:
-            return len(self._source.points)
-        return len(self.vertices)
-
-    @property
-    def digest_text(self) -> str:
-        """The digest as 32 hexadecimal digits."""
-        return _digest.digest_text(self.digest)
-
+    # -- size (``vertex_count``, ``digest_text``: :class:`SourcedSnapshot`) -------------
     def transient(self, *, batch: bool = False) -> Transient2:
         """A batch editor opened on this snapshot (:class:`~geomexact.mesh2d.transient.
         Transient2`); the snapshot itself never changes."""
@@ -221,19 +194,7 @@ class Mesh2:
         replayed: Mesh2 | None = None if engine is None else engine(self, steps, digests)
         return replayed
 
-    # -- elements -----------------------------------------------------------------------
-    def point(self, vertex: int) -> Point2:
-        """The exact point of ``vertex`` (``KeyError`` if there is none)."""
-        return self.vertices[vertex]
-
-    def point_list(self) -> list[Point2]:
-        """The points of vertices 0..n-1, in id order (``KeyError`` when a table has a
-        gap)."""
-        if self._vertices is None and self._source is not None:
-            return list(self._source.points)
-        vertices = self.vertices
-        return [vertices[index] for index in range(len(vertices))]
-
+    # -- elements (``point``, ``point_list``: :class:`SourcedSnapshot`) -----------------
     def apex(self, u: int, v: int) -> int | None:
         """The third vertex of the triangle left of the directed edge (u, v), or None."""
         return self.halfedges.get((u, v))

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Iterator, Sequence
 
 import immutables
 
-from geomexact.errors import PreconditionError, TransientSealedError
+from geomexact.errors import PreconditionError
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.points import Point2, point2
 from geomexact.kernel.predicate_results import Orientation
@@ -27,7 +27,7 @@ from geomexact.mesh2d.snapshot import (
     canonical_triangle,
     empty_mesh,
 )
-from geomexact.trace.protocols import apply_from, kind_of
+from geomexact.trace.recording import RecordingTransient
 from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
@@ -35,25 +35,23 @@ _cell_hash = _digest.cell_hash
 _MASK = _digest.MODULUS - 1
 
 
-class Transient2:
+class Transient2(RecordingTransient[Point2]):
     """Mutable editor of a 2D mesh.  Low-level edits keep the digest and the adjacency
-    tables consistent; geometric preconditions are checked by the ops, not here."""
+    tables consistent; geometric preconditions are checked by the ops, not here.  Its
+    steps go through the 2D step table (:data:`geomexact.mesh2d.ops.OPERATIONS`)."""
 
     __slots__ = (
-        "_digest",
         "_halfedges",
         "_outgoing",
-        "_sealed",
         "_segments",
         "_triangle_attributes",
         "_triangle_count",
         "_vertex_attributes",
         "_vertex_markers",
-        "_vertices",
         "stale_outgoing",
-        "step_digests",
-        "steps",
     )
+
+    snapshot_type = Mesh2
 
     def __init__(self, mesh: Mesh2, *, batch: bool = False) -> None:
         """Open on ``mesh``; ``batch`` edits plain dicts instead of the maps' mutations
@@ -75,24 +73,8 @@ class Transient2:
 
     # -- reads --------------------------------------------------------------------------
     @property
-    def vertex_count(self) -> int:
-        return len(self._vertices)
-
-    @property
     def triangle_count(self) -> int:
         return self._triangle_count
-
-    @property
-    def digest(self) -> int:
-        return self._digest
-
-    def point(self, vertex: int) -> Point2:
-        """The point of ``vertex``; :class:`PreconditionError` when there is none (a step
-        naming a vertex the mesh does not have)."""
-        try:
-            return self._vertices[vertex]
-        except KeyError:
-            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
 
     def apex(self, u: int, v: int) -> int | None:
         """Third vertex of the triangle left of (u, v), or None."""
@@ -139,10 +121,6 @@ class Transient2:
                 yield (u, v) if u < v else (v, u)
 
     # -- edits --------------------------------------------------------------------------
-    def _check_open(self) -> None:
-        if self._sealed:
-            raise TransientSealedError("this transient was sealed; start a new one")
-
     def add_vertex(
         self, point: Point2, marker: int = 0, attributes: Attributes = ()
     ) -> int:
@@ -274,13 +252,6 @@ class Transient2:
         )
         return marker
 
-    def record(self, step: Step) -> None:
-        """Append ``step`` (just completed) and the digest after it to the run's record; a
-        sealed transient refuses it, also for a step that edited nothing."""
-        self._check_open()
-        self.steps.append(step)
-        self.step_digests.append(self._digest)
-
     # -- sealing ------------------------------------------------------------------------
     def _repair_outgoing(self) -> None:
         halfedges, outgoing = self._halfedges, self._outgoing
@@ -304,11 +275,6 @@ class Transient2:
         for vertex, w in best.items():
             outgoing[vertex] = w
         self.stale_outgoing.clear()
-
-    def apply(self, step: Step, /) -> None:
-        """Apply ``step`` through the 2D step table (:data:`geomexact.mesh2d.ops.
-        OPERATIONS`) and record it; raises :class:`PreconditionError` when it cannot."""
-        apply_from(kind_of(Mesh2).operations, self, step)
 
     def seal(self) -> Mesh2:
         """Finish the edits and return the new snapshot; the transient is then unusable."""

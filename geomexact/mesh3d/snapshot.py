@@ -25,6 +25,7 @@ from geomexact.kernel.derived import Derived
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3
 from geomexact.trace.protocols import kind_of
+from geomexact.trace.sourced_snapshot import SourcedSnapshot
 
 if TYPE_CHECKING:
     from geomexact.mesh3d.transient import Transient3
@@ -113,8 +114,12 @@ class FaceSource:
         return immutables.Map(enumerate(self.points)), table, hints
 
 
+_Tables3: TypeAlias = tuple[immutables.Map[int, Point3], immutables.Map[Face, int],
+                           immutables.Map[int, Face]]
+
+
 @attrs.frozen(slots=True, eq=False)
-class Mesh3:
+class Mesh3(SourcedSnapshot[Point3, _Tables3]):
     """An immutable tetrahedral mesh with exact rational vertices.
 
     Tables (persistent maps):
@@ -142,13 +147,7 @@ class Mesh3:
     """The tables built from ``source`` and the read-only arrays derived from them
     (:class:`~geomexact.kernel.derived.Derived`): never content, never compared."""
 
-    # -- tables -------------------------------------------------------------------------
-    @property
-    def vertices(self) -> immutables.Map[int, Point3]:
-        """id -> :class:`Point3`."""
-        table = self._vertices
-        return self._built()[0] if table is None else table
-
+    # -- tables (``vertices``: :class:`SourcedSnapshot`) ---------------------------------
     @property
     def faces(self) -> immutables.Map[Face, int]:
         """Canonical oriented face -> apex."""
@@ -168,41 +167,13 @@ class Mesh3:
             return None
         return self._source
 
-    def _built(self) -> tuple[immutables.Map[int, Point3], immutables.Map[Face, int],
-                              immutables.Map[int, Face]]:
-        """The tables built from the source (once, then kept)."""
-        source = self._source
-        assert source is not None, "a snapshot without tables has a source"
-        return self._derived.get("tables", source.tables)
-
-    # -- sizes and identity -------------------------------------------------------------
-    @property
-    def vertex_count(self) -> int:
-        if self._vertices is None and self._source is not None:
-            return len(self._source.points)
-        return len(self.vertices)
-
-    @property
-    def digest_text(self) -> str:
-        return _digest.digest_text(self.digest)
-
+    # -- sizes and identity (``vertex_count``, ``digest_text``: :class:`SourcedSnapshot`)
     def transient(self, *, batch: bool = False) -> Transient3:
         """A batch builder on this snapshot (the snapshot itself never changes)."""
         transient: Transient3 = kind_of(Mesh3).transient(self, batch=batch)
         return transient
 
-    # -- queries ------------------------------------------------------------------------
-    def point(self, vertex: int) -> Point3:
-        return self.vertices[vertex]
-
-    def point_list(self) -> list[Point3]:
-        """The points of vertices 0..n-1, in id order (from the source's arrays while the
-        tables are not built)."""
-        if self._vertices is None and self._source is not None:
-            return list(self._source.points)
-        vertices = self.vertices
-        return [vertices[index] for index in range(len(vertices))]
-
+    # -- queries (``point``, ``point_list``: :class:`SourcedSnapshot`) ------------------
     def apex(self, a: int, b: int, c: int) -> int | None:
         """The apex of the tetrahedron on the positive side of the oriented face abc."""
         return self.faces.get(canonical_face(a, b, c))

@@ -9,7 +9,7 @@ from typing import Any
 
 import immutables
 
-from geomexact.errors import PreconditionError, TransientSealedError
+from geomexact.errors import PreconditionError
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.collector import collector_paused
 from geomexact.kernel.points import Point3, point3
@@ -26,46 +26,21 @@ from geomexact.mesh3d.snapshot import (
     empty_mesh3,
     tetrahedron_faces,
 )
-from geomexact.trace.protocols import apply_from, kind_of
+from geomexact.trace.protocols import kind_of
+from geomexact.trace.recording import RecordingTransient
 from geomexact.trace.step import Step
-from geomexact.trace.tables import EditableTable, open_table, sealed_table, table_snapshot
+from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
 __all__ = ["SpaceTransient", "Transient3", "mesh3_from_positive_arrays",
            "mesh3_from_tetrahedra"]
 
 
-class SpaceTransient:
+class SpaceTransient(RecordingTransient[Point3]):
     """What the transients of 3D meshes (:class:`Transient3` and the mixed meshes') have
-    in common: the vertex table, the digest kept current and the steps recorded with the
-    digest after each; a subclass's ``__init__`` opens them on its snapshot."""
+    in common beyond :class:`~geomexact.trace.recording.RecordingTransient`: vertices
+    with three coordinates."""
 
-    __slots__ = ("_digest", "_sealed", "_vertices", "step_digests", "steps")
-
-    _vertices: EditableTable[int, Point3]
-    _digest: int
-    _sealed: bool
-    steps: list[Step]
-    step_digests: list[int]
-
-    @property
-    def digest(self) -> int:
-        return self._digest
-
-    @property
-    def vertex_count(self) -> int:
-        return len(self._vertices)
-
-    def point(self, vertex: int) -> Point3:
-        """The point of ``vertex``; :class:`PreconditionError` when there is none (a step
-        naming a vertex the mesh does not have)."""
-        try:
-            return self._vertices[vertex]
-        except KeyError:
-            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
-
-    def _check_open(self) -> None:
-        if self._sealed:
-            raise TransientSealedError("this transient was sealed; start a new one")
+    __slots__ = ()
 
     def add_vertex(self, point: Point3) -> int:
         """Append a vertex (in no cell yet) and return its id."""
@@ -77,18 +52,16 @@ class SpaceTransient:
         self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, point[:3]))
         return vertex
 
-    def record(self, step: Step) -> None:
-        """Append ``step`` (just completed) and the digest after it to the record."""
-        self._check_open()
-        self.steps.append(step)
-        self.step_digests.append(self._digest)
-
 
 class Transient3(SpaceTransient):
     """Mutable edits on a :class:`Mesh3`, with the digest kept current (O(1) per element)
-    and the steps recorded with the digest after each."""
+    and the steps recorded with the digest after each; its steps go through the 3D step
+    table (:data:`geomexact.mesh3d.ops.OPERATIONS` and ``insert_cuboid``: the kind's
+    table)."""
 
     __slots__ = ("_faces", "_hints", "_stale", "_tetrahedron_count")
+
+    snapshot_type = Mesh3
 
     def __init__(self, mesh: Mesh3, *, batch: bool = False) -> None:
         """Open on ``mesh``; ``batch`` edits plain dicts instead of the maps' mutations
@@ -204,12 +177,6 @@ class Transient3(SpaceTransient):
         )
 
     # -- steps and sealing --------------------------------------------------------------
-    def apply(self, step: Step, /) -> None:
-        """Apply ``step`` through the 3D step table (:data:`geomexact.mesh3d.ops.
-        OPERATIONS` and ``insert_cuboid``: the kind's table) and record it;
-        :class:`PreconditionError` when it cannot."""
-        apply_from(kind_of(Mesh3).operations, self, step)
-
     def _repair_hints(self) -> None:
         faces, hints = self._faces, self._hints
         stale = sorted(

@@ -65,15 +65,24 @@ def run_compiled(
     except OverflowError:
         return None
     halfedges, hints, triangle_count, digest = builder.finish()
-    mesh = attrs.evolve(
+    mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest,
+                       start.segments)
+    return CompiledConstruction(mesh, builder.steps(), builder.digests())
+
+
+def _built_mesh(start: Mesh2, points: Sequence[Point2], halfedges: Any, hints: Any,
+                triangle_count: int, digest: int, segments: Any) -> Mesh2:
+    """``start`` with the kernel's final arrays: its tables are built from them on first
+    use (:class:`TableSource`)."""
+    return attrs.evolve(
         start,
         halfedges=None,
         outgoing=None,
+        segments=segments,
         triangle_count=triangle_count,
         digest=digest,
         source=TableSource(points, halfedges, hints, start),
     )
-    return CompiledConstruction(mesh, builder.steps(), builder.digests())
 
 
 @attrs.frozen(slots=True)
@@ -129,13 +138,5 @@ def run_compiled_constrained(
     except OverflowError:
         return None
     halfedges, hints, segment_map, triangle_count, digest = builder.finish_constrained()
-    mesh = attrs.evolve(
-        start,
-        halfedges=None,
-        outgoing=None,
-        segments=segment_map,
-        triangle_count=triangle_count,
-        digest=digest,
-        source=TableSource(points, halfedges, hints, start),
-    )
+    mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest, segment_map)
     return CompiledConstrained(mesh, builder.steps(), builder.digests(), tuple(ignored))

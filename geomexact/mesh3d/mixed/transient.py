@@ -13,7 +13,6 @@ from geomexact.kernel.points import Point3, point3
 from geomexact.mesh3d.mixed.cells import Cell, Face, cell_hash_of, reversed_face, rotated_face
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3, empty_mixed_mesh
 from geomexact.mesh3d.transient import SpaceTransient
-from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
@@ -22,9 +21,12 @@ __all__ = ["MixedTransient3", "mixed_mesh_from_cells"]
 
 class MixedTransient3(SpaceTransient):
     """Mutable edits on a :class:`MixedMesh3`, the digest kept current (O(1) per
-    element), the steps recorded with the digest after each."""
+    element), the steps recorded with the digest after each; its steps go through the
+    mixed step table (:data:`geomexact.mesh3d.mixed.ops.OPERATIONS`)."""
 
     __slots__ = ("_cells", "_faces")
+
+    snapshot_type = MixedMesh3
 
     def __init__(self, mesh: MixedMesh3, *, batch: bool = False) -> None:
         """Open on ``mesh``; ``batch`` edits plain dicts (O(n) to open and seal, cheaper
@@ -95,12 +97,7 @@ class MixedTransient3(SpaceTransient):
                 del faces[face]
         self._digest = _digest.remove(self._digest, value)
 
-    # -- steps and sealing --------------------------------------------------------------
-    def apply(self, step: Step, /) -> None:
-        """Apply ``step`` through the mixed step table (:data:`geomexact.mesh3d.mixed.ops.
-        OPERATIONS`) and record it; :class:`PreconditionError` when it cannot."""
-        apply_from(kind_of(MixedMesh3).operations, self, step)
-
+    # -- sealing ------------------------------------------------------------------------
     def seal(self) -> MixedMesh3:
         """Finish the edits and return the new snapshot; the transient is then unusable."""
         self._check_open()

@@ -1,0 +1,66 @@
+"""What the transients of every mesh kind share: the vertex table, the digest kept
+current, the steps recorded with the digest after each, and no edit once sealed.  A mesh
+package's transient subclasses :class:`RecordingTransient`, opens these slots on its
+snapshot in its ``__init__`` and names its snapshot type in ``snapshot_type``."""
+
+from __future__ import annotations
+
+from typing import ClassVar, Generic, TypeVar
+
+from geomexact.errors import PreconditionError, TransientSealedError
+from geomexact.trace.protocols import apply_from, kind_of
+from geomexact.trace.step import Step
+from geomexact.trace.tables import EditableTable
+
+__all__ = ["RecordingTransient"]
+
+P = TypeVar("P")
+
+
+class RecordingTransient(Generic[P]):
+    """A transient's vertex table (id -> point ``P``), digest and step record; a
+    subclass's ``__init__`` opens them on its snapshot."""
+
+    __slots__ = ("_digest", "_sealed", "_vertices", "step_digests", "steps")
+
+    snapshot_type: ClassVar[type]
+    """The snapshot type whose bound kind (:func:`~geomexact.trace.protocols.kind_of`)
+    holds the step table :meth:`apply` uses."""
+
+    _vertices: EditableTable[int, P]
+    _digest: int
+    _sealed: bool
+    steps: list[Step]
+    step_digests: list[int]
+
+    @property
+    def digest(self) -> int:
+        return self._digest
+
+    @property
+    def vertex_count(self) -> int:
+        return len(self._vertices)
+
+    def point(self, vertex: int) -> P:
+        """The point of ``vertex``; :class:`PreconditionError` when there is none (a step
+        naming a vertex the mesh does not have)."""
+        try:
+            return self._vertices[vertex]
+        except KeyError:
+            raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
+
+    def _check_open(self) -> None:
+        if self._sealed:
+            raise TransientSealedError("this transient was sealed; start a new one")
+
+    def record(self, step: Step) -> None:
+        """Append ``step`` (just completed) and the digest after it to the run's record; a
+        sealed transient refuses it, also for a step that edited nothing."""
+        self._check_open()
+        self.steps.append(step)
+        self.step_digests.append(self._digest)
+
+    def apply(self, step: Step, /) -> None:
+        """Apply ``step`` through the step table of :attr:`snapshot_type`'s kind (the
+        entry records it); :class:`PreconditionError` when it cannot."""
+        apply_from(kind_of(self.snapshot_type).operations, self, step)
