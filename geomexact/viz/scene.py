@@ -176,8 +176,18 @@ def exact_text(
     characters in all."""
     texts = []
     used = 0
+    # a coordinate repeats across points (a refined grid has a few thousand distinct
+    # values for a million points): each distinct value is written once
+    written: dict[Rational, str] = {}
     for point in points:
-        text = f"{format_rational(point.x)} {format_rational(point.y)}"
+        x, y = point.x, point.y
+        text_x = written.get(x)
+        if text_x is None:
+            text_x = written[x] = format_rational(x)
+        text_y = written.get(y)
+        if text_y is None:
+            text_y = written[y] = format_rational(y)
+        text = f"{text_x} {text_y}"
         used += len(text) + 3
         if used > budget:
             return None
@@ -197,11 +207,20 @@ def mesh_scene(mesh: Mesh2, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
     triangles = indices()
     regions = doubles()
     has_regions = bool(len(mesh.triangle_attributes))
-    for triangle in mesh.triangles():
-        triangles.extend(triangle)
-        if has_regions:
-            values = mesh.triangle_attributes.get(triangle)
-            regions.append(_region_double(values[0]) if values else math.nan)
+    source = mesh.source
+    if source is not None and not has_regions:
+        # a kernel's or a bulk reader's arrays: sorted there, not as a million tuples
+        import numpy as np
+
+        rows = source.triangle_rows()
+        rows = rows[np.lexsort(rows.T[::-1])]
+        triangles.frombytes(rows.astype(np.dtype(INDEX_TYPE)).tobytes())
+    else:
+        for triangle in mesh.triangles():
+            triangles.extend(triangle)
+            if has_regions:
+                values = mesh.triangle_attributes.get(triangle)
+                regions.append(_region_double(values[0]) if values else math.nan)
     segments = indices()
     for u, v, _ in mesh.segment_list():
         segments.extend((u, v))

@@ -29,6 +29,7 @@ from geomexact.viz.scene import (
     indices,
     is_convex_polygon,
     little_endian,
+    mesh_scene,
     scale_exponent_of,
     scene_of,
     step_label,
@@ -278,3 +279,22 @@ def test_scenes_beyond_the_band_are_drawn_scaled_exactly(scale: Rational) -> Non
         assert scene.exact is not None and scene.exact[3].split() == [
             format_rational(4 * scale), format_rational(5 * scale)]
     assert list(scene_of(pslg).holes) == [float(2 * scale / mpq(2) ** k)] * 2
+
+
+def test_a_scene_from_a_kernels_arrays_equals_the_scene_from_tables() -> None:
+    """A refined mesh whose tables are still the kernel's arrays gives the same scene
+    (triangles sorted canonically, exact text) as the same mesh read back from its
+    tables; the exact text writes each distinct coordinate once and stays exact."""
+    from geomexact.mesh2d.refinement.api import refine
+    from geomexact.mesh2d.refinement.criteria import MaxArea
+    from geomexact.mesh2d.refinement.engines import compiled
+
+    square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, mpq(1, 3))],
+                                 [(0, 1, 2), (0, 2, 3)])
+    refined = refine(square, MaxArea(mpq(1, 300))).mesh
+    assert refined.source is not None or not compiled.AVAILABLE
+    from_tables = mesh_from_triangles(refined.point_list(), refined.triangles())
+    scene, again = mesh_scene(refined), mesh_scene(from_tables)
+    assert list(scene.triangles) == [v for t in sorted(refined.triangles()) for v in t]
+    assert scene.triangles == again.triangles and scene.exact == again.exact
+    assert scene.exact is not None and scene.exact[3] == "0 1/3"
