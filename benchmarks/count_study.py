@@ -427,18 +427,18 @@ def point_rules() -> dict[str, Callable[..., Any]]:
 
 
 def points_section(found: list[Input], angles: tuple[int, ...]) -> list[dict[str, Any]]:
-    from geomexact.mesh2d.refinement.engines import batch
+    from geomexact.mesh2d.refinement.engines import reference
 
     item = by_name(found, "1500random")
     if item is None:
         return []
     rows = []
-    original = batch.rounded_area_centroid
+    original = reference.rounded_area_centroid
     try:
         for label, function in point_rules().items():
-            batch.rounded_area_centroid = function
+            reference.rounded_area_centroid = function
             for degrees in angles:
-                run = run_geomexact(item.mesh, degrees, method="centroid", engine="python",
+                run = run_geomexact(item.mesh, degrees, method="centroid", engine="reference",
                                     max_steps=STEP_CAP)
                 result = run.pop("_result")
                 assert replay(result.start, result.trace).digest == result.mesh.digest
@@ -448,7 +448,7 @@ def points_section(found: list[Input], angles: tuple[int, ...]) -> list[dict[str
                 print(f"{label:<50}{degrees:>3}°  {run['triangles']:>8,}  "
                       f"{run['min_angle']:6.2f}°{ended}", flush=True)
     finally:
-        batch.rounded_area_centroid = original
+        reference.rounded_area_centroid = original
     return rows
 
 

@@ -131,7 +131,7 @@ KERNEL_RUNS: tuple[tuple[str, str], ...] = (
              "with or without --no-delaunay and --plain-centroids, with every --preset and "
              "rule (--order, --second-longest-rule, --factor-stop), with triangle or vertex "
              "attributes or without; and replay of the traces it records; any other run "
-             "(an API criterion of another angle) uses the Python engine"),
+             "(an API criterion of another angle) uses the reference engine"),
     ("delaunay", "the Delaunay triangulation of the points in triangulate (and in refine of "
                  "a PSLG), then its segments (recovered by flips), the Lawson pass and the "
                  "carving of the exterior and holes; crossing segments to split and region "

@@ -632,9 +632,10 @@ def add_parser(commands: Subcommands) -> None:
                               "triangle; always insert the centroid (= --second-longest-rule "
                               "centroid)")
     refine_.add_argument("--engine", choices=(*ENGINES, *OLD_NAMES), default="auto",
-                         help="auto (default: compiled where it applies, else python), "
+                         help="auto (default: compiled where it applies, else the pure "
+                              "Python engine), "
                               "compiled (the kernel; an error where it does not apply), "
-                              "python (the batch engine) or reference (the pure ops); all "
+                              "python or reference (the pure ops); all "
                               "record the same trace; fast and transient are old names of "
                               "auto and reference")
     refine_.add_argument("--max-steps", type=step_limit, metavar="N", default="auto",

@@ -11,10 +11,11 @@ hashed once, even when a later step removes it), sealed into a snapshot once at 
 The store offers the edits the ops' triangle edits need (:class:`geomexact.mesh2d.ops.
 TriangleEditor`), so ``ops.join_in_edge`` and the others apply to it unchanged; it makes
 the flip and Lawson legalization itself.
-Two engines build on it — the incremental Delaunay insertion
-(:class:`geomexact.mesh2d.delaunay.triangulation.BatchDelaunay`) and the Lepp refinement
-(:class:`geomexact.mesh2d.refinement.engines.batch.BatchRefinement`) — and their traces are
-tested equal to the reference ops' step by step (``tests/engines``), and by replay.
+The incremental Delaunay insertion
+(:class:`geomexact.mesh2d.delaunay.triangulation.BatchDelaunay`) builds on it (the Lepp
+refinement's batch engine that also did was retired: the compiled kernel and the reference
+ops are its two tiers); its traces are tested equal to the compiled kernel's step by step
+(``tests/engines``), and replay through the reference ops.
 """
 
 from __future__ import annotations
@@ -45,31 +46,25 @@ class BatchTriangulation:
     ``halfedges`` maps each directed edge (u, v) of a counter-clockwise triangle (u, v, w)
     to w, as :attr:`Mesh2.halfedges` does; ``points[i]`` is vertex i; ``grid[i]`` says whether it
     is on the dyadic grid of ``scale`` (:mod:`geomexact.kernel.dyadic_grid`); ``steps`` and
-    ``digests`` are the run's record.  On request it keeps the outgoing hints (``hints``)
-    and the log of triangles added and removed (``created``, ``removed``).  Subclasses
+    ``digests`` are the run's record.  Subclasses
     extend the start of a step (:meth:`begin_step`: a step limit) and the recording
     (:meth:`record`: progress reports)."""
 
     __slots__ = (
         "attributed",
-        "created",
         "digest",
         "digests",
         "grid",
         "halfedges",
         "hashes",
-        "hints",
-        "keeps_hints",
-        "logs",
         "points",
-        "removed",
         "scale",
         "segments",
         "steps",
         "triangle_attrs",
     )
 
-    def __init__(self, mesh: Mesh2, *, hints: bool = False, log: bool = False) -> None:
+    def __init__(self, mesh: Mesh2) -> None:
         self.points: list[Point2] = [mesh.vertices[i] for i in range(mesh.vertex_count)]
         self.halfedges: dict[Edge, int] = dict(mesh.halfedges.items())
         self.hashes: dict[Triangle, int] = {}
@@ -82,16 +77,6 @@ class BatchTriangulation:
         )
         self.attributed = bool(self.triangle_attrs)
         self.scale, self.grid = grid_flags(self.points)
-        # outgoing hints as Transient2 keeps them: each new triangle (a, b, c) sets
-        # a -> b, b -> c, c -> a
-        self.keeps_hints = hints
-        self.hints: list[int | None] = (
-            [mesh.outgoing.get(i) for i in range(mesh.vertex_count)] if hints else []
-        )
-        # the canonical triangles added and removed since the engine last cleared them
-        self.logs = log
-        self.created: list[Triangle] = []
-        self.removed: list[Triangle] = []
 
     # -- reads --------------------------------------------------------------------------
     def apex(self, u: int, v: int) -> int | None:
@@ -123,13 +108,8 @@ class BatchTriangulation:
 
     # -- triangles ----------------------------------------------------------------------
     def _enter(self, a: int, b: int, c: int, attributes: Attributes | None) -> None:
-        """Account for the new triangle (a, b, c): the hints, its cell hash (cached), its
-        attributes, the digest, the log."""
-        if self.keeps_hints:
-            hints = self.hints
-            hints[a] = b
-            hints[b] = c
-            hints[c] = a
+        """Account for the new triangle (a, b, c): its cell hash (cached), its attributes,
+        the digest."""
         key = (a, b, c) if a < b and a < c else (b, c, a) if b < c else (c, a, b)
         value = self.hashes[key] = _cell_hash(key)
         total = self.digest + value
@@ -137,8 +117,6 @@ class BatchTriangulation:
             self.triangle_attrs[key] = attributes
             total += _digest.attribute_hash("ta", key, attributes)
         self.digest = total & _MASK
-        if self.logs:
-            self.created.append(key)
 
     def _leave(self, a: int, b: int, c: int) -> Attributes | None:
         """Account for the removed triangle (a, b, c); return its attributes."""
@@ -151,8 +129,6 @@ class BatchTriangulation:
             if attributes is not None:
                 total -= _digest.attribute_hash("ta", key, attributes)
         self.digest = total & _MASK
-        if self.logs:
-            self.removed.append(key)
         return attributes
 
     def add_triangle(

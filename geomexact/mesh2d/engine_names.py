@@ -1,10 +1,13 @@
 """The names of the engines that run a 2D algorithm (``engine=`` of ``refine`` and
 ``triangulate``; ``--engine`` of the CLI).
 
-* ``"auto"`` (the default): the compiled kernel where it applies, else ``"python"``;
+* ``"auto"`` (the default): the compiled kernel where it applies, else the pure-Python
+  engine;
 * ``"compiled"``: the Cython kernel, or :class:`~geomexact.errors.PreconditionError` when it
   is not built or the run is outside what it implements (never something else silently);
-* ``"python"``: the Python batch engine (:mod:`geomexact.mesh2d.batch_store`);
+* ``"python"``: the pure-Python engine: for triangulation the batch Delaunay
+  (:mod:`geomexact.mesh2d.batch_store`), for refinement the reference ops (its batch
+  engine was retired: two tiers, issue 25);
 * ``"reference"``: the pure ops on a transient (refinement only).
 
 All record the same trace; the engine is never a parameter of it.  ``"fast"`` and
@@ -49,7 +52,8 @@ def engine_named(op: str, engine: str, engines: tuple[str, ...] = ENGINES) -> st
 
 def compiled_kernel(module: str) -> Any:
     """The compiled kernel ``module`` (an optional Cython extension), or None when it is
-    not built: then engine ``"auto"`` runs the Python engine and ``"compiled"`` refuses."""
+    not built: then engine ``"auto"`` runs the pure-Python engine and ``"compiled"``
+    refuses."""
     try:
         return importlib.import_module(module)
     except ImportError:

@@ -847,10 +847,6 @@ class TestReferenceRefinement(RefinementSuite):
     engine = "reference"
 
 
-class TestPythonRefinement(RefinementSuite):
-    engine = "python"
-
-
 @pytest.mark.skipif(not compiled_refinement.AVAILABLE,
                     reason="the compiled Lepp kernel is not built")
 class TestCompiledRefinement(RefinementSuite):
@@ -1248,10 +1244,10 @@ def test_compiled_refuses_what_it_does_not_run(criterion: Criterion, options: di
 @pytest.mark.skipif(not compiled_refinement.AVAILABLE, reason="the Lepp kernel is not built")
 def test_compiled_runs_attributed_meshes() -> None:
     """Triangle and vertex attributes run compiled (issue 25, item 2): the same mesh as
-    the Python engine, attributes kept and interpolated."""
+    the reference engine, attributes kept and interpolated."""
     for start in (two_regions(), vertex_attributed()):
         compiled = refine(start, MaxArea("0.1"), engine="compiled")
-        python = refine(start, MaxArea("0.1"), engine="python")
+        python = refine(start, MaxArea("0.1"), engine="reference")
         assert compiled.mesh.digest == python.mesh.digest
         assert dict(compiled.mesh.triangle_attributes.items()) == dict(
             python.mesh.triangle_attributes.items())

@@ -20,18 +20,18 @@ last of the path) and t2 (across e):
   pair that is not locally Delaunay, flip e (when ``delaunay=True``) and search again;
   otherwise insert as the centroid method does.
 
-Four engine names choose what runs (:mod:`geomexact.mesh2d.engine_names`); all record
-identical traces (``tests/engines/test_engine_equivalence.py``):
+Two tiers run it (:mod:`geomexact.mesh2d.engine_names`); both record identical traces
+(``tests/engines/test_engine_equivalence.py``):
 
 * ``"reference"``: the ops on a :class:`~geomexact.mesh2d.transient.Transient2`, the
-  readable reference (:mod:`geomexact.mesh2d.refinement.engines.reference`);
-* ``"python"``: the batch engine on plain dicts with the digest kept incrementally
-  (:mod:`geomexact.mesh2d.refinement.engines.batch`);
+  definition (:mod:`geomexact.mesh2d.refinement.engines.reference`); ``"python"`` names
+  it too (the pure-Python batch engine it once named was retired: issue 25);
 * ``"compiled"``: the compiled kernel (:mod:`geomexact.mesh2d.refinement.engines.compiled`,
-  a C extension built at install when a compiler is present) for the runs it implements —
-  every method with a size criterion (no minimum angle), centroid kind ``"area"`` and no
-  triangle attributes; any other run raises :class:`~geomexact.errors.PreconditionError`;
-* ``"auto"`` (the default): ``"compiled"`` where it applies, else ``"python"``.
+  a C extension built at install when a compiler is present, or from a wheel) for every
+  method, criterion, rule, region and attribute (only a minimum-angle criterion of another
+  type than ``MinAngle`` is outside it); outside it, or not built, it raises
+  :class:`~geomexact.errors.PreconditionError`;
+* ``"auto"`` (the default): ``"compiled"`` where it applies, else ``"reference"``.
 
 ``"fast"`` and ``"transient"`` are the old names of ``"auto"`` and ``"reference"``.
 
@@ -69,7 +69,6 @@ from geomexact.mesh2d.refinement.driver import (
     RunOptions,
     Status,
 )
-from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
 from geomexact.mesh2d.refinement.engines.compiled import run_compiled, unsupported
 from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
 from geomexact.mesh2d.refinement.presets import (
@@ -266,10 +265,10 @@ def refine(
     on_step:
         Called with a :class:`Progress` after every step.
     engine:
-        ``"auto"`` (the compiled kernel where it applies, else ``"python"``),
+        ``"auto"`` (the compiled kernel where it applies, else ``"reference"``),
         ``"compiled"`` (the kernel, or :class:`~geomexact.errors.PreconditionError` when it
-        is not built or does not implement this run), ``"python"`` (the batch engine) or
-        ``"reference"`` (the ops on a transient; slower).  All record the same trace.
+        is not built or does not implement this run) or ``"reference"`` (the ops on a
+        transient, pure Python; ``"python"`` names it too).  All record the same trace.
         ``"fast"`` and ``"transient"`` are old names of ``"auto"`` and ``"reference"``.
     preset:
         ``"pineda"`` or ``"mellado"``: the rules of that paper's program
@@ -339,7 +338,7 @@ def refine(
         if reason is not None:
             raise PreconditionError(
                 "refine", f"engine 'compiled' cannot run this refinement: {reason} "
-                "(engine 'auto' runs the Python engine where the kernel does not apply)"
+                "(engine 'auto' runs the reference engine where the kernel does not apply)"
             )
     with collector_paused():  # a large run makes millions of small tuples
         compiled = (
@@ -355,11 +354,9 @@ def refine(
             )
             reasons: tuple[LeftReason, ...] = compiled.left_reasons
         else:
-            run: Refinement
-            if name == "reference":
-                run = ReferenceRefinement(mesh, limit, run_options)
-            else:
-                run = BatchRefinement(mesh, limit, run_options)
+            # the reference ops: the engine of every run the kernel does not take, and of
+            # "python" (its pure-Python batch engine was retired: issue 25)
+            run: Refinement = ReferenceRefinement(mesh, limit, run_options)
             run.start_queue(sorted(mesh.iter_triangles()))
             status = run.run()
             result, steps, digests = run.finish(mesh)

@@ -55,7 +55,7 @@ class Progress:
 @attrs.frozen(slots=True)
 class RunOptions:
     """What one Lepp refinement run does, typed, from ``refine()`` to every engine (the
-    reference and Python engines and the compiled kernel): the criterion, the region,
+    reference engine and the compiled kernel): the criterion, the region,
     the method, whether Delaunay flips are made, the rules (:class:`~geomexact.mesh2d.
     refinement.presets.Rules`: centroid kind, order, second-longest rule, factor stop)
     and what receives each step's :class:`Progress`."""

@@ -27,7 +27,7 @@ from geomexact.mesh2d.refinement.criteria import (
 )
 from geomexact.mesh2d.refinement.driver import RunOptions
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
-from geomexact.mesh2d.refinement.engines.batch import BatchRefinement
+from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
 from geomexact.mesh2d.refinement.engines.compiled import KernelRun, run_compiled, unsupported
 from geomexact.mesh2d.refinement.presets import rules
 from geomexact.mesh2d.refinement.regions import Circle, Rectangle, Region, as_region
@@ -76,8 +76,8 @@ class Wide(AverageAreaFactor):
 
 
 def mean_state(start: Mesh2, criterion: Criterion, **kw: Any) -> tuple[Any, ...]:
-    """The Python engine's (area2, count, target_area2) after ``start_queue``."""
-    run = BatchRefinement(start, None, options(criterion, **kw))
+    """The reference engine's (area2, count, target_area2) after ``start_queue``."""
+    run = ReferenceRefinement(start, None, options(criterion, **kw))
     run.start_queue(sorted(start.iter_triangles()))
     return run.area2, run.count, run.target_area2
 

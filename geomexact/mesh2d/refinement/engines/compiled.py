@@ -3,10 +3,10 @@ the typed kernel :mod:`geomexact.mesh2d.refinement.engines.lepp_kernel` (a Cytho
 extension, optional).
 
 ``run_compiled(mesh, max_steps, run)`` takes the arguments of
-``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` (a :class:`~geomexact.mesh2d.
-refinement.driver.RunOptions`) and returns a
+``geomexact.mesh2d.refinement.engines.reference.ReferenceRefinement`` (a
+:class:`~geomexact.mesh2d.refinement.driver.RunOptions`) and returns a
 :class:`CompiledRun` — the same steps, digests, final mesh, status and counters as the
-Python engine — or None when the kernel is not built or the run is outside its subset
+reference engine — or None when the kernel is not built or the run is outside its subset
 (:func:`unsupported` says why):
 
 * method ``"bisection"``, with or without Delaunay legalization; methods ``"centroid"``
@@ -20,7 +20,7 @@ Python engine — or None when the kernel is not built or the run is outside its
 * a criterion on single triangles: ``MinAngle`` (the exact type), rated in C (the angle
   opposite the shortest edge against the threshold by ``compare_angle``'s float filter,
   the key −cos² exact), with the small-angle rules of ``Refinement`` (sharp corners left,
-  protected tips; ``left`` and ``left_reasons`` as the Python engine's); another criterion
+  protected tips; ``left`` and ``left_reasons`` as the reference engine's); another criterion
   with no ``angle_threshold``, rated through its ``rate`` (``MaxArea`` in C on dyadic
   triangles; an ``AnyOf`` of such criteria too); ``AnyOf((MinAngle, X, ...))`` with
   such criteria after the angle (``--min-angle`` with ``--max-area`` and/or
@@ -32,10 +32,10 @@ Python engine — or None when the kernel is not built or the run is outside its
   triangles keep their parent's) and vertex attributes (interpolated at new vertices);
   any ``max_steps`` and ``on_step``.
 
-``refine(..., engine="auto")`` (the default) uses it whenever it applies, and the Python
+``refine(..., engine="auto")`` (the default) uses it whenever it applies, and the reference
 engine otherwise; ``engine="compiled"`` uses it or raises
-:class:`~geomexact.errors.PreconditionError` with that reason; ``engine="python"`` never
-uses it (``tests/engines`` compares them all with the reference engine).
+:class:`~geomexact.errors.PreconditionError` with that reason; ``engine="reference"`` (or
+``"python"``) never uses it (``tests/engines`` compares the two step by step).
 """
 
 from __future__ import annotations
@@ -167,7 +167,7 @@ def supports(mesh: Mesh2, run: RunOptions) -> bool:
 
 def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> CompiledRun | None:
     """Run Lepp refinement in the kernel, or return None (not built, or outside the
-    subset): the run ``refine()`` gives ``BatchRefinement``."""
+    subset): the run ``refine()`` gives ``ReferenceRefinement``."""
     if not supports(mesh, run):
         return None
     criterion, region = run.criterion, run.region

@@ -3,13 +3,15 @@
 """Typed Lepp refinement kernel: ``refine(..., engine="compiled")`` on C data structures.
 
 Contract: :class:`Kernel` runs exactly the loop of
-``geomexact.mesh2d.refinement.engines.batch.BatchRefinement`` for the methods ``"bisection"``,
-``"centroid"`` and ``"quasi"`` (with or without Delaunay flips; every centroid kind and
-every rule of the presets: both orders, the three second-longest rules, both factor
-stops), a criterion rating single triangles (no angle
-threshold, ``AnyOf`` of such criteria included), ``MinAngle``, ``AnyOf((MinAngle, X))`` (the angle first: entries carry
-their group) or ``AverageAreaFactor`` (the region-wide mean-area target), any region, no
-triangle attributes, with ``max_steps`` and ``on_step``.  It records the same steps, the
+``geomexact.mesh2d.refinement.engines.reference.ReferenceRefinement`` (``Refinement.run``
+on the ops of ``geomexact.mesh2d.ops``) for the methods ``"bisection"``, ``"centroid"`` and
+``"quasi"`` (with or without Delaunay flips; every centroid kind and every rule of the
+presets: both orders, the three second-longest rules, both factor stops), a criterion
+rating single triangles (no angle threshold, ``AnyOf`` of such criteria included, with
+triangle attributes where it reads them), ``MinAngle``, ``AnyOf((MinAngle, X, ...))``
+(the angle first: entries carry their group) or ``AverageAreaFactor`` (the region-wide
+mean-area target), any region, triangle and vertex attributes, with ``max_steps`` and
+``on_step``.  It records the same steps, the
 same digest after every step, the same counters, and seals the same ``Mesh2``
 (``geomexact.mesh2d.refinement.engines.compiled`` checks the subset and is the only caller).
 
@@ -639,7 +641,7 @@ cdef class Kernel:
         return True
 
     cdef int64_t _add_midpoint(self, int64_t u, int64_t v) except -1:
-        """The vertex at the exact midpoint of u and v (as ``BatchRefinement.bisect``)."""
+        """The vertex at the exact midpoint of u and v (as ``ops.bisect_in``)."""
         cdef Vertex *vu = &self.vs[u]
         cdef Vertex *vv = &self.vs[v]
         cdef int64_t sx = 0, sy = 0
@@ -662,7 +664,7 @@ cdef class Kernel:
 
     cdef int64_t _add_point(self, point, int grid=-1, int64_t gx=0,
                             int64_t gy=0) except -1:
-        """A new vertex at the ``Point2`` ``point`` (as ``BatchRefinement.add_vertex``,
+        """A new vertex at the ``Point2`` ``point`` (as the ops' ``add_vertex``,
         no marker).  ``grid``: 1 when it is the grid point (gx, gy), 0 when it is off the
         grid, -1 when not known (then its coordinates are tested)."""
         cdef int64_t n = self.nv
@@ -1570,7 +1572,7 @@ cdef class Kernel:
              (points[w], table.get(w, ())), (points[x], table.get(x, ()))), points[n]))
 
     cdef int64_t _bisect(self, int64_t u, int64_t v) except -2:
-        """``BatchRefinement.bisect``: the new vertex, or -1 at the step limit (no
+        """``ops.bisect_in``: the new vertex, or -1 at the step limit (no
         change then)."""
         cdef int64_t w, x, n, p, q, r, side
         cdef uint64_t key
@@ -1651,7 +1653,7 @@ cdef class Kernel:
         return n
 
     cdef int64_t _centroid(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
-        """``BatchRefinement.centroid`` on the interior edge (u, v) with apexes w, x
+        """``ReferenceRefinement.centroid`` on the interior edge (u, v) with apexes w, x
         (the rounded area centroid on the grid or by the float path where they decide,
         else ``centroid``): the new vertex, or -1 at the step limit (no change)."""
         cdef int64_t n
@@ -1687,7 +1689,7 @@ cdef class Kernel:
         return 0
 
     cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
-        """``BatchRefinement.add``: the triangle (a, b, c) (with ``cur_attrs``), its
+        """The ops' ``add_triangle``: the triangle (a, b, c) (with ``cur_attrs``), its
         hints, noted as created."""
         self._set(a, b, c)
         self._set(b, c, a)
@@ -1783,7 +1785,7 @@ cdef class Kernel:
         return 0
 
     cdef int _legalize(self, int64_t vertex, Pair *star, int size) except -2:
-        """``BatchRefinement.legalize`` with its known star: 0, or -1 at the step limit.
+        """``ops.legalize_in`` with its known star: 0, or -1 at the step limit.
 
         The dot-product shortcut only skips pairs that incircle would not flip (two
         angles <= 90° facing {a, b} sum to <= 180°), so an undecided dot goes to incircle.
@@ -1819,7 +1821,7 @@ cdef class Kernel:
 
     # -- the loop -----------------------------------------------------------------------
     def run(self):
-        """``Refinement.run`` (on ``BatchRefinement``) for Lepp-bisection: ``"complete"`` or
+        """``Refinement.run`` (on ``ReferenceRefinement``) for Lepp-bisection: ``"complete"`` or
         ``"step-limit"``."""
         cdef Entry target
         cdef int64_t a, b, c, u, v, w, x, n, hops
@@ -1918,7 +1920,7 @@ cdef class Kernel:
         return "complete"
 
     def finish(self, start):
-        """(mesh, steps, digests) as ``BatchRefinement.finish``.  The mesh's persistent
+        """(mesh, steps, digests) as ``ReferenceRefinement.finish``.  The mesh's persistent
         tables are built from the kernel's arrays on first use (``TableSource``, sharing
         ``start``'s structure)."""
         cdef Py_ssize_t i
