@@ -355,15 +355,19 @@ cdef class Kernel:
     cdef gx_map start_apex  # the start's half-edges (min angle: the tip limits read them)
     cdef int64_t *start_hints
     cdef dict tip_grid
-    # triangle attributes (a mesh with regions): the canonical triangles' attributes, the
-    # start's (the tip limits read them), and the attributes of the triangle a step is
-    # replacing (its new triangles take them, as the ops' join_in_* do); rate_attributes:
-    # the criterion reads them (RegionAreas)
+    # triangle attributes (a mesh with regions): each canonical triangle (a, b, c) with
+    # attributes has an entry (a, b) -> the id of its attribute tuple in ``tattr``; the
+    # tuples by id and the tail of their digest text; the start's attributes (the tip
+    # limits read them); the id of the triangle a step is replacing, -1 for none (its new
+    # triangles take it, as the ops' join_in_* do); rate_attributes: the criterion reads
+    # them (RegionAreas)
     cdef bint attributed, rate_attributes
-    cdef dict tattrs, start_tattrs, attribute_tails
+    cdef gx_map tattr
+    cdef list attribute_values, attribute_tails
+    cdef dict attribute_ids, start_tattrs
+    cdef int64_t cur_attr
     # RegionAreas rated in C on grid triangles: its doubled areas in grid units by region
     cdef dict region_limits
-    cdef object cur_attrs
     # vertex attributes: the table (new vertices get them interpolated), when any
     cdef bint vattributed
     cdef object vtable
@@ -378,6 +382,7 @@ cdef class Kernel:
         gx_map_free(&self.apex)
         gx_map_free(&self.segs)
         gx_map_free(&self.start_apex)
+        gx_map_free(&self.tattr)
         free(self.start_hints)
 
     def __init__(self, start, run):
@@ -489,11 +494,20 @@ cdef class Kernel:
         # rounded_area_centroid computed on grid quadrilaterals in integers
         self.grid_centroids = centroid is rounded_area_centroid and self.centroid_op == 2
         self.contains = region.contains
-        self.tattrs = dict(start.triangle_attributes.items())
-        self.attributed = bool(self.tattrs)
-        self.start_tattrs = dict(self.tattrs)
-        self.attribute_tails = {}
-        self.cur_attrs = None
+        self.start_tattrs = dict(start.triangle_attributes.items())
+        self.attributed = bool(self.start_tattrs)
+        self.attribute_values, self.attribute_tails, self.attribute_ids = [], [], {}
+        self.cur_attr = -1
+        if self.attributed:
+            slots = 64
+            while slots < 4 * len(self.start_tattrs):
+                slots *= 2
+            if gx_map_alloc(&self.tattr, slots) < 0:
+                raise MemoryError
+            for key, attributes in self.start_tattrs.items():
+                if attributes and gx_map_set(&self.tattr, gx_edge(key[0], key[1]),
+                                             self._attribute_id(attributes)) < 0:
+                    raise MemoryError
         self.rate_attributes = rate_attributes
         self.vattributed = bool(len(start.vertex_attributes))
         self.vtable = start.vertex_attributes.mutate() if self.vattributed else None
@@ -997,7 +1011,7 @@ cdef class Kernel:
             return 0
         points = self.points
         if self.rate_attributes:
-            key = self.rate(points[a], points[b], points[c], self.tattrs.get((a, b, c)))
+            key = self.rate(points[a], points[b], points[c], self._attributes(a, b))
         else:
             key = self.rate(points[a], points[b], points[c])
         if key is None:
@@ -1097,7 +1111,7 @@ cdef class Kernel:
             return 1
         if self.region_limits is not None and va.at.grid and vb.at.grid and vc.at.grid:
             # RegionAreas.rate_attributed: the region is the first attribute
-            attributes = self.tattrs.get((entry.a, entry.b, entry.c))
+            attributes = self._attributes(entry.a, entry.b)
             limit = self.region_limits.get(attributes[0]) if attributes else None
             if limit is None:
                 return 0
@@ -1112,7 +1126,7 @@ cdef class Kernel:
         points = self.points
         if self.rate_attributes:
             key = self.area_rate(points[entry.a], points[entry.b], points[entry.c],
-                                 self.tattrs.get((entry.a, entry.b, entry.c)))
+                                 self._attributes(entry.a, entry.b))
         else:
             key = self.area_rate(points[entry.a], points[entry.b], points[entry.c])
         if key is None:
@@ -1470,16 +1484,17 @@ cdef class Kernel:
         self.created[3 * self.ncreated + 2] = c
         self.ncreated += 1
         self.digest += gx_cell_hash(self.vs[a].key, self.vs[b].key, self.vs[c].key)
-        if self.attributed and self.cur_attrs:
-            self.tattrs[(a, b, c)] = self.cur_attrs
-            self.digest += self._triangle_attribute_hash(a, b, c, self.cur_attrs)
+        if self.attributed and self.cur_attr >= 0:
+            if gx_map_set(&self.tattr, gx_edge(a, b), self.cur_attr) < 0:
+                raise MemoryError
+            self.digest += self._triangle_attribute_hash(a, b, c, self.cur_attr)
         if self.tracking:
             self._account(a, b, c, 1)
         return 0
 
     cdef inline int _removed(self, int64_t a, int64_t b, int64_t c) except -1:
         """Subtract the cell hash of the triangle (a, b, c), any rotation (and account
-        for it); its attributes become ``cur_attrs``."""
+        for it); the id of its attributes becomes ``cur_attr``."""
         cdef int64_t p = a, q = b, r = c
         if b < a and b < c:
             p, q, r = b, c, a
@@ -1487,25 +1502,46 @@ cdef class Kernel:
             p, q, r = c, a, b
         self.digest -= gx_cell_hash(self.vs[p].key, self.vs[q].key, self.vs[r].key)
         if self.attributed:
-            attributes = self.cur_attrs = self.tattrs.pop((p, q, r), None)
-            if attributes is not None:
-                self.digest -= self._triangle_attribute_hash(p, q, r, attributes)
+            self.cur_attr = gx_map_get(&self.tattr, gx_edge(p, q), -1)
+            if self.cur_attr >= 0:
+                gx_map_del(&self.tattr, gx_edge(p, q))
+                self.digest -= self._triangle_attribute_hash(p, q, r, self.cur_attr)
         if self.tracking:
             self._account(a, b, c, -1)
         return 0
 
+    cdef int64_t _attribute_id(self, attributes) except -1:
+        """The id of the attribute tuple ``attributes`` (numbered on first sight, with
+        the tail of its digest text)."""
+        found = self.attribute_ids.get(attributes)
+        if found is None:
+            found = self.attribute_ids[attributes] = len(self.attribute_values)
+            self.attribute_values.append(attributes)
+            self.attribute_tails.append((":" + _digest.attribute_text(attributes)).encode())
+        return found
+
+    cdef inline object _attributes(self, int64_t a, int64_t b):
+        """The attributes of the canonical triangle whose first edge is (a, b), or None."""
+        cdef int64_t found = gx_map_get(&self.tattr, gx_edge(a, b), -1)
+        return None if found < 0 else self.attribute_values[found]
+
+    cdef inline int64_t _attribute_of(self, int64_t a, int64_t b, int64_t c) noexcept:
+        """The attribute id of the triangle (a, b, c), any rotation; -1 for none."""
+        if b < a and b < c:
+            return gx_map_get(&self.tattr, gx_edge(b, c), -1)
+        if c < a and c < b:
+            return gx_map_get(&self.tattr, gx_edge(c, a), -1)
+        return gx_map_get(&self.tattr, gx_edge(a, b), -1)
+
     cdef gx_u128 _triangle_attribute_hash(self, int64_t a, int64_t b, int64_t c,
-                                          object attributes) except *:
-        """``attribute_hash("ta", (a, b, c), attributes)``, the text of the attributes
-        made once per distinct tuple."""
+                                          int64_t attribute) except *:
+        """``attribute_hash("ta", (a, b, c), attributes)`` of the attributes with id
+        ``attribute`` (their text made once)."""
         cdef uint8_t message[128]
         cdef unsigned length = 4
         cdef const char *text
         cdef Py_ssize_t size
-        tail = self.attribute_tails.get(attributes)
-        if tail is None:
-            tail = self.attribute_tails[attributes] = (
-                ":" + _digest.attribute_text(attributes)).encode()
+        tail = self.attribute_tails[attribute]
         size = len(<bytes>tail)
         if size <= 64:  # "ata:" and three ids (at most 60 bytes), then the tail, in C
             memcpy(message, b"ata:", 4)
@@ -1680,16 +1716,17 @@ cdef class Kernel:
         """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
         cell hashes and the edge's two half-edges (the caller gives the other four new
         apexes); the new triangles take the attributes of (u, v, w), as in the ops."""
+        cdef int64_t attribute
         self._removed(u, v, w)
-        attributes = self.cur_attrs
+        attribute = self.cur_attr
         self._removed(v, u, x)
-        self.cur_attrs = attributes
+        self.cur_attr = attribute
         gx_map_del(&self.apex, gx_edge(u, v))
         gx_map_del(&self.apex, gx_edge(v, u))
         return 0
 
     cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
-        """The ops' ``add_triangle``: the triangle (a, b, c) (with ``cur_attrs``), its
+        """The ops' ``add_triangle``: the triangle (a, b, c) (with ``cur_attr``), its
         hints, noted as created."""
         self._set(a, b, c)
         self._set(b, c, a)
@@ -1717,8 +1754,7 @@ cdef class Kernel:
 
     cdef bint _border(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
         """The triangles (u, v, w) and (v, u, x) carry different attributes."""
-        tattrs = self.tattrs
-        return tattrs.get(_canonical(u, v, w)) != tattrs.get(_canonical(v, u, x))
+        return self._attribute_of(u, v, w) != self._attribute_of(v, u, x)
 
     cdef int _insert_midpoint(self, int64_t u, int64_t v) except -2:
         """``Refinement.insert_midpoint``: bisect (u, v), then legalize the midpoint's
@@ -1946,7 +1982,7 @@ cdef class Kernel:
             vertex_markers=markers,
             vertex_attributes=self.vtable.finish() if self.vattributed
             else start.vertex_attributes,
-            triangle_attributes=immutables.Map(self.tattrs) if self.attributed
+            triangle_attributes=self._triangle_attribute_map() if self.attributed
             else start.triangle_attributes,
             triangle_count=self.triangles,
             digest=_from_u128(self.digest),
@@ -1959,6 +1995,22 @@ cdef class Kernel:
                 steps.append(self._step(&self.records[i]))
         digests = [_from_u128(self.records[i].digest) for i in range(self.nrec)]
         return mesh, steps, digests
+
+    cdef object _triangle_attribute_map(self):
+        """The triangles' attributes as a persistent map (canonical triangle ->
+        attributes)."""
+        cdef uint64_t slot, edge
+        cdef int64_t a, b
+        values = self.attribute_values
+        found = {}
+        for slot in range(self.tattr.mask + 1):
+            edge = self.tattr.keys[slot]
+            if edge == GX_EMPTY:
+                continue
+            a = <int64_t>(edge >> 32)
+            b = <int64_t><uint32_t>edge
+            found[(a, b, gx_map_get(&self.apex, edge, -1))] = values[self.tattr.values[slot]]
+        return immutables.Map(found)
 
     @property
     def pending(self):
