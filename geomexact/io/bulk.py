@@ -425,6 +425,43 @@ def oriented_rows(
     return None
 
 
+class OrientedChunks:
+    """The triangles of a plain file's section, added a chunk at a time (:meth:`add`),
+    all of one orientation: ``reversed_count`` of them are clockwise (0 or all)."""
+
+    def __init__(self, points: Sequence[Point2]) -> None:
+        """``points``: the file's points, all read before the first :meth:`add`."""
+        self._points = points
+        self._doubles: Doubles | None = None
+        self._parts: list[IntArray] = []
+        self.reversed_count = 0
+
+    @property
+    def empty(self) -> bool:
+        """No chunk added yet."""
+        return not self._parts
+
+    def add(self, corners: IntArray) -> bool:
+        """Add ``corners`` (0-based triangles, indices in range); False when a triangle
+        repeats a vertex or is degenerate, or the orientations are mixed, within the chunk
+        or with the chunks before (the line reader names the triangle)."""
+        if self._doubles is None:
+            self._doubles = point_doubles(self._points)
+        oriented = oriented_rows(self._points, corners, self._doubles)
+        if oriented is None or (self._parts and bool(oriented[1]) != bool(self.reversed_count)):
+            return False
+        self.reversed_count += oriented[1]
+        self._parts.append(corners)
+        return True
+
+    def tables(self) -> tuple[IntArray, IntArray]:
+        """The triangles added, in order: as they are in the file, and made
+        counter-clockwise (each T x 3)."""
+        corners = (np.concatenate(self._parts) if self._parts
+                   else np.zeros((0, 3), dtype=np.int64))
+        return corners, corners[:, [0, 2, 1]] if self.reversed_count else corners
+
+
 def triangle_tuples(rows: IntArray) -> list[tuple[int, int, int]]:
     """The rows of a (T x 3) table as tuples."""
     return list(zip(rows[:, 0].tolist(), rows[:, 1].tolist(), rows[:, 2].tolist(),

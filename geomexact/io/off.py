@@ -12,7 +12,6 @@ from __future__ import annotations
 import itertools
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from geomexact.errors import FormatError, RationalParseError, UnsupportedValueError
 from geomexact.io.files import read_lines
@@ -47,9 +46,6 @@ from geomexact.kernel.numbers import ZERO, Rational, parse_rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
 from geomexact.mesh2d.snapshot import Mesh2
-
-if TYPE_CHECKING:
-    from geomexact.io.bulk import Doubles, IntArray
 
 BULK_MIN_BYTES = 1 << 16
 """Files from this size are read by the bulk reader (NumPy); smaller ones line by line,
@@ -388,21 +384,18 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
 
     from geomexact.io.bulk import (
         NotPlain,
+        OrientedChunks,
         PlainLines,
         integer_column,
         number_column,
-        oriented_rows,
         triangle_tuples,
     )
-    from geomexact.kernel.array_filters import point_doubles
 
     points: list[Point2] = []
     point_lines: list[int | None] = []
-    parts: list[IntArray] = []
+    faces = OrientedChunks(points)
     face_lines: list[int | None] = []
-    reversed_count = 0
     cache: dict[str, tuple[Rational, float]] = {}
-    doubles: Doubles | None = None
     try:
         with PlainLines(path) as lines:
             tokens, _ = lines.next_line()
@@ -430,27 +423,20 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
                 if (not bool(np.all(rows[:, 0] == 3)) or int(corners.min()) < 0
                         or int(corners.max()) >= vertex_count):
                     return None
-                if doubles is None:
-                    doubles = point_doubles(points)
-                oriented = oriented_rows(points, corners, doubles)
-                if oriented is None or (parts and bool(oriented[1]) != bool(reversed_count)):
+                if not faces.add(corners):
                     return None  # degenerate, or mixed orientations
-                reversed_count += oriented[1]
-                parts.append(corners)
                 face_lines.extend(rows_lines)
             if not lines.at_end():
                 return None
     except NotPlain:
         return None
-    corners = np.concatenate(parts) if parts else np.zeros((0, 3), dtype=np.int64)
+    corners, rows = faces.tables()
     name = str(path)
     notes: list[str] = []
     table = TriangleTable(path=name, triangles=triangle_tuples(corners), lines=face_lines)
     mesh = build_mesh(
         points, point_lines, table, point_path=name, notes=notes,
-        orienter=BulkOrientation(
-            corners[:, [0, 2, 1]] if reversed_count else corners, reversed_count
-        ),
+        orienter=BulkOrientation(rows, faces.reversed_count),
     )
     return mesh, notes
 

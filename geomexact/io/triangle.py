@@ -24,15 +24,13 @@ import numpy as np
 
 from geomexact.errors import FormatError
 from geomexact.io.bulk import (
-    Doubles,
-    IntArray,
     NotPlain,
+    OrientedChunks,
     PlainLines,
     integer_column,
     neighbour_array,
     number_column,
     numbered_corners,
-    oriented_rows,
     row_chunks,
     rows_text,
     triangle_array,
@@ -75,7 +73,6 @@ from geomexact.io.registry import (
     write_files,
     written_value,
 )
-from geomexact.kernel.array_filters import point_doubles
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.pslg import PSLG, RegionSeed
@@ -645,10 +642,8 @@ def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
     one orientation; None for anything else (the line reader then reads it, or names the
     error, having read no further than its line)."""
     base = nodes.base
-    parts: list[IntArray] = []
+    triangles = OrientedChunks(nodes.points)
     triangle_lines: list[int | None] = []
-    reversed_count = 0
-    doubles: Doubles | None = None
     try:
         with PlainLines(path) as lines:
             tokens, _ = lines.next_line()
@@ -663,31 +658,25 @@ def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
                 if values is None:
                     return None
                 rows = values.reshape(-1, 4)
-                if not parts:
+                if triangles.empty:
                     first = int(rows[0, 0])
                 corners = numbered_corners(rows, first, len(triangle_lines), base,
                                            len(nodes.points))
                 if corners is None:
                     return None
-                if doubles is None:
-                    doubles = point_doubles(nodes.points)
-                oriented = oriented_rows(nodes.points, corners, doubles)
-                if oriented is None or (parts and bool(oriented[1]) != bool(reversed_count)):
+                if not triangles.add(corners):
                     return None  # degenerate, or mixed orientations
-                reversed_count += oriented[1]
-                parts.append(corners)
                 triangle_lines.extend(numbers)
             if not lines.at_end():
                 return None
     except NotPlain:
         return None
-    corners = np.concatenate(parts) if parts else np.zeros((0, 3), dtype=np.int64)
-    rows = corners[:, [0, 2, 1]] if reversed_count else corners
+    corners, rows = triangles.tables()
     element_table = TriangleTable(
         path=str(path), triangles=triangle_tuples(corners), lines=triangle_lines,
         first_number=first, vertex_base=base,
     )
-    return ElementTable(element_table, first, BulkOrientation(rows, reversed_count))
+    return ElementTable(element_table, first, BulkOrientation(rows, triangles.reversed_count))
 
 
 def _check_neigh(path: Path, elements: ElementTable) -> None:
