@@ -1098,31 +1098,15 @@ cdef class Kernel:
         cdef Vertex *va = &self.vs[entry.a]
         cdef Vertex *vb = &self.vs[entry.b]
         cdef Vertex *vc = &self.vs[entry.c]
-        cdef gx_i128 area2
         entry.group = 1
-        if self.max_area and va.at.grid and vb.at.grid and vc.at.grid:
-            area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
-            if area2 <= self.area_limit:
-                return 0
-            entry.ikey = -area2
-            entry.rank = 0.0
-            entry.py = -1
-            self._push(entry)
-            return 1
-        if self.region_limits is not None and va.at.grid and vb.at.grid and vc.at.grid:
-            # RegionAreas.rate_attributed: the region is the first attribute
-            attributes = self._attributes(entry.a, entry.b)
-            limit = self.region_limits.get(attributes[0]) if attributes else None
-            if limit is None:
-                return 0
-            area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy, vc.at.gx, vc.at.gy)
-            if area2 <= <gx_i128>limit:
-                return 0
-            entry.ikey = -area2
-            entry.rank = 0.0
-            entry.py = -1
-            self._push(entry)
-            return 1
+        if va.at.grid and vb.at.grid and vc.at.grid:
+            if self.max_area:
+                return self._queue_grid_area(entry, self.area_limit)
+            if self.region_limits is not None:
+                # RegionAreas.rate_attributed: the region is the first attribute
+                attributes = self._attributes(entry.a, entry.b)
+                limit = self.region_limits.get(attributes[0]) if attributes else None
+                return 0 if limit is None else self._queue_grid_area(entry, limit)
         points = self.points
         if self.rate_attributes:
             key = self.area_rate(points[entry.a], points[entry.b], points[entry.c],
@@ -1134,6 +1118,22 @@ cdef class Kernel:
         if self.grouped:
             entry.group, key = key
         self._push_key(entry, key)
+        return 1
+
+    cdef int _queue_grid_area(self, Entry *entry, gx_i128 limit) except -1:
+        """Queue the entry's grid triangle, key −(doubled area in grid units), when that
+        area exceeds ``limit``; 1 when queued."""
+        cdef Vertex *va = &self.vs[entry.a]
+        cdef Vertex *vb = &self.vs[entry.b]
+        cdef Vertex *vc = &self.vs[entry.c]
+        cdef gx_i128 area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy,
+                                           vc.at.gx, vc.at.gy)
+        if area2 <= limit:
+            return 0
+        entry.ikey = -area2
+        entry.rank = 0.0
+        entry.py = -1
+        self._push(entry)
         return 1
 
     cdef int _angle_rank(self, Entry *entry, int64_t p, int64_t q, int64_t r) except -1:
