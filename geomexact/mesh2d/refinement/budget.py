@@ -56,13 +56,34 @@ def _ceiling(value: Rational) -> int:
     return int(-((-value.numerator) // value.denominator))
 
 
+_RECENT: dict[tuple[int, Criterion], int] = {}
+"""The last few estimates by (mesh digest, criterion): a command computes E for its memory
+budget and ``refine()`` again for the step budget, and an O(T) exact sum is paid once."""
+
+
 def estimated_triangles(mesh: Mesh2, criterion: Criterion) -> int:
     """The criterion's rough estimate E of the triangles a refinement of ``mesh`` needs
     (module docstring); 0 when the criterion gives no size."""
+    key = (mesh.digest, criterion)
+    try:
+        return _RECENT[key]
+    except (KeyError, TypeError):  # not seen, or a criterion that does not hash
+        pass
+    estimate = _estimated(mesh, criterion)
+    try:
+        if len(_RECENT) >= 8:
+            del _RECENT[next(iter(_RECENT))]
+        _RECENT[key] = estimate
+    except TypeError:
+        pass
+    return estimate
+
+
+def _estimated(mesh: Mesh2, criterion: Criterion) -> int:
     if isinstance(criterion, AverageAreaFactor):
         return _ceiling(mpq(mesh.triangle_count) / criterion.factor)
     if isinstance(criterion, AnyOf):
-        return max(estimated_triangles(mesh, member) for member in criterion.criteria)
+        return max(_estimated(mesh, member) for member in criterion.criteria)
     if isinstance(criterion, RegionAreas):
         areas = dict(criterion.areas)
         region_area2: dict[Rational, Rational] = {}

@@ -143,3 +143,26 @@ def test_region_areas_estimate_each_region_by_its_own_area() -> None:
     assert estimated_triangles(mesh, areas) == 230
     result = refine(mesh, areas)
     assert result.status == "complete"
+
+
+def test_the_estimate_is_summed_once_for_the_command_and_refine(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The command's memory budget and refine()'s step budget ask for the same estimate:
+    the O(T) exact sum runs once (issue 25: it ran twice)."""
+    from geomexact.mesh2d.refinement import budget
+
+    calls = []
+    original = budget.doubled_area
+
+    def counting(*points: object) -> object:
+        calls.append(1)
+        return original(*points)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(budget, "doubled_area", counting)
+    mesh = mesh_from_triangles([(0, 0), (3, 0), (3, 3), (0, 3)], [(0, 1, 2), (0, 2, 3)])
+    criterion = MaxArea(mpq(1, 7))
+    first = estimated_triangles(mesh, criterion)
+    assert calls == [1, 1]
+    assert estimated_triangles(mesh, MaxArea(mpq(1, 7))) == first == 126
+    assert calls == [1, 1]  # the same mesh and an equal criterion: not summed again
+    assert estimated_triangles(mesh, MaxArea(mpq(1, 5))) == 90 and len(calls) == 4
