@@ -278,12 +278,14 @@ class RefineOutputs:
     print_region: str | None = None
     print_iter: str | None = None
 
-    def files(self) -> list[tuple[str, str | None]]:
-        """(option, path) of every single file, for the distinctness and overwrite
-        checks."""
-        return [("--trace", self.trace), ("--polylla", self.polylla),
-                ("--polylla", self.polylla_input), ("--polylla", self.polylla_reflex),
-                ("--polylla", self.polylla_convex), ("--print-region", self.print_region)]
+    def files(self, to: str | None) -> list[tuple[str, str | None, str | None]]:
+        """(option, path, format) of every single file (``to``: the mesh's ``--to``), for
+        the distinctness and overwrite checks."""
+        return [("-o", self.mesh, to), ("--trace", self.trace, "file"),
+                ("--polylla", self.polylla, None), ("--polylla", self.polylla_input, None),
+                ("--polylla", self.polylla_reflex, None),
+                ("--polylla", self.polylla_convex, None),
+                ("--print-region", self.print_region, None)]
 
 
 def _refine_outputs(args: argparse.Namespace) -> RefineOutputs:
@@ -308,11 +310,9 @@ def _refine_outputs(args: argparse.Namespace) -> RefineOutputs:
         raise UsageProblem("--filename names the files of --output DIR (a directory)")
     if outputs.polylla == "":
         raise UsageProblem("--polylla without a file name needs --output DIR")
-    files = outputs.files()
-    distinct_outputs([("-o", outputs.mesh, args.to),
-                      *((option, path, "file" if option == "--trace" else None)
-                        for option, path in files)])
-    for path in (outputs.mesh, *(path for _, path in files)):
+    files = outputs.files(args.to)
+    distinct_outputs(files)
+    for _, path, _ in files:
         if path and Path(path).exists() and not args.force:
             raise OverwriteError(str(path))
     if outputs.print_iter and not args.force:

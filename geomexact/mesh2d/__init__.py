@@ -180,7 +180,7 @@ if TYPE_CHECKING:
         validate as validate,
     )
 
-_HOMES: dict[str, str] = dict(MESH2D_HOMES)
+_HOMES: dict[str, str] = MESH2D_HOMES
 """Public 2D name -> the module that defines it."""
 
 # the TYPE_CHECKING imports above re-export each name explicitly (``name as name``)

@@ -22,6 +22,7 @@ from geomexact.kernel.derived import Derived
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2
 from geomexact.trace.protocols import kind_of
+from geomexact.trace.recording import MAX_VERTICES as MAX_VERTICES
 from geomexact.trace.sourced_snapshot import SourcedSnapshot
 
 if TYPE_CHECKING:
@@ -35,7 +36,6 @@ Triangle: TypeAlias = tuple[int, int, int]
 Edge: TypeAlias = tuple[int, int]
 Attributes: TypeAlias = tuple[Rational, ...]
 
-MAX_VERTICES = 1 << 32
 
 
 def canonical_triangle(a: int, b: int, c: int) -> Triangle:

@@ -19,7 +19,6 @@ from geomexact.kernel.points import Point2, point2
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.snapshot import (
-    MAX_VERTICES,
     Attributes,
     Edge,
     Mesh2,
@@ -125,12 +124,7 @@ class Transient2(RecordingTransient[Point2]):
         self, point: Point2, marker: int = 0, attributes: Attributes = ()
     ) -> int:
         """Append a vertex (in no triangle yet) and return its id."""
-        self._check_open()
-        vertex = len(self._vertices)
-        if vertex >= MAX_VERTICES:
-            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
-        self._vertices[vertex] = point
-        self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, point[:2]))
+        vertex = self._append_vertex(point, point[:2])
         if marker:
             self._vertex_markers[vertex] = marker
             self._digest = _digest.combine(

@@ -25,6 +25,7 @@ from geomexact.kernel.derived import Derived
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point3
 from geomexact.trace.protocols import kind_of
+from geomexact.trace.recording import MAX_VERTICES as MAX_VERTICES
 from geomexact.trace.sourced_snapshot import SourcedSnapshot
 
 if TYPE_CHECKING:
@@ -34,7 +35,6 @@ Tetrahedron: TypeAlias = tuple[int, int, int, int]
 Face: TypeAlias = tuple[int, int, int]
 Edge: TypeAlias = tuple[int, int]
 
-MAX_VERTICES = 1 << 32
 
 
 def canonical_face(a: int, b: int, c: int) -> Face:

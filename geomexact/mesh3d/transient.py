@@ -16,7 +16,6 @@ from geomexact.kernel.points import Point3, point3
 from geomexact.kernel.predicate_results import Orientation
 from geomexact.kernel.predicates3d import orient3d
 from geomexact.mesh3d.snapshot import (
-    MAX_VERTICES,
     Face,
     FaceSource,
     Mesh3,
@@ -44,13 +43,7 @@ class SpaceTransient(RecordingTransient[Point3]):
 
     def add_vertex(self, point: Point3) -> int:
         """Append a vertex (in no cell yet) and return its id."""
-        self._check_open()
-        vertex = len(self._vertices)
-        if vertex >= MAX_VERTICES:
-            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
-        self._vertices[vertex] = point
-        self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, point[:3]))
-        return vertex
+        return self._append_vertex(point, point[:3])
 
 
 class Transient3(SpaceTransient):

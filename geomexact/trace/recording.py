@@ -5,16 +5,22 @@ snapshot in its ``__init__`` and names its snapshot type in ``snapshot_type``.""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import ClassVar, Generic, TypeVar
 
 from geomexact.errors import PreconditionError, TransientSealedError
+from geomexact.kernel import digest as _digest
+from geomexact.kernel.numbers import Rational
 from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 from geomexact.trace.tables import EditableTable
 
-__all__ = ["RecordingTransient"]
+__all__ = ["MAX_VERTICES", "RecordingTransient"]
 
 P = TypeVar("P")
+
+MAX_VERTICES = 1 << 32
+"""Vertex ids stay below this (the compiled kernels pack two ids in 64 bits)."""
 
 
 class RecordingTransient(Generic[P]):
@@ -48,6 +54,17 @@ class RecordingTransient(Generic[P]):
             return self._vertices[vertex]
         except KeyError:
             raise PreconditionError("vertex", f"vertex {vertex} does not exist") from None
+
+    def _append_vertex(self, point: P, coordinates: Sequence[Rational]) -> int:
+        """Append the vertex at ``point`` (in no cell yet), its hash of ``coordinates``
+        added to the digest; its id."""
+        self._check_open()
+        vertex = len(self._vertices)
+        if vertex >= MAX_VERTICES:
+            raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
+        self._vertices[vertex] = point
+        self._digest = _digest.combine(self._digest, _digest.vertex_hash(vertex, coordinates))
+        return vertex
 
     def _check_open(self) -> None:
         if self._sealed:

@@ -126,7 +126,7 @@ def unsupported(mesh: Mesh2, run: RunOptions) -> str | None:
     if run.method not in ("bisection", "centroid", "quasi"):
         return f"it runs no method {run.method!r}"
     if isinstance(criterion, AnyOf):
-        if criterion.angle_threshold is not None and not _angle_then_one(criterion):
+        if criterion.angle_threshold is not None and not _angle_then_sizes(criterion):
             return ("a combination with a minimum angle it runs is AnyOf((MinAngle, ...)), "
                     "the angle first and then criteria on single triangles")
     elif criterion.angle_threshold is not None and type(criterion) is not MinAngle:
@@ -138,7 +138,7 @@ def unsupported(mesh: Mesh2, run: RunOptions) -> str | None:
     return None
 
 
-def _angle_then_one(criterion: AnyOf) -> bool:
+def _angle_then_sizes(criterion: AnyOf) -> bool:
     """True for ``AnyOf((MinAngle(θ), X, ...))`` with each X on single triangles, no
     angle (``refine --min-angle`` with ``--max-area`` and/or ``--max-edge``)."""
     first, *rest = criterion.criteria
