@@ -204,6 +204,44 @@ def _memory_budget(size: int) -> Iterator[None]:
         resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
 
 
+_GMSH_DATA_BLOCKS = (b"$NodeData", b"$ElementData", b"$ElementNodeData")
+_GMSH_TAG_KINDS = ("string", "real", "integer")
+
+
+def _check_gmsh_tag_counts(path: Path) -> None:
+    """Refuse a Gmsh file whose data block (``$NodeData``, ``$ElementData``,
+    ``$ElementNodeData``) announces more string, real or integer tags than the file has
+    lines: meshio reads that many lines one by one, so a count of 10^9 in a small file
+    would keep it reading for hours.  Other faults are meshio's to report."""
+    data = path.read_bytes()
+    lines = data.count(b"\n") + 1
+    for block in _GMSH_DATA_BLOCKS:
+        start = data.find(block)
+        while start >= 0:
+            position = data.find(b"\n", start) + 1  # after the block's line (LF or CRLF)
+            if position <= 0:
+                break
+            for kind in _GMSH_TAG_KINDS:
+                end = data.find(b"\n", position)
+                try:
+                    count = int(data[position:end if end >= 0 else len(data)])
+                except ValueError:
+                    break
+                if count > lines:
+                    line = data.count(b"\n", 0, position) + 1
+                    raise FormatError(str(path), line, f"the {block.decode()} block "
+                                      f"announces {count} {kind} tags; the file has "
+                                      f"{lines} lines")
+                position = end + 1
+                for _ in range(max(count, 0)):  # the tags themselves, a line each
+                    position = data.find(b"\n", position) + 1
+                    if position <= 0:
+                        break
+                if end < 0 or position <= 0:
+                    break
+            start = data.find(block, start + 1)
+
+
 def _meshio_read(path: Path, notes: list[str]) -> Any:
     """meshio's reader of ``path``'s format, its warnings collected into ``notes``.
     ``meshio.read`` itself prints and calls ``sys.exit`` when a file does not parse, so
@@ -213,6 +251,8 @@ def _meshio_read(path: Path, notes: list[str]) -> Any:
 
     name = str(path)
     modules = _MESHIO_FORMATS.get(path.suffix.lower())
+    if path.suffix.lower() == ".msh":
+        _check_gmsh_tag_counts(path)
     messages: list[str] = []
     try:
         readers = [importlib.import_module(f"meshio.{module}") for module in modules or ()]

@@ -159,3 +159,29 @@ def test_quality_arrays_for_paraview(tmp_path: Path) -> None:
         assert len(smallest) == cube.tetrahedron_count and 0 < min(smallest) < 90
         assert io.read(tmp_path / f"s{suffix}").digest == square.digest
         assert io.read(tmp_path / f"c{suffix}").digest == cube.digest
+
+
+@pytest.mark.parametrize("kind", ["string", "real", "integer"])
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+def test_a_gmsh_tag_count_beyond_the_file_is_refused_at_once(tmp_path: Path, kind: str,
+                                                             newline: str) -> None:
+    """A data block announcing 10^9 tags in a small file is a clear error naming its line
+    (meshio would read 10^9 lines one by one: the fuzz suite found it hanging)."""
+    import time
+
+    square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
+    path = tmp_path / "q.msh"
+    io.write(path, square)  # Gmsh 2.2 text with $ElementData blocks (min_angle)
+    lines = path.read_text().splitlines()
+    block = lines.index("$ElementData")
+    at = block + 1
+    if kind != "string":
+        at += 1 + int(lines[at])
+    if kind == "integer":
+        at += 1 + int(lines[at])
+    lines[at] = "1000000000"
+    path.write_bytes(newline.join(lines).encode() + newline.encode())
+    started = time.perf_counter()
+    with pytest.raises(FormatError, match=rf":{at + 1}: the \$ElementData block announces 1000000000 {kind} tags"):
+        io.read(path)
+    assert time.perf_counter() - started < 5
