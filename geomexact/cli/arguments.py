@@ -1,5 +1,6 @@
-"""The parts of the argument parser the commands share: adding a command, the common
-options (``--json``, ``-v``, ``--format``, ``--to``) and the argument types."""
+"""The parts of the argument parser the commands share: adding a command (as
+:mod:`~geomexact.cli.command_table` describes it), the common options (``--json``, ``-v``,
+``--format``, ``--to``) and the argument types."""
 
 from __future__ import annotations
 
@@ -8,9 +9,16 @@ from collections.abc import Callable, Sequence
 from typing import TypeAlias
 
 from geomexact import io
+from geomexact.cli.command_table import command_spec
 
 Subcommands: TypeAlias = "argparse._SubParsersAction[argparse.ArgumentParser]"
 """What :meth:`argparse.ArgumentParser.add_subparsers` returns: where commands are added."""
+
+
+def examples_text(examples: Sequence[str]) -> str:
+    """``examples:`` and the command lines ``examples``, one a line."""
+    lines = "".join(f"  {example}\n" for example in examples)
+    return f"examples:\n{lines}"
 
 
 def command_epilog(examples: Sequence[str]) -> str:
@@ -18,28 +26,34 @@ def command_epilog(examples: Sequence[str]) -> str:
     where the exit codes are (listed once, in ``geomexact --help``)."""
     if not 2 <= len(examples) <= 3:
         raise ValueError(f"a command shows two or three examples, not {len(examples)}")
-    lines = "".join(f"  {example}\n" for example in examples)
-    return f"examples:\n{lines}\nexit codes: geomexact help exit-codes\n"
+    return f"{examples_text(examples)}\nexit codes: geomexact help exit-codes\n"
 
 
-def add_command(
-    commands: Subcommands, name: str, run: Callable[[argparse.Namespace], int], summary: str,
-    *, examples: Sequence[str],
-) -> argparse.ArgumentParser:
-    """Add command ``name``, running ``run(args)``, described by ``summary`` (its help line
-    and description) and followed in ``--help`` by ``examples`` (:func:`command_epilog`)."""
-    sub = commands.add_parser(
-        name, help=summary, description=summary, epilog=command_epilog(examples),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+def add_command_parser(commands: Subcommands, path: str,
+                       epilog: Callable[[Sequence[str]], str] = command_epilog,
+                       ) -> argparse.ArgumentParser:
+    """Add the parser of command ``path`` (a name or ``"COMMAND SUBCOMMAND"``) of
+    :data:`~geomexact.cli.command_table.COMMAND_TABLE`: its summary is its help line and
+    description, ``epilog(examples)`` ends its ``--help``."""
+    spec = command_spec(path)
+    return commands.add_parser(
+        spec.name, help=spec.summary, description=spec.summary,
+        epilog=epilog(spec.examples), formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+
+
+def add_command(commands: Subcommands, path: str,
+                run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
+    """Add command ``path`` (:func:`add_command_parser`), running ``run(args)``, with
+    ``--max-memory`` unless its table entry says otherwise."""
+    sub = add_command_parser(commands, path)
     sub.set_defaults(run=run)
-    if name == "serve":  # the server bounds each job by its own --memory-limit-mb
-        return sub
-    sub.add_argument("--max-memory", type=memory_size, default=None, metavar="SIZE",
-                     help="use at most this much memory, e.g. 512M or 4G (default: 80%% of "
-                          "this machine's, within ulimit -v); a command that would need "
-                          "more refuses before it starts (exit 2), or stops with its partial "
-                          "result (exit 3)")
+    if command_spec(path).max_memory:
+        sub.add_argument("--max-memory", type=memory_size, default=None, metavar="SIZE",
+                         help="use at most this much memory, e.g. 512M or 4G (default: 80%% "
+                              "of this machine's, within ulimit -v); a command that would "
+                              "need more refuses before it starts (exit 2), or stops with "
+                              "its partial result (exit 3)")
     return sub
 
 
@@ -106,6 +120,17 @@ def add_to_option(sub: argparse.ArgumentParser) -> None:
     """``--to F``: the format of the output file OUT (default: by its extension)."""
     sub.add_argument("--to", choices=format_names(), metavar="F",
                      help="format of OUT (default: by its extension)")
+
+
+def add_reading_options(sub: argparse.ArgumentParser, *, force: str | None = None) -> None:
+    """The options of a command that reads a file and reports on it: ``--format F``,
+    ``--force`` (replace ``force``; for a command that writes files), ``--json`` and
+    ``-v``."""
+    add_format_option(sub)
+    if force is not None:
+        add_force_flag(sub, force)
+    add_json_flag(sub)
+    add_verbose_flag(sub)
 
 
 def add_writing_options(sub: argparse.ArgumentParser, *, formats: bool = True) -> None:

@@ -214,14 +214,7 @@ def command_census(args: argparse.Namespace) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``census`` command."""
-    census = add_command(commands, "census", command_census,
-                         "census of 1-irregular cuboid patterns: Joe's configurations "
-                         "of each partition and what the improvement does",
-                         examples=(
-                             "geomexact census --patterns 0-4095 --improve -o census.csv",
-                             "geomexact census --shape 1 1 2 --cells --json",
-                             "geomexact census --dask tcp://scheduler:8786 --workers 8",
-                         ))
+    census = add_command(commands, "census", command_census)
     add_cuboid_options(census)
     census.add_argument("--patterns", default="all", metavar="all|A-B|N,M,...",
                         help="which patterns: all (1..262143, the default), A-B "

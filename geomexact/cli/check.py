@@ -200,13 +200,7 @@ def pslg_violations(loaded: Loaded, *, strict: bool) -> tuple[list[Violation], l
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``check`` command."""
-    check = add_command(commands, "check", command_check,
-                        "validate a triangle, tetrahedral, mixed-cell or polygon mesh, or a "
-                        "PSLG (exit 1 on violations)",
-                        examples=(
-                            "geomexact check superior.1.ele",
-                            "geomexact check mesh.vtu --strict --json",
-                        ))
+    check = add_command(commands, "check", command_check)
     check.add_argument("file", metavar="FILE",
                        help="triangle, tetrahedral, mixed-cell or polygon mesh or PSLG file")
     add_format_option(check)

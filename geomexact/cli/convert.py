@@ -42,13 +42,7 @@ def add_parser(commands: Subcommands) -> None:
     """Add the ``convert`` command."""
     formats = format_names()
     names = ", ".join(formats)
-    convert = add_command(commands, "convert", command_convert,
-                          "convert a file to another format",
-                          examples=(
-                              "geomexact convert superior.1.ele superior.vtu",
-                              "geomexact convert mesh.off mesh.pslg --exact",
-                              "geomexact convert input.msh output.ele --from meshio",
-                          ))
+    convert = add_command(commands, "convert", command_convert)
     convert.add_argument("input", metavar="IN", help="file to read")
     convert.add_argument("output", metavar="OUT", help="file to write")
     convert.add_argument(

@@ -287,14 +287,7 @@ def _print_text(report: dict[str, Any]) -> None:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``cuboid`` command."""
-    cuboid = add_command(commands, "cuboid", command_cuboid,
-                         "partition a 1-irregular cuboid pattern into tetrahedra "
-                         "(optionally improved by Joe's flips)",
-                         examples=(
-                             "geomexact cuboid 5 -o pattern5.ele",
-                             "geomexact cuboid 4095 --improve --json",
-                             "geomexact cuboid 7 --final mixed -o pattern7.vtu",
-                         ))
+    cuboid = add_command(commands, "cuboid", command_cuboid)
     cuboid.add_argument("pattern", metavar="PATTERN", type=pattern_argument,
                         help="0 .. 262143: bit i marks a Steiner point on cube edge i "
                         "(0-11) or face i (12-17); see docs/cuboid.md")

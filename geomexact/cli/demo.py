@@ -220,12 +220,7 @@ def command_demo(args: argparse.Namespace) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``demo`` command."""
-    demo = add_command(commands, "demo", command_demo,
-                       "run the main job on the bundled Lake Superior PSLG",
-                       examples=(
-                           "geomexact demo",
-                           "geomexact demo -o superior-run --force",
-                       ))
+    demo = add_command(commands, "demo", command_demo)
     demo.add_argument(
         "-o", "--output", default="geomexact-demo", metavar="DIR",
         help="output directory (default: geomexact-demo)",

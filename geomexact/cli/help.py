@@ -8,10 +8,11 @@ import argparse
 import difflib
 import textwrap
 
-from geomexact.cli.arguments import Subcommands
+from geomexact.cli.arguments import Subcommands, add_command_parser, examples_text
+from geomexact.cli.command_table import COMMAND_TABLE
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_CODES_HELP, EXIT_OK
-from geomexact.cli.parser import COMMAND_TABLE, TRIANGLE_SWITCHES, build_parser
+from geomexact.cli.parser import TRIANGLE_SWITCHES, build_parser
 
 TOPICS: tuple[tuple[str, str], ...] = (
     ("commands", "every command with its one-line summary"),
@@ -23,10 +24,10 @@ TOPICS: tuple[tuple[str, str], ...] = (
 
 
 def _commands() -> str:
-    width = max(len(name) for name, _, _ in COMMAND_TABLE)
-    rows = [textwrap.fill(summary, 88, initial_indent=f"  {name:<{width}}  ",
+    width = max(len(spec.name) for spec in COMMAND_TABLE)
+    rows = [textwrap.fill(spec.summary, 88, initial_indent=f"  {spec.name:<{width}}  ",
                           subsequent_indent=" " * (width + 4))
-            for name, _, summary in COMMAND_TABLE]
+            for spec in COMMAND_TABLE]
     return "commands (geomexact help COMMAND for one):\n" + "\n".join(rows) + "\n"
 
 
@@ -61,7 +62,7 @@ def _command_help(name: str) -> str:
 def help_text(topic: str | None) -> str:
     """The text of ``topic`` (None: the list of topics); :class:`UsageProblem` naming
     the closest topic for an unknown one."""
-    commands = [name for name, _, _ in COMMAND_TABLE]
+    commands = [spec.name for spec in COMMAND_TABLE]
     if topic is None:
         width = max(len(name) for name, _ in TOPICS)
         rows = [f"  {name:<{width}}  {what}" for name, what in TOPICS]
@@ -87,12 +88,7 @@ def command_help(args: argparse.Namespace) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``help`` command."""
-    summary = "explain a command or a topic (commands, formats, exit-codes, triangle)"
-    help_ = commands.add_parser(
-        "help", help=summary, description=summary,
-        epilog="examples:\n  geomexact help refine\n  geomexact help formats\n"
-               "  geomexact help triangle\n",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    help_ = add_command_parser(commands, "help", epilog=examples_text)
     help_.set_defaults(run=command_help)
     help_.add_argument("topic", nargs="?", metavar="TOPIC",
                        help="a command or a topic (omit it for the list)")

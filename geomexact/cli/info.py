@@ -9,9 +9,7 @@ from typing import Any
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_format_option,
-    add_json_flag,
-    add_verbose_flag,
+    add_reading_options,
 )
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
@@ -83,14 +81,6 @@ def command_info(args: argparse.Namespace) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``info`` command."""
-    info = add_command(commands, "info", command_info,
-                       "print statistics of meshes, PSLGs and polygon meshes",
-                       examples=(
-                           "geomexact info superior.1.ele",
-                           "geomexact info a.off b.vtu --json",
-                           "geomexact info part.stl",
-                       ))
+    info = add_command(commands, "info", command_info)
     info.add_argument("files", nargs="+", metavar="FILE", help="mesh, PSLG or polygon mesh file")
-    add_format_option(info)
-    add_json_flag(info)
-    add_verbose_flag(info)
+    add_reading_options(info)

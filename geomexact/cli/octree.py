@@ -317,16 +317,7 @@ def _start_value(start: Mesh3 | MixedMesh3) -> Mesh3:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``octree`` command."""
-    octree = add_command(commands, "octree", command_octree,
-                         "mesh a box with tetrahedra by the octree mesher (refined where "
-                         "asked, balanced 2:1, each leaf partitioned by its pattern)",
-                         examples=(
-                             "geomexact octree --refine-sphere 0.5 0.5 0.5 0.3 --surface --level"
-                             " 5 -o ball.ele",
-                             "geomexact octree --domain part.stl --level 5 --improve-quality 15"
-                             " -o part.vtu",
-                             "geomexact octree --device mos.device --final mixed -o mos.vtu",
-                         ))
+    octree = add_command(commands, "octree", command_octree)
     octree.add_argument("--box", nargs=6, type=_exact, metavar=("X0", "Y0", "Z0", "X1", "Y1",
                                                                 "Z1"),
                         help="the box, exact (default: the unit cube; with --domain, a "

@@ -1,4 +1,6 @@
-"""The ``geomexact`` argument parser, assembled from each command's ``add_parser``."""
+"""The ``geomexact`` argument parser, assembled from each command's ``add_parser``: a
+command's module (and the library it imports) is loaded only to parse that command;
+``geomexact --help`` lists every command from ``COMMAND_TABLE`` alone."""
 
 from __future__ import annotations
 
@@ -9,41 +11,11 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, NoReturn, cast
 
 from geomexact._version import __version__
+from geomexact.cli.command_table import COMMAND_TABLE
 from geomexact.cli.exit_codes import EXIT_BAD_INPUT, EXIT_CODES_HELP
 
 if TYPE_CHECKING:
     from geomexact.cli.arguments import Subcommands
-
-COMMAND_TABLE: tuple[tuple[str, str, str], ...] = (
-    ("info", "info", "print statistics of meshes, PSLGs and polygon meshes"),
-    ("check", "check", "validate a triangle, tetrahedral, mixed-cell or polygon mesh, or a "
-                       "PSLG (exit 1 on violations)"),
-    ("convert", "convert", "convert a file to another format"),
-    ("replay", "replay", "replay a trace on its input mesh, checking digests"),
-    ("trace", "trace_tools",
-     "debug with traces: show a trace, diff two, bisect a failing property"),
-    ("triangulate", "triangulate",
-     "(constrained) Delaunay triangulation of points / a PSLG, or Lawson flips of a mesh"),
-    ("polylla", "polylla", "Polylla polygon mesh of a triangle mesh, optionally made convex"),
-    ("refine", "refine", "Lepp refinement (bisection, centroid, quasi-Delaunay) to a criterion"),
-    ("cuboid", "cuboid", "partition a 1-irregular cuboid pattern into tetrahedra "
-                         "(optionally improved by Joe's flips)"),
-    ("census", "census", "census of 1-irregular cuboid patterns: Joe's configurations "
-                         "of each partition and what the improvement does"),
-    ("octree", "octree", "mesh a box with tetrahedra by the octree mesher (refined where "
-                         "asked, balanced 2:1, each leaf partitioned by its pattern)"),
-    ("view", "view", "write the offline HTML viewer or a PNG/SVG/PDF picture of a mesh "
-                     "(and trace)"),
-    ("serve", "serve", "serve a directory's meshes in the viewer and refine uploads "
-                       "(local HTTP)"),
-    ("demo", "demo", "run the main job on the bundled Lake Superior PSLG"),
-    ("help", "help", "explain a command or a topic (commands, formats, exit-codes, "
-                     "triangle)"),
-)
-"""(command, its module in ``geomexact.cli``, its help line), in the order ``geomexact
---help`` lists them.  A command's module (and the library it imports) is loaded only to
-parse that command: ``geomexact --help`` lists every command from this table alone
-(``tests/cli`` checks it against what each module's ``add_parser`` registers)."""
 
 
 def command_adder(module: str) -> Callable[[Subcommands], None]:
@@ -198,9 +170,9 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
         "Subcommands", parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     )
     wanted = None if argv is None else chosen_command(argv)
-    for name, module, summary in COMMAND_TABLE:
-        if argv is None or name == wanted:
-            command_adder(module)(commands)
+    for spec in COMMAND_TABLE:
+        if argv is None or spec.name == wanted:
+            command_adder(spec.module)(commands)
         else:
-            commands.add_parser(name, help=summary)
+            commands.add_parser(spec.name, help=spec.summary)
     return parser

@@ -108,13 +108,7 @@ def command_polylla(args: argparse.Namespace) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``polylla`` command."""
-    polylla_ = add_command(commands, "polylla", command_polylla,
-                           "Polylla polygon mesh of a triangle mesh, optionally made convex",
-                           examples=(
-                               "geomexact polylla superior.1.ele -o superior.polylla.off",
-                               "geomexact polylla mesh.off --convex --picture polylla.png -o"
-                               " convex.off",
-                           ))
+    polylla_ = add_command(commands, "polylla", command_polylla)
     polylla_.add_argument("input", metavar="INPUT",
                           help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
     polylla_.add_argument("-o", "--output", metavar="OUT",

@@ -560,16 +560,7 @@ def _memory_steps(mesh: Mesh2, estimate: int) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``refine`` command."""
-    refine_ = add_command(commands, "refine", command_refine,
-                          "Lepp refinement (bisection, centroid, quasi-Delaunay) to a criterion",
-                          examples=(
-                              "geomexact refine superior.poly --min-angle 30 --max-area 0.01 -o"
-                              " superior.1.ele",
-                              "geomexact refine mesh.off --max-area 0.001 --circle 0.5 0.5 0.2 -o"
-                              " fine.off --trace run.trace",
-                              "geomexact refine mesh.ele --min-angle 30 --preset mellado --method"
-                              " quasi -o mellado.ele",
-                          ))
+    refine_ = add_command(commands, "refine", command_refine)
     refine_.add_argument("input", metavar="INPUT",
                          help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
     refine_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")

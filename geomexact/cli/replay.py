@@ -244,12 +244,7 @@ def add_parser(commands: Subcommands) -> None:
     """Add the ``replay`` command."""
     formats = format_names()
     names = ", ".join(formats)
-    replay_ = add_command(commands, "replay", command_replay,
-                          "replay a trace on its input mesh, checking digests",
-                          examples=(
-                              "geomexact replay square.off run.trace -o result.off --exact",
-                              "geomexact replay run.trace --until 100 -o step100.ele",
-                          ))
+    replay_ = add_command(commands, "replay", command_replay)
     replay_.add_argument(
         "input", metavar="INPUT", nargs="?",
         help="the mesh the trace was recorded on (2D or tetrahedral); may be left out for "

@@ -38,13 +38,7 @@ def command_serve(args: argparse.Namespace) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``serve`` command."""
-    serve_ = add_command(commands, "serve", command_serve,
-                         "serve a directory's meshes in the viewer and refine uploads "
-                         "(local HTTP)",
-                         examples=(
-                             "geomexact serve meshes/",
-                             "geomexact serve . --port 8765 --jobs 2",
-                         ))
+    serve_ = add_command(commands, "serve", command_serve)
     serve_.add_argument("directory", nargs="?", default=".", metavar="DIR",
                         help="directory whose mesh files are listed (default: .)")
     serve_.add_argument("--host", default="127.0.0.1",

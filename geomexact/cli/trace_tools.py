@@ -26,11 +26,8 @@ from typing import Any
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_force_flag,
-    add_format_option,
-    add_json_flag,
-    add_verbose_flag,
-    command_epilog,
+    add_command_parser,
+    add_reading_options,
     positive_int,
 )
 from geomexact.cli.errors import UsageProblem, cli_wording
@@ -543,23 +540,11 @@ def _write_bisection(args: argparse.Namespace, before: Mesh, after: Mesh, change
 # -----------------------------------------------------------------------------------------
 def add_parser(commands: Subcommands) -> None:
     """Add the ``trace`` command and its subcommands ``show``, ``diff`` and ``bisect``."""
-    summary = "debug with traces: show a trace, diff two, bisect a failing property"
-    trace_ = commands.add_parser(
-        "trace", help=summary, description=summary,
-        epilog=command_epilog(("geomexact trace show run.trace",
-                               "geomexact trace diff input.off a.trace b.trace",
-                               "geomexact trace bisect input.off run.trace --fails delaunay")),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
+    trace_ = add_command_parser(commands, "trace")
     tools: Subcommands = trace_.add_subparsers(dest="trace_command", metavar="SUBCOMMAND",
                                                required=True)
 
-    show = add_command(tools, "show", command_show,
-                       "the header, step counts and chosen steps of a trace",
-                       examples=(
-                           "geomexact trace show run.trace",
-                           "geomexact trace show run.trace --steps 10-20 --json",
-                       ))
+    show = add_command(tools, "trace show", command_show)
     show.add_argument("trace", metavar="TRACE", help="trace file (JSON Lines, or .gz)")
     show.add_argument("--input", metavar="INPUT",
                       help="the mesh the trace was recorded on (for the cells each step "
@@ -573,33 +558,17 @@ def add_parser(commands: Subcommands) -> None:
                       help="replay every step on the trace's input, checking its digest "
                       "(exit 1 at the first that differs); otherwise only the steps up to "
                       "the last one shown are replayed")
-    add_format_option(show)
-    add_json_flag(show)
-    add_verbose_flag(show)
+    add_reading_options(show)
 
-    diff = add_command(tools, "diff", command_diff,
-                       "the first step where two traces of the same input differ",
-                       examples=(
-                           "geomexact trace diff input.off a.trace b.trace",
-                           "geomexact trace diff input.off a.trace b.trace --picture diff.png",
-                       ))
+    diff = add_command(tools, "trace diff", command_diff)
     diff.add_argument("input", metavar="INPUT", help="the mesh both traces start from")
     diff.add_argument("a", metavar="A", help="first trace file")
     diff.add_argument("b", metavar="B", help="second trace file")
     diff.add_argument("--picture", metavar="OUT",
                       help="draw both meshes after the differing step (.png, .svg, .pdf)")
-    add_format_option(diff)
-    add_force_flag(diff)
-    add_json_flag(diff)
-    add_verbose_flag(diff)
+    add_reading_options(diff, force="existing files")
 
-    bisect = add_command(tools, "bisect", command_bisect,
-                         "the first step after which a property fails (binary search)",
-                         examples=(
-                             "geomexact trace bisect input.off run.trace --fails delaunay",
-                             "geomexact trace bisect input.off run.trace --fails min-angle:20 -o"
-                             " bisect/",
-                         ))
+    bisect = add_command(tools, "trace bisect", command_bisect)
     bisect.add_argument("input", metavar="INPUT", nargs="?",
                         help="the mesh the trace was recorded on; may be left out for a "
                         "cuboid trace")
@@ -609,7 +578,4 @@ def add_parser(commands: Subcommands) -> None:
     bisect.add_argument("-o", "--output", metavar="DIR",
                         help="write the meshes before and after the failing step "
                         "(before-step-K.ele, after-step-K.ele) and a picture (step-K.png)")
-    add_format_option(bisect)
-    add_force_flag(bisect)
-    add_json_flag(bisect)
-    add_verbose_flag(bisect)
+    add_reading_options(bisect, force="existing files")

@@ -91,14 +91,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``triangulate`` command."""
-    triangulate_ = add_command(
-        commands, "triangulate", command_triangulate,
-        "(constrained) Delaunay triangulation of points / a PSLG, or Lawson flips of a mesh",
-        examples=(
-            "geomexact triangulate superior.poly -o superior.1.ele",
-            "geomexact triangulate points.node -o points.off --trace run.trace",
-            'geomexact triangulate crossing.poly --split-segments --check -o crossing.1.ele',),
-    )
+    triangulate_ = add_command(commands, "triangulate", command_triangulate)
     triangulate_.add_argument("input", metavar="INPUT",
                               help=".node, .poly, PSLG text or a triangle mesh (OFF, .ele…)")
     triangulate_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")

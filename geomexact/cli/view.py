@@ -10,10 +10,7 @@ from typing import TYPE_CHECKING
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
-    add_force_flag,
-    add_format_option,
-    add_json_flag,
-    add_verbose_flag,
+    add_reading_options,
     non_negative,
 )
 from geomexact.cli.errors import UsageProblem
@@ -181,14 +178,7 @@ def _view_mesh3(args: argparse.Namespace, mesh: Mesh3 | MixedMesh3, trace: Trace
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``view`` command."""
-    view = add_command(commands, "view", command_view,
-                       "write the offline HTML viewer or a PNG/SVG/PDF picture of a mesh "
-                       "(and trace)",
-                       examples=(
-                           "geomexact view superior.1.ele -o superior.png --color-by min-angle",
-                           "geomexact view superior.poly --trace run.trace -o run.html",
-                           "geomexact view part.vtu --clip z 0.5 -o part.png",
-                       ))
+    view = add_command(commands, "view", command_view)
     view.add_argument("input", metavar="INPUT",
                       help="mesh, PSLG or polygon mesh (with --trace: the trace's input)")
     view.add_argument("-o", "--output", required=True, metavar="OUT",
@@ -212,7 +202,4 @@ def add_parser(commands: Subcommands) -> None:
     view.add_argument("--title", help="title of the page or picture")
     view.add_argument("--no-exact", action="store_true",
                       help="leave the exact coordinates out of the page (smaller file)")
-    add_format_option(view)
-    add_force_flag(view, "an existing OUT")
-    add_json_flag(view)
-    add_verbose_flag(view)
+    add_reading_options(view, force="an existing OUT")

@@ -657,20 +657,27 @@ def report_area(report: dict[str, Any]) -> object:
 def test_the_command_table_is_what_the_command_modules_register() -> None:
     """``geomexact --help`` lists the commands from ``COMMAND_TABLE`` without loading
     their modules: the table names every command each module's ``add_parser`` registers,
-    in order, with the same help line."""
+    in order, with the same help line, and every subcommand (``trace show``) likewise."""
     import argparse
 
-    from geomexact.cli.parser import COMMAND_TABLE, build_parser
+    from geomexact.cli.command_table import COMMAND_TABLE
+    from geomexact.cli.parser import build_parser
+
+    def subcommands(parser: argparse.ArgumentParser) -> argparse._SubParsersAction[Any]:
+        return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
 
     def commands(parser: argparse.ArgumentParser) -> list[tuple[str, str | None]]:
-        action = next(a for a in parser._actions
-                      if isinstance(a, argparse._SubParsersAction))
-        return [(choice.dest, choice.help) for choice in action._choices_actions]
+        return [(choice.dest, choice.help) for choice in subcommands(parser)._choices_actions]
 
-    expected = [(name, summary) for name, _, summary in COMMAND_TABLE]
+    expected = [(spec.name, spec.summary) for spec in COMMAND_TABLE]
     assert commands(build_parser()) == expected
     assert commands(build_parser(["--help"])) == expected
     assert commands(build_parser(["refine", "x.off"])) == expected
+    registered = subcommands(build_parser()).choices
+    for spec in COMMAND_TABLE:
+        if spec.subcommands:
+            assert commands(registered[spec.name]) == [
+                (inner.name, inner.summary) for inner in spec.subcommands]
 
 
 def test_help_loads_no_command_module() -> None:

@@ -12,9 +12,10 @@ from pathlib import Path
 import pytest
 
 from geomexact.cli import main
+from geomexact.cli.command_table import COMMAND_TABLE
 from geomexact.cli.exit_codes import EXIT_CODES_HELP
 from geomexact.cli.help import TOPICS, help_text
-from geomexact.cli.parser import COMMAND_TABLE, build_parser
+from geomexact.cli.parser import build_parser
 from geomexact.cli.writing import numbered_output
 
 SQUARE = "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"
@@ -44,7 +45,7 @@ def _examples(parser: argparse.ArgumentParser) -> list[str]:
 
 def test_every_help_ends_with_examples_and_no_exit_code_table() -> None:
     commands = _every_command()
-    assert {name for name, _, _ in COMMAND_TABLE} <= {name for name, _ in commands}
+    assert {spec.name for spec in COMMAND_TABLE} <= {name for name, _ in commands}
     for name, parser in commands:
         examples = _examples(parser)
         assert 2 <= len(examples) <= 3, (name, examples)
@@ -91,7 +92,7 @@ def test_topics(topic: str | None, capsys: pytest.CaptureFixture[str]) -> None:
     if topic == "triangle":
         assert "-q  --min-angle" in out
     if topic is None:
-        assert all(f"  {name} " in out for name, _, _ in COMMAND_TABLE)
+        assert all(f"  {spec.name} " in out for spec in COMMAND_TABLE)
 
 
 def test_help_of_a_command_is_its_help(capsys: pytest.CaptureFixture[str]) -> None:
