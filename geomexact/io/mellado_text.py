@@ -32,7 +32,7 @@ from geomexact.io.registry import (
     written_value,
 )
 from geomexact.kernel.points import Point2, point2
-from geomexact.mesh2d.snapshot import Mesh2
+from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle
 
 _SECTIONS = {"vertices": "v", "triangles": "t", "neighbors": "n", "neighbours": "n"}
 _ARITY = {"v": 2, "t": 3}
@@ -195,7 +195,7 @@ def write_mellado(
         entries = []
         for u, v in ((b, c), (c, a), (a, b)):
             apex = mesh.apex(v, u)
-            entries.append(-1 if apex is None else position[_canonical(v, u, apex)])
+            entries.append(-1 if apex is None else position[canonical_triangle(v, u, apex)])
         out.append("n " + " ".join(map(str, entries)))
     return write_files(
         [(path, "".join(line + "\n" for line in out))],
@@ -203,12 +203,3 @@ def write_mellado(
         numbers=number,
         dropped=dropped_parts(mesh, ()),
     )
-
-
-def _canonical(a: int, b: int, c: int) -> tuple[int, int, int]:
-    """The triangle (a, b, c) rotated to start at its smallest vertex id."""
-    if a < b and a < c:
-        return a, b, c
-    if b < c:
-        return b, c, a
-    return c, a, b

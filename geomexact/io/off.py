@@ -42,9 +42,9 @@ from geomexact.io.registry import (
     token_lines,
     write_files,
 )
-from geomexact.kernel.numbers import ZERO, Rational, parse_rational
+from geomexact.kernel.numbers import Rational, parse_rational
 from geomexact.kernel.points import Point2, point2
-from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh
+from geomexact.mesh2d.polygonal.polygon_mesh import PolygonMesh, polygon_twice_area
 from geomexact.mesh2d.snapshot import Mesh2
 
 BULK_MIN_BYTES = 1 << 16
@@ -441,16 +441,6 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
     return mesh, notes
 
 
-def _twice_area(points: list[Point2], polygon: tuple[int, ...]) -> Rational:
-    total = ZERO
-    previous = points[polygon[-1]]
-    for vertex in polygon:
-        point = points[vertex]
-        total += previous.x * point.y - point.x * previous.y
-        previous = point
-    return total
-
-
 def _orient_polygons(
     path: str,
     points: list[Point2],
@@ -464,7 +454,7 @@ def _orient_polygons(
     first_cw: int | None = None
     first_ccw: int | None = None
     for index, face in enumerate(faces):
-        area = _twice_area(points, face)
+        area = polygon_twice_area(points, face)
         if area == 0:
             raise FormatError(path, lines[index], f"{describe(index)} has zero area")
         if area < 0:

@@ -1135,6 +1135,16 @@ def file_stem(path: Path, extension: str) -> Path:
     return path
 
 
+def file_set_stem(path: Path, extensions: Iterable[str]) -> Path:
+    """The stem of a file set named by any of its files (the first of ``extensions`` that
+    ``path`` ends with is cut off) or by the stem itself."""
+    for extension in extensions:
+        stem = file_stem(path, extension)
+        if stem != path:
+            return stem
+    return path
+
+
 def with_extension(stem: Path, extension: str) -> Path:
     """``stem`` + ``extension`` (appended, never replacing a dotted part of the stem)."""
     return stem.with_name(stem.name + extension)

@@ -38,7 +38,7 @@ from geomexact.io.registry import (
     counted,
     expect_exact_fields,
     file_lines,
-    file_stem,
+    file_set_stem,
     parse_count,
     parse_int,
     parse_marker_flag,
@@ -63,11 +63,7 @@ NODE, ELE, FACE = ".node", ".ele", ".face"
 def mesh_stem(path: Path) -> Path:
     """The stem of a mesh named by any of its files (``x.1.ele``, ``x.1.node``,
     ``x.1.face``) or by the stem itself."""
-    for extension in (ELE, NODE, FACE):
-        stem = file_stem(path, extension)
-        if stem != path:
-            return stem
-    return path
+    return file_set_stem(path, (ELE, NODE, FACE))
 
 
 def node_dimension(path: Path) -> int | None:

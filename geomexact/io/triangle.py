@@ -58,6 +58,7 @@ from geomexact.io.registry import (
     expect_header_fields,
     expected_neighbours,
     file_lines,
+    file_set_stem,
     file_stem,
     is_count_line,
     note_duplicate_points,
@@ -805,11 +806,7 @@ def _read_mesh_segments(
 def _mesh_stem(path: Path) -> Path:
     """The stem of a Triangle mesh named by any of its files (``x.1.ele``, ``x.1.node``,
     ``x.1.neigh``) or by the stem itself (``x.1``)."""
-    for extension in (ELE, NODE, NEIGH):
-        stem = file_stem(path, extension)
-        if stem != path:
-            return stem
-    return path
+    return file_set_stem(path, (ELE, NODE, NEIGH))
 
 
 def read_triangle(path: Path) -> tuple[Value, list[str]]:

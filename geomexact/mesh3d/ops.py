@@ -26,6 +26,7 @@ from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
 
 __all__ = [
+    "FLIP_NAMES",
     "FLIP_OPS",
     "OPERATIONS",
     "FaceConfiguration",
@@ -221,6 +222,9 @@ FLIP_OPS: Mapping[str, FaceKind] = MappingProxyType({
     "flip44": FaceKind.T44,
 })
 """The flip steps and the configuration each one transforms."""
+
+FLIP_NAMES: tuple[str, ...] = tuple(FLIP_OPS)
+"""The flip steps' names, in the order the improvement reports count them."""
 
 FLIP_OF_KIND: Mapping[FaceKind, str] = MappingProxyType(
     {kind: op for op, kind in FLIP_OPS.items()}

@@ -37,6 +37,7 @@ from geomexact.errors import PreconditionError
 from geomexact.kernel.points import Point3
 from geomexact.kernel.vectors import cross3, dot3, sub3
 from geomexact.mesh3d.ops import (
+    FLIP_NAMES,
     FLIP_OF_KIND,
     FaceConfiguration,
     FaceKind,
@@ -59,7 +60,6 @@ __all__ = [
     "tetrahedron_measures",
 ]
 
-FLIP_NAMES: Final = ("flip23", "flip32", "flip22", "flip44")
 
 Region = Callable[[tuple[Point3, ...]], bool]
 """Whether a tetrahedron (its four points, sorted by vertex id) meets the region."""

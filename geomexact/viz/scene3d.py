@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import base64
 import html
-import json
 from array import array
 from collections.abc import Mapping, Sequence
 from fractions import Fraction
@@ -44,7 +43,13 @@ from geomexact.mesh3d.snapshot import Mesh3, signed_volume6
 from geomexact.trace.playback import check_start, replay_iter
 from geomexact.trace.record import Trace
 from geomexact.viz.scene import little_endian
-from geomexact.viz.viewer import VIEWER_CSP, _check_inline, fill_page, page_asset, page_script
+from geomexact.viz.viewer import (
+    VIEWER_CSP,
+    fill_page,
+    page_css,
+    page_script,
+    payload_json,
+)
 
 PAYLOAD3_FORMAT = "geomexact-view3d"
 PAYLOAD3_VERSION = 2
@@ -475,15 +480,13 @@ def viewer_html_3d(mesh: Mesh3D, trace: Trace | None = None, *, title: str = "me
     one; the page holds each cell once.  ``TypeError`` for any other value."""
     data = payload3(mesh, trace, title=title, colour=colour, step=step, clip=clip,
                     materials=materials, material_names=material_names)
-    text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
-    text = text.replace("<", "\\u003c")
     values = {
         "csp": VIEWER_CSP,
         "generator": data["generator"],
         "title": html.escape(title or "geomexact 3D viewer"),
-        "css": _check_inline("viewer.css", page_asset("viewer.css")),
+        "css": page_css(),
         "js": page_script("viewer3d.js"),
-        "data": text,
+        "data": payload_json(data),
     }
     return fill_page("viewer3d.html", values)
 

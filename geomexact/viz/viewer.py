@@ -208,25 +208,32 @@ def page_script(name: str) -> str:
             + _check_inline(name, page_asset(name)))
 
 
+def page_css() -> str:
+    """The inline style sheet of the 2D and 3D pages (checked by :func:`_check_inline`)."""
+    return _check_inline("viewer.css", page_asset("viewer.css"))
+
+
+def payload_json(data: dict[str, Any]) -> str:
+    """A page's payload as the text of its JSON script element: compact, keys sorted."""
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    # "<" only occurs inside JSON strings, where \u003c is the same character; so
+    # nothing in the payload can close the script element
+    return text.replace("<", "\\u003c")
+
+
 def render_page(data: dict[str, Any] | None, *, title: str,
                 links: Sequence[tuple[str, str]] = ()) -> str:
     """The HTML page for a payload (None: an empty viewer that opens files)."""
     from geomexact._version import __version__
 
-    text = ""
-    if data is not None:
-        text = json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
-        # "<" only occurs inside JSON strings, where \u003c is the same character; so
-        # nothing in the payload can close the script element
-        text = text.replace("<", "\\u003c")
     values = {
         "csp": VIEWER_CSP,
         "generator": f"geomexact {__version__}",
         "title": html.escape(title or "geomexact viewer"),
         "links": _links_html(links),
-        "css": _check_inline("viewer.css", page_asset("viewer.css")),
+        "css": page_css(),
         "js": page_script("viewer.js"),
-        "data": text,
+        "data": "" if data is None else payload_json(data),
     }
     return fill_page("viewer.html", values)
 

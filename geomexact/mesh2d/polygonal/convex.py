@@ -51,7 +51,7 @@ from geomexact.mesh2d.polygonal.polygon_mesh import (
     nonconvex_polygons,
     orientation_signs,
 )
-from geomexact.mesh2d.snapshot import Edge
+from geomexact.mesh2d.snapshot import Edge, canonical_triangle
 
 __all__ = [
     "ConvexDecomposition",
@@ -156,7 +156,7 @@ def _table_of(polygons: PolygonMesh) -> HalfEdgeTable:
     owner: dict[tuple[int, int, int], int] = {}
     for index, source in enumerate(polygons.sources):
         for a, b, c in source:
-            key = _canonical(a, b, c)
+            key = canonical_triangle(a, b, c)
             if owner.setdefault(key, index) != index:
                 raise PreconditionError(
                     "convex_decomposition",
@@ -176,14 +176,6 @@ def _table_of(polygons: PolygonMesh) -> HalfEdgeTable:
         frontier = (twin < 0) | (mine != across)
         table.frontier[:] = frontier.astype(np.uint8).tobytes()
     return table
-
-
-def _canonical(a: int, b: int, c: int) -> tuple[int, int, int]:
-    if a < b and a < c:
-        return a, b, c
-    if b < c:
-        return b, c, a
-    return c, a, b
 
 
 def _cycles(table: HalfEdgeTable, polygons: PolygonMesh) -> list[list[int]]:
@@ -209,7 +201,8 @@ def _cycles(table: HalfEdgeTable, polygons: PolygonMesh) -> list[list[int]]:
                            [len(source) for source in polygons.sources])
     triangle_owner = np.empty(len(table.triangles), dtype=np.int64)
     order = {triangle: t for t, triangle in enumerate(table.triangles)}
-    flat = [order[_canonical(*triangle)] for source in polygons.sources for triangle in source]
+    flat = [order[canonical_triangle(*triangle)]
+            for source in polygons.sources for triangle in source]
     triangle_owner[np.array(flat, dtype=np.int64)] = polygon_of
     owner_array = np.array(owners, dtype=np.int64)
     missing = np.flatnonzero((found < 0) | (triangle_owner[np.where(found < 0, 0, found) // 3]

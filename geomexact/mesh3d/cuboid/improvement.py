@@ -25,6 +25,7 @@ from geomexact.errors import PreconditionError
 from geomexact.kernel.predicate_results import SphereLocation
 from geomexact.kernel.predicates3d import insphere
 from geomexact.mesh3d.ops import (
+    FLIP_NAMES,
     FLIP_OF_KIND,
     FaceConfiguration,
     FaceKind,
@@ -38,7 +39,6 @@ from geomexact.mesh3d.transient import Transient3
 __all__ = ["FLIP_NAMES", "ImprovementReport", "failing_faces_in", "improve", "improve_in",
            "interior_faces_in", "is_failing_in"]
 
-FLIP_NAMES: Final = ("flip23", "flip32", "flip22", "flip44")
 MAX_FLIPS: Final = 1_000_000
 """A guard only: the flips terminate (the lifted argument); this many means a bug."""
 
