@@ -103,6 +103,7 @@ def _extensions() -> list[Extension]:
             include_dirs=["geomexact/kernel", *gmpy2_folders],  # ckernel.h, grid_rational.h
             define_macros=gmpy2_macros,
             depends=["geomexact/kernel/ckernel.h", "geomexact/kernel/ckernel.pxd",
+                     "geomexact/kernel/ctriangulation.pxd",
                      "geomexact/kernel/grid_rational.h"],
             # the float filters' error bounds assume one rounding per operation: no FMA
             extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"],

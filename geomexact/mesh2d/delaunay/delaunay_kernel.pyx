@@ -26,15 +26,15 @@ neighbour.  Where the Python engine would insert a crossing point or raise (a
 ``SegmentError``, a segment it cannot recover) ``recover`` answers ``DECLINED`` and the
 caller runs the Python ops from the start.
 
-Where the C data live:
-
-* half-edges ``(u, v) -> apex`` in an open-addressing hash table keyed by ``u << 32 | v``
-  (ids below ``MAX_VERTICES = 2**32``), the value ``seq << 32 | apex``;
-* per vertex: the doubles of the ``Point2`` (for the float filters), the coordinates times
-  ``2**F`` as int64 when the exact rational is a double on that grid (the *grid*
-  vertices; ``F`` makes the largest finite coordinate below ``2**60``, so every doubles in
-  [0, 1) at or above ``2**-8`` is on the grid), the 64-bit digest key;
-* the steps as C records (op, ids, the digest as an ``unsigned __int128``).
+Where the C data live: in an ordered ``TriangleStore`` (``geomexact/kernel/
+ctriangulation.pxd``, the store the Lepp kernel runs on too): the half-edges with their
+insertion numbers, the vertices (the doubles of the ``Point2`` for the float filters; the
+coordinates times ``2**F`` as int64 when the exact rational is a double on that grid —
+the *grid* vertices; ``F`` makes the largest finite coordinate below ``2**60``, so every
+double in [0, 1) at or above ``2**-8`` is on the grid; the digest key; the hints of the
+constrained phase), the digest and the step records.  This module keeps its own loops:
+the walk, the three attachments, the legalization, segment recovery, the Lawson pass and
+carving.
 
 Every geometric decision is exact: orient2d on grid vertices by integer arithmetic in
 ``__int128`` (differences below 2**61, products below 2**122); incircle on grid vertices
@@ -57,6 +57,24 @@ import numpy as np
 from geomexact.kernel import digest as _digest
 from geomexact.trace.step import Step
 
+from geomexact.kernel.ctriangulation cimport (
+    StepRecord,
+    TriangleStore,
+    TriVertex,
+    store_add,
+    store_apex,
+    store_canonical,
+    store_flip,
+    store_free,
+    store_halfedge_rows,
+    store_hint_array,
+    store_incircle,
+    store_init,
+    store_boundary_step,
+    store_orient,
+    store_record,
+    store_remove,
+)
 from geomexact.kernel.ckernel cimport (
     StepLayout,
     make_step,
@@ -64,6 +82,7 @@ from geomexact.kernel.ckernel cimport (
     GridPoint,
     Pair,
     PairStack,
+    GX_APEX_MASK,
     GX_EMPTY,
     _from_u128,
     _init_constants,
@@ -93,18 +112,6 @@ _init_constants()
 cdef StepLayout _STEP_LAYOUT = step_layout(Step)
 
 
-cdef struct Vertex:
-    GridPoint at       # the doubles; gx, gy: the exact coordinates times 2**F, when grid
-    uint64_t key       # geomexact.kernel.digest.vertex_key
-
-cdef struct Record:
-    gx_u128 digest
-    int64_t a
-    int64_t b
-    int64_t c
-    int64_t d
-    int8_t op
-
 cdef enum:
     OP_MAKE_TRIANGLE = 0
     OP_ATTACH_IN_TRIANGLE = 1
@@ -120,8 +127,6 @@ cdef enum:
     WHERE_EDGE = 1
     WHERE_OUTSIDE = 2
 
-cdef int64_t APEX_MASK = 0xFFFFFFFF
-cdef int64_t SEQ_LIMIT = (<int64_t>1 << 31) - 1
 cdef double GRID_BOUND = 1152921504606846976.0  # 2**60
 
 _OP_NAMES = ("make_triangle", "attach_in_triangle", "attach_in_edge", "attach_outside",
@@ -148,23 +153,19 @@ cdef class Builder:
     """One ``triangulate_points`` construction: ``run(a, b, c, rest)`` then
     ``finish(start)``."""
 
-    cdef Vertex *vs
-    cdef Py_ssize_t nv
-    cdef gx_map apex
-    cdef Record *records
-    cdef Py_ssize_t nrec, cap_rec
-    cdef PairStack pending
+    # the vertices, the ordered half-edge table, the digest, the records, the stack to
+    # legalize (ctriangulation.pxd)
+    cdef TriangleStore store
     cdef Pair *visible
     cdef Py_ssize_t cap_visible
-    cdef gx_u128 digest
-    cdef int64_t seq
     cdef int64_t last_a, last_b
     cdef int F
     cdef tuple points
     cdef public int64_t grid_vertices
-    # the constrained phase (``begin_constrained``): Transient2's outgoing hints, the
-    # constrained edges (min, max) -> marker, the work stacks, the probe (a seed point)
-    cdef int64_t *hints
+    # the constrained phase (``begin_constrained``): the store's hints are then
+    # Transient2's outgoing hints; the constrained edges (min, max) -> marker, the work
+    # stacks, the probe (a seed point)
+    cdef bint constrained
     cdef gx_map segments
     cdef PairStack work, crossed, queue
     cdef Py_ssize_t queue_head
@@ -175,49 +176,42 @@ cdef class Builder:
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
-        free(self.vs)
-        free(self.records)
-        free(self.pending.items)
+        store_free(&self.store)
         free(self.visible)
-        free(self.hints)
         free(self.work.items)
         free(self.crossed.items)
         free(self.queue.items)
-        gx_map_free(&self.apex)
         gx_map_free(&self.segments)
 
     def __init__(self, points, start_digest):
         """``points``: the ``Point2`` of every vertex id; ``start_digest``: the digest of the
         mesh of isolated vertices the construction starts from."""
         cdef Py_ssize_t i, count = len(points)
-        cdef Vertex *vertex
+        cdef TriVertex *vertex
         cdef double largest = 0.0, gx, gy
         cdef int exponent = 0
         cdef uint64_t slots = 64
         self.points = tuple(points)
-        self.nv = count
-        self.vs = <Vertex *>malloc(max(1, count) * sizeof(Vertex))
-        self.cap_rec = max(64, 5 * count)
-        self.records = <Record *>malloc(self.cap_rec * sizeof(Record))
-        self.pending.capacity = self.cap_visible = 64
-        self.pending.items = <Pair *>malloc(self.pending.capacity * sizeof(Pair))
-        self.visible = <Pair *>malloc(self.cap_visible * sizeof(Pair))
-        if not self.vs or not self.records or not self.pending.items or not self.visible:
-            raise MemoryError
         # at most 6n - 12 half-edges, at load <= 1/2: no growth on the way
         while slots < 12 * <uint64_t>count + 64:
             slots *= 2
-        if gx_map_alloc(&self.apex, slots) < 0:
+        store_init(&self.store, count, count, slots, 5 * count, True)
+        self.store.hinted = False  # the point phase's hints come from the insertion order
+        self.cap_visible = 64
+        self.visible = <Pair *>malloc(self.cap_visible * sizeof(Pair))
+        if not self.visible:
             raise MemoryError
         if count:
             _digest.vertex_key(count - 1)  # extend the cached keys once
         keys = _digest._VERTEX_KEYS
         for i in range(count):
             point = self.points[i]
-            vertex = &self.vs[i]
+            vertex = &self.store.vs[i]
             vertex.at.fx = point[2]
             vertex.at.fy = point[3]
             vertex.key = keys[i]
+            vertex.hint = -1
+            vertex.inside = -1
             vertex.at.grid = 0
             if isfinite(vertex.at.fx) and fabs(vertex.at.fx) > largest:
                 largest = fabs(vertex.at.fx)
@@ -229,7 +223,7 @@ cdef class Builder:
         self.F = 60 - exponent
         self.grid_vertices = 0
         for i in range(count):
-            vertex = &self.vs[i]
+            vertex = &self.store.vs[i]
             if not self._grid_value(vertex.at.fx, &gx) or not self._grid_value(
                     vertex.at.fy, &gy):
                 continue
@@ -241,10 +235,7 @@ cdef class Builder:
             vertex.at.gy = <int64_t>gy
             vertex.at.grid = 1
             self.grid_vertices += 1
-        self.digest = _to_u128(start_digest)
-        self.nrec = 0
-        self.pending.count = 0
-        self.seq = 0
+        self.store.digest = _to_u128(start_digest)
         self.last_a = self.last_b = -1
 
     cdef bint _grid_value(self, double value, double *out) noexcept:
@@ -261,82 +252,28 @@ cdef class Builder:
         out[0] = scaled
         return True
 
-    # -- predicates (exact): ckernel.pxd's, on these vertices -----------------------------
+    # -- predicates (exact): the store's, on these vertices -------------------------------
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
-        return orient_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, self.points, a, b, c)
+        return store_orient(&self.store, self.points, a, b, c)
 
     cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
-        return incircle_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, &self.vs[d].at,
-                             self.points, a, b, c, d)
+        return store_incircle(&self.store, self.points, a, b, c, d)
 
-    # -- the half-edge table --------------------------------------------------------------
     cdef inline int64_t _get(self, int64_t u, int64_t v) noexcept nogil:
         """apex(u, v), or -1."""
-        cdef int64_t value = gx_map_get(&self.apex, gx_edge(u, v), -1)
-        return value if value < 0 else (value & APEX_MASK)
-
-    cdef int _put(self, int64_t u, int64_t v, int64_t w) except -1:
-        """apex[(u, v)] = w as a dict does it: an existing key keeps its place (its
-        sequence number), a new one goes last."""
-        cdef uint64_t key = gx_edge(u, v)
-        cdef uint64_t i = gx_map_slot(&self.apex, key)
-        if self.apex.keys[i] == key:
-            self.apex.values[i] = (self.apex.values[i] & ~APEX_MASK) | w
-            return 0
-        if self.seq >= SEQ_LIMIT:
-            raise OverflowError("too many half-edge insertions for the kernel")
-        if 2 * (self.apex.count + 1) > self.apex.mask + 1:
-            if gx_map_grow(&self.apex) < 0:
-                raise MemoryError
-            i = gx_map_slot(&self.apex, key)
-        self.apex.keys[i] = key
-        self.apex.values[i] = (self.seq << 32) | w
-        self.apex.count += 1
-        self.seq += 1
-        return 0
-
-    cdef inline gx_u128 _hash(self, int64_t a, int64_t b, int64_t c) noexcept nogil:
-        """The cell hash of the triangle (a, b, c), any rotation."""
-        if b < a and b < c:
-            return gx_cell_hash(self.vs[b].key, self.vs[c].key, self.vs[a].key)
-        if c < a and c < b:
-            return gx_cell_hash(self.vs[c].key, self.vs[a].key, self.vs[b].key)
-        return gx_cell_hash(self.vs[a].key, self.vs[b].key, self.vs[c].key)
-
-    cdef int _add(self, int64_t a, int64_t b, int64_t c) except -1:
-        self._put(a, b, c)
-        self._put(b, c, a)
-        self._put(c, a, b)
-        self.digest += self._hash(a, b, c)
-        return 0
-
-    cdef void _remove(self, int64_t a, int64_t b, int64_t c) noexcept:
-        gx_map_del(&self.apex, gx_edge(a, b))
-        gx_map_del(&self.apex, gx_edge(b, c))
-        gx_map_del(&self.apex, gx_edge(c, a))
-        self.digest -= self._hash(a, b, c)
+        return store_apex(&self.store, u, v)
 
     cdef int _record(self, int8_t op, int64_t a, int64_t b, int64_t c,
                      int64_t d) except -1:
-        cdef Record *record
-        if self.nrec == self.cap_rec:
-            grow_array(<void **>&self.records, &self.cap_rec, sizeof(Record))
-        record = &self.records[self.nrec]
-        record.op = op
-        record.a = a
-        record.b = b
-        record.c = c
-        record.d = d
-        record.digest = self.digest
-        self.nrec += 1
+        store_record(&self.store, op, a, b, c, d)
         return 0
 
     # -- the construction -----------------------------------------------------------------
     cdef int _make_triangle(self, int64_t a, int64_t b, int64_t c) except -1:
         if self._orient(a, b, c) == 1:
-            self._add(a, b, c)
+            store_add(&self.store, a, b, c)
         else:
-            self._add(a, c, b)
+            store_add(&self.store, a, c, b)
         self._record(OP_MAKE_TRIANGLE, a, b, c, -1)
         self.last_a = a
         self.last_b = b if self._get(a, b) >= 0 else c
@@ -396,60 +333,38 @@ cdef class Builder:
         cdef int64_t a, b, c, u, v, w, x
         cdef int where = self._locate(vertex, found)
         a, b, c = found[0], found[1], found[2]
-        self.pending.count = 0
+        self.store.pending.count = 0
         if where == WHERE_INSIDE:
-            self._remove(a, b, c)
-            self._add(a, b, vertex)
-            self._add(b, c, vertex)
-            self._add(c, a, vertex)
+            store_remove(&self.store, a, b, c)
+            store_add(&self.store, a, b, vertex)
+            store_add(&self.store, b, c, vertex)
+            store_add(&self.store, c, a, vertex)
             self._record(OP_ATTACH_IN_TRIANGLE, vertex, a, b, c)
-            push_pair(&self.pending, c, a)
-            push_pair(&self.pending, b, c)
-            push_pair(&self.pending, a, b)
+            push_pair(&self.store.pending, c, a)
+            push_pair(&self.store.pending, b, c)
+            push_pair(&self.store.pending, a, b)
         elif where == WHERE_EDGE:
             u, v = a, b
             w = self._get(u, v)
             x = self._get(v, u)
             if w >= 0:
-                self._remove(u, v, w)
-                self._add(u, vertex, w)
-                self._add(vertex, v, w)
-                push_pair(&self.pending, v, w)
-                push_pair(&self.pending, w, u)
+                store_remove(&self.store, u, v, w)
+                store_add(&self.store, u, vertex, w)
+                store_add(&self.store, vertex, v, w)
+                push_pair(&self.store.pending, v, w)
+                push_pair(&self.store.pending, w, u)
             if x >= 0:
-                self._remove(v, u, x)
-                self._add(v, vertex, x)
-                self._add(vertex, u, x)
-                push_pair(&self.pending, u, x)
-                push_pair(&self.pending, x, v)
+                store_remove(&self.store, v, u, x)
+                store_add(&self.store, v, vertex, x)
+                store_add(&self.store, vertex, u, x)
+                push_pair(&self.store.pending, u, x)
+                push_pair(&self.store.pending, x, v)
             self._record(OP_ATTACH_IN_EDGE, vertex, u, v, -1)
         else:
             self._attach_outside(vertex, a, b)
         self.last_a = vertex
-        self.last_b = self.pending.items[0].a
+        self.last_b = self.store.pending.items[0].a
         return self._legalize(vertex)
-
-    cdef int _next_boundary(self, int64_t u, int64_t v, Pair *out) except -1:
-        """``next_boundary_edge``: the boundary half-edge (v, z) after (u, v)."""
-        cdef int64_t x = self._get(u, v), y
-        while x >= 0:
-            y = self._get(x, v)
-            if y < 0:
-                out.a, out.b = v, x
-                return 0
-            x = y
-        raise ValueError(f"({u}, {v}) is not a boundary half-edge")
-
-    cdef int _previous_boundary(self, int64_t u, int64_t v, Pair *out) except -1:
-        """``previous_boundary_edge``: the boundary half-edge (z, u) before (u, v)."""
-        cdef int64_t x = self._get(u, v), y
-        while x >= 0:
-            y = self._get(u, x)
-            if y < 0:
-                out.a, out.b = x, u
-                return 0
-            x = y
-        raise ValueError(f"({u}, {v}) is not a boundary half-edge")
 
     cdef int _visible(self, Py_ssize_t index, Pair edge) except -1:
         if index >= self.cap_visible:
@@ -463,11 +378,11 @@ cdef class Builder:
         cdef Pair edge, swap
         cdef Py_ssize_t before = 0, total, i
         # the edges before (u, v), nearest first, at the front of ``visible``
-        self._previous_boundary(u, v, &edge)
+        store_boundary_step(&self.store, u, v, False, &edge)
         while self._orient(edge.a, edge.b, vertex) == -1:
             self._visible(before, edge)
             before += 1
-            self._previous_boundary(edge.a, edge.b, &edge)
+            store_boundary_step(&self.store, edge.a, edge.b, False, &edge)
         for i in range(before // 2):
             swap = self.visible[i]
             self.visible[i] = self.visible[before - 1 - i]
@@ -476,42 +391,32 @@ cdef class Builder:
         edge.a, edge.b = u, v
         self._visible(total, edge)
         total += 1
-        self._next_boundary(u, v, &edge)
+        store_boundary_step(&self.store, u, v, True, &edge)
         while self._orient(edge.a, edge.b, vertex) == -1:
             self._visible(total, edge)
             total += 1
-            self._next_boundary(edge.a, edge.b, &edge)
+            store_boundary_step(&self.store, edge.a, edge.b, True, &edge)
         for i in range(total):
-            self._add(self.visible[i].b, self.visible[i].a, vertex)
+            store_add(&self.store, self.visible[i].b, self.visible[i].a, vertex)
         self._record(OP_ATTACH_OUTSIDE, vertex, u, v, -1)
         for i in range(total):
-            push_pair(&self.pending, self.visible[i].b, self.visible[i].a)
+            push_pair(&self.store.pending, self.visible[i].b, self.visible[i].a)
         return 0
 
     cdef int _legalize(self, int64_t vertex) except -1:
         """``BatchTriangulation.legalize_edges``: pop (a, b) with apex(a, b) == vertex; flip when
         the vertex is strictly inside the circle of (a, b, q) across it."""
         cdef int64_t a, b, q
-        while pop_pair(&self.pending, &a, &b):
+        while pop_pair(&self.store.pending, &a, &b):
             q = self._get(b, a)
             if q < 0 or self._get(a, b) != vertex:
                 continue
             if self._incircle(a, b, vertex, q) != 1:
                 continue
-            # (a, b, vertex), (b, a, q) -> (q, vertex, a), (vertex, q, b)
-            gx_map_del(&self.apex, gx_edge(a, b))
-            gx_map_del(&self.apex, gx_edge(b, a))
-            self._put(q, vertex, a)
-            self._put(vertex, a, q)
-            self._put(a, q, vertex)
-            self._put(vertex, q, b)
-            self._put(q, b, vertex)
-            self._put(b, vertex, q)
-            self.digest += self._hash(q, vertex, a) + self._hash(vertex, q, b)
-            self.digest -= self._hash(a, b, vertex) + self._hash(b, a, q)
+            store_flip(&self.store, a, b, vertex, q)  # -> (q, vertex, a), (vertex, q, b)
             self._record(OP_FLIP, a, b, -1, -1)
-            push_pair(&self.pending, q, b)
-            push_pair(&self.pending, a, q)
+            push_pair(&self.store.pending, q, b)
+            push_pair(&self.store.pending, a, q)
         return 0
 
     # -- the constrained phase: segment recovery, the Lawson pass, carving ------------------
@@ -522,30 +427,10 @@ cdef class Builder:
         """Enter the constrained phase after ``run``: the outgoing hints of the sealed
         point triangulation (the last inserted half-edge out of each vertex) become the
         hints that Transient2 edits."""
-        cdef Py_ssize_t i, slots = self.apex.mask + 1
-        cdef int64_t *best
-        cdef uint64_t key
-        cdef int64_t u, seq
-        if self.hints != NULL:
+        if self.constrained:
             raise RuntimeError("the constrained phase has begun already")
-        self.hints = <int64_t *>malloc(max(1, self.nv) * sizeof(int64_t))
-        best = <int64_t *>malloc(max(1, self.nv) * sizeof(int64_t))
-        if not self.hints or not best:
-            free(best)
-            raise MemoryError
-        for i in range(self.nv):
-            best[i] = -1
-            self.hints[i] = -1
-        for i in range(slots):
-            key = self.apex.keys[i]
-            if key == GX_EMPTY:
-                continue
-            u = <int64_t>(key >> 32)
-            seq = self.apex.values[i] >> 32
-            if seq > best[u]:
-                best[u] = seq
-                self.hints[u] = <int64_t><uint32_t>key
-        free(best)
+        self.constrained = True
+        store_halfedge_rows(&self.store, True)  # (its rows are not needed here)
         if gx_map_alloc(&self.segments, 64) < 0:
             raise MemoryError
         self.work.capacity = self.crossed.capacity = self.queue.capacity = 64
@@ -557,37 +442,10 @@ cdef class Builder:
         self.work.count = self.crossed.count = self.queue.count = 0
         self.carve_args = []
 
-    cdef int _t_add(self, int64_t a, int64_t b, int64_t c) except -1:
-        """Transient2.add_triangle (no attributes)."""
-        self._put(a, b, c)
-        self._put(b, c, a)
-        self._put(c, a, b)
-        self.hints[a] = b
-        self.hints[b] = c
-        self.hints[c] = a
-        self.digest += self._hash(a, b, c)
-        return 0
-
     cdef int _t_flip(self, int64_t u, int64_t v) except -1:
-        """ops.flip_in on an edge known to be flippable: remove (u, v, w), (v, u, x), add
-        (x, w, u), (w, x, v).  The four outer half-edges get their new apex in place (the
-        insertion numbers are unused in this phase), the hints as add_triangle writes
-        them: x -> w, w -> u, u -> x, then w -> x, x -> v, v -> w."""
-        cdef int64_t w = self._get(u, v), x = self._get(v, u)
-        gx_map_del(&self.apex, gx_edge(u, v))
-        gx_map_del(&self.apex, gx_edge(v, u))
-        self._put(x, w, u)
-        self._put(w, u, x)
-        self._put(u, x, w)
-        self._put(w, x, v)
-        self._put(x, v, w)
-        self._put(v, w, x)
-        self.hints[u] = x
-        self.hints[w] = x
-        self.hints[x] = v
-        self.hints[v] = w
-        self.digest += self._hash(x, w, u) + self._hash(w, x, v)
-        self.digest -= self._hash(u, v, w) + self._hash(v, u, x)
+        """ops.flip_in on an edge known to be flippable (the hints as add_triangle writes
+        them; the insertion numbers are unused in this phase)."""
+        store_flip(&self.store, u, v, self._get(u, v), self._get(v, u))
         self._record(OP_FLIP, u, v, -1, -1)
         return 0
 
@@ -600,13 +458,13 @@ cdef class Builder:
         cdef int64_t low = a if a < b else b, high = b if a < b else a
         if gx_map_set(&self.segments, gx_edge(low, high), marker) < 0:
             raise MemoryError
-        self.digest += _to_u128(_digest.segment_hash(low, high, marker))
+        self.store.digest += _to_u128(_digest.segment_hash(low, high, marker))
         self._record(OP_CONSTRAIN, a, b, marker, -1)
         return 0
 
     cdef int _on_segment(self, int64_t w, int64_t a, int64_t b) except -1:
         """For w on line ab: 1 when w is on the closed segment ab (``within_box``)."""
-        cdef int sign = filtered_dot(&self.vs[w].at, &self.vs[a].at, &self.vs[b].at)
+        cdef int sign = filtered_dot(&self.store.vs[w].at, &self.store.vs[a].at, &self.store.vs[b].at)
         if sign != 2:
             return sign <= 0
         from geomexact.mesh2d.segments import within_box
@@ -615,7 +473,7 @@ cdef class Builder:
     cdef int _crossed(self, int64_t a, int64_t b) except -1:
         """``triangulation._crossed_edges``: the edges crossed by ab walking from a, into
         ``crossed`` as (left of ab, right of ab); or where the walk stopped."""
-        cdef int64_t start = self.hints[a], first, previous, w, x, left = -1, right = -1, c
+        cdef int64_t start = self.store.vs[a].hint, first, previous, w, x, left = -1, right = -1, c
         cdef int side, other
         self.crossed.count = 0
         if start < 0 or self._get(a, start) < 0:
@@ -749,10 +607,10 @@ cdef class Builder:
         crossing point to insert, a SegmentError to raise); the builder is then spent."""
         cdef int64_t u, v, marker
         cdef Py_ssize_t count = 0
-        if self.hints == NULL:
+        if not self.constrained:
             raise RuntimeError("call begin_constrained first")
         for u, v, marker in segments:
-            if not (0 <= u < self.nv and 0 <= v < self.nv):
+            if not (0 <= u < self.store.nv and 0 <= v < self.store.nv):
                 raise IndexError((u, v))
             if self._recover(u, v, marker, split) != RECOVERED:
                 return DECLINED
@@ -764,18 +622,18 @@ cdef class Builder:
     def lawson(self):
         """``triangulation.make_delaunay_in`` (no triangle attributes yet): returns the
         number of flips."""
-        cdef Py_ssize_t i, slots = self.apex.mask + 1, n = 0, flips = 0
+        cdef Py_ssize_t i, slots = self.store.apex.mask + 1, n = 0, flips = 0
         cdef uint64_t key, swap
         cdef uint64_t four[4]
         cdef int64_t u, v, w, x
         cdef uint64_t *edges = <uint64_t *>malloc(
-            (<Py_ssize_t>self.apex.count + 1) * sizeof(uint64_t))
+            (<Py_ssize_t>self.store.apex.count + 1) * sizeof(uint64_t))
         cdef int j, k
         if edges == NULL:
             raise MemoryError
         try:
             for i in range(slots):
-                key = self.apex.keys[i]
+                key = self.store.apex.keys[i]
                 if key == GX_EMPTY:
                     continue
                 u = <int64_t>(key >> 32)
@@ -787,13 +645,13 @@ cdef class Builder:
                     edges[n] = gx_edge(v, u)
                     n += 1
             qsort(edges, n, sizeof(uint64_t), _compare_keys)
-            self.pending.count = 0
+            self.store.pending.count = 0
             for i in range(n - 1, -1, -1):
-                push_pair(&self.pending, <int64_t>(edges[i] >> 32),
+                push_pair(&self.store.pending, <int64_t>(edges[i] >> 32),
                           <int64_t><uint32_t>edges[i])
         finally:
             free(edges)
-        while pop_pair(&self.pending, &u, &v):
+        while pop_pair(&self.store.pending, &u, &v):
             w = self._get(u, v)
             x = self._get(v, u)
             if w < 0 or x < 0 or self._constrained(u, v):
@@ -816,20 +674,11 @@ cdef class Builder:
                     four[k] = swap
                     k -= 1
             for j in range(3, -1, -1):  # the smallest on top
-                push_pair(&self.pending, <int64_t>(four[j] >> 32),
+                push_pair(&self.store.pending, <int64_t>(four[j] >> 32),
                           <int64_t><uint32_t>four[j])
             if not flips & 4095:
                 PyErr_CheckSignals()
         return flips
-
-    cdef inline void _canonical(self, int64_t a, int64_t b, int64_t c, Pair *out) noexcept:
-        """The first two vertices of canonical_triangle(a, b, c)."""
-        if a < b and a < c:
-            out.a, out.b = a, b
-        elif b < c:
-            out.a, out.b = b, c
-        else:
-            out.a, out.b = c, a
 
     cdef Py_ssize_t _flood_remove(self, PairStack *region) except -1:
         """ops._flood from the canonical triangles in ``region`` (distinct), then remove
@@ -866,7 +715,7 @@ cdef class Builder:
                     w = self._get(e1, e0)
                     if w < 0:
                         continue
-                    self._canonical(e1, e0, w, &canonical)
+                    store_canonical(e1, e0, w, &canonical)
                     key = gx_edge(canonical.a, canonical.b)
                     if gx_map_get(&seen, key, 0):
                         continue
@@ -878,13 +727,13 @@ cdef class Builder:
         for i in range(region.count):
             a = region.items[i].a
             b = region.items[i].b
-            self._remove(a, b, self._get(a, b))
+            store_remove(&self.store, a, b, self._get(a, b))
         return region.count
 
     def carve_exterior(self):
         """``ops.carve_exterior_in`` when ``exterior_triangles`` is not empty (else
         nothing, no step): returns the number of triangles removed."""
-        cdef Py_ssize_t i, slots = self.apex.mask + 1, removed
+        cdef Py_ssize_t i, slots = self.store.apex.mask + 1, removed
         cdef uint64_t key
         cdef int64_t u, v
         cdef Pair canonical
@@ -896,7 +745,7 @@ cdef class Builder:
             raise MemoryError
         try:
             for i in range(slots):
-                key = self.apex.keys[i]
+                key = self.store.apex.keys[i]
                 if key == GX_EMPTY:
                     continue
                 u = <int64_t>(key >> 32)
@@ -904,7 +753,7 @@ cdef class Builder:
                 if self._get(v, u) >= 0 or self._constrained(u, v):
                     continue
                 # one seed per triangle: a triangle may have several boundary edges
-                self._canonical(u, v, self.apex.values[i] & APEX_MASK, &canonical)
+                store_canonical(u, v, self.store.apex.values[i] & GX_APEX_MASK, &canonical)
                 if not self._first_boundary(canonical.a, canonical.b, u, v):
                     continue
                 push_pair(&region, canonical.a, canonical.b)
@@ -934,7 +783,7 @@ cdef class Builder:
 
     cdef int _probe_orient(self, int64_t a, int64_t b) except -2:
         """orient2d(points[a], points[b], the probe)."""
-        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, &self.probe)
+        cdef int result = filtered_orient(&self.store.vs[a].at, &self.store.vs[b].at, &self.probe)
         if result != 2:
             return result
         from geomexact.kernel.predicates2d import orient2d_exact
@@ -945,7 +794,7 @@ cdef class Builder:
         smallest canonical one whose closure does, ``ops.containing_triangle``), recording
         ``carve`` with ``args``; returns the number removed, or -1 when no triangle
         contains the point (the seed is ignored, no step)."""
-        cdef Py_ssize_t i, slots = self.apex.mask + 1, removed
+        cdef Py_ssize_t i, slots = self.store.apex.mask + 1, removed
         cdef uint64_t key
         cdef int64_t a, b, c, ba = -1, bb = -1, bc = -1
         cdef double value
@@ -961,12 +810,12 @@ cdef class Builder:
                 self.probe.gy = <int64_t>value
                 self.probe.grid = 1
         for i in range(slots):
-            key = self.apex.keys[i]
+            key = self.store.apex.keys[i]
             if key == GX_EMPTY:
                 continue
             a = <int64_t>(key >> 32)
             b = <int64_t><uint32_t>key
-            c = self.apex.values[i] & APEX_MASK
+            c = self.store.apex.values[i] & GX_APEX_MASK
             if not (a < b and a < c):
                 continue
             if ba >= 0 and (a > ba or (a == ba and (b > bb or (b == bb and c >= bc)))):
@@ -997,42 +846,33 @@ cdef class Builder:
         none), the segments as an ``immutables.Map``.  A broken hint (its half-edge
         removed) is repaired to the smallest neighbour, or dropped for an isolated
         vertex."""
-        cdef Py_ssize_t i, row = 0, slots = self.apex.mask + 1
+        cdef Py_ssize_t i, slots = self.store.apex.mask + 1
         cdef uint64_t key
         cdef int64_t u, w
         cdef bint broken = False
-        cdef int64_t[:, ::1] rows
-        cdef int64_t[::1] hint_view
-        cdef int8_t *repair = <int8_t *>malloc(max(1, self.nv) * sizeof(int8_t))
+        cdef TriVertex *vs = self.store.vs
+        cdef int8_t *repair = <int8_t *>malloc(max(1, self.store.nv) * sizeof(int8_t))
         if repair == NULL:
             raise MemoryError
-        halfedges = np.empty((self.apex.count, 3), dtype=np.int64)
-        rows = halfedges
         try:
-            for i in range(self.nv):
+            for i in range(self.store.nv):
                 repair[i] = 0
-                if self.hints[i] >= 0 and self._get(i, self.hints[i]) < 0:
+                if vs[i].hint >= 0 and self._get(i, vs[i].hint) < 0:
                     repair[i] = 1
-                    self.hints[i] = -1
+                    vs[i].hint = -1
                     broken = True
-            for i in range(slots):
-                key = self.apex.keys[i]
+            for i in range(slots if broken else 0):
+                key = self.store.apex.keys[i]
                 if key == GX_EMPTY:
                     continue
                 u = <int64_t>(key >> 32)
                 w = <int64_t><uint32_t>key
-                rows[row, 0] = u
-                rows[row, 1] = w
-                rows[row, 2] = self.apex.values[i] & APEX_MASK
-                row += 1
-                if broken and repair[u] and (self.hints[u] < 0 or w < self.hints[u]):
-                    self.hints[u] = w
+                if repair[u] and (vs[u].hint < 0 or w < vs[u].hint):
+                    vs[u].hint = w
         finally:
             free(repair)
-        hints = np.empty(self.nv, dtype=np.int64)
-        hint_view = hints
-        for i in range(self.nv):
-            hint_view[i] = self.hints[i]
+        halfedges = store_halfedge_rows(&self.store, False)
+        hints = store_hint_array(&self.store)
         segments = {}
         slots = <Py_ssize_t>(self.segments.mask + 1)
         for i in range(slots):
@@ -1041,21 +881,19 @@ cdef class Builder:
                 continue
             edge = (<int64_t>(key >> 32), <int64_t><uint32_t>key)
             segments[edge] = self.segments.values[i]
-        halfedges.setflags(write=False)
-        hints.setflags(write=False)
-        return (halfedges, hints, immutables.Map(segments), row // 3,
-                _from_u128(self.digest))
+        return (halfedges, hints, immutables.Map(segments), halfedges.shape[0] // 3,
+                _from_u128(self.store.digest))
 
     def run(self, int64_t a, int64_t b, int64_t c, rest):
         """``make_triangle(a, b, c)``, then ``insert`` each vertex of ``rest`` in order."""
         cdef int64_t vertex
         for vertex in (a, b, c):
-            if not 0 <= vertex < self.nv:
+            if not 0 <= vertex < self.store.nv:
                 raise IndexError(vertex)
         self._make_triangle(a, b, c)
         for count, item in enumerate(rest, 1):
             vertex = item
-            if not 0 <= vertex < self.nv:
+            if not 0 <= vertex < self.store.nv:
                 raise IndexError(vertex)
             self._insert(vertex)
             if not count & 4095:
@@ -1066,51 +904,19 @@ cdef class Builder:
         ``BatchDelaunay.seal`` makes them: the half-edges as a (H x 3) int64 array of rows
         (u, v, apex), the outgoing hint of each vertex (the last inserted live half-edge
         out of it; -1 for none) as an int64 array."""
-        cdef Py_ssize_t i, row = 0, slots = self.apex.mask + 1
-        cdef uint64_t key
-        cdef int64_t u, value, seq
-        cdef int64_t[:, ::1] rows
-        cdef int64_t[::1] hint_view
-        cdef int64_t *best = <int64_t *>malloc(max(1, self.nv) * sizeof(int64_t))
-        if not best:
-            raise MemoryError
-        halfedges = np.empty((self.apex.count, 3), dtype=np.int64)
-        rows = halfedges
-        hints = np.empty(self.nv, dtype=np.int64)
-        hint_view = hints
-        try:
-            for i in range(self.nv):
-                best[i] = -1
-                hint_view[i] = -1
-            for i in range(slots):
-                key = self.apex.keys[i]
-                if key == GX_EMPTY:
-                    continue
-                u = <int64_t>(key >> 32)
-                value = self.apex.values[i]
-                seq = value >> 32
-                rows[row, 0] = u
-                rows[row, 1] = <int64_t><uint32_t>key
-                rows[row, 2] = value & APEX_MASK
-                row += 1
-                if seq > best[u]:
-                    best[u] = seq
-                    hint_view[u] = <int64_t><uint32_t>key
-        finally:
-            free(best)
-        halfedges.setflags(write=False)
-        hints.setflags(write=False)
-        return halfedges, hints, row // 3, _from_u128(self.digest)
+        halfedges = store_halfedge_rows(&self.store, True)
+        return (halfedges, store_hint_array(&self.store), halfedges.shape[0] // 3,
+                _from_u128(self.store.digest))
 
     def steps(self):
         """The recorded steps, as ``Step`` objects."""
         cdef Py_ssize_t i
-        cdef Record *record
+        cdef StepRecord *record
         cdef object op, args
         names = _OP_NAMES
         result = []
-        for i in range(self.nrec):
-            record = &self.records[i]
+        for i in range(self.store.nrec):
+            record = &self.store.records[i]
             op = names[record.op]
             if record.op == OP_FLIP:
                 args = (record.a, record.b)
@@ -1128,7 +934,7 @@ cdef class Builder:
     def digests(self):
         """The digest after each recorded step."""
         cdef Py_ssize_t i
-        return [_from_u128(self.records[i].digest) for i in range(self.nrec)]
+        return [_from_u128(self.store.records[i].digest) for i in range(self.store.nrec)]
 
     @property
     def grid(self):
@@ -1137,9 +943,9 @@ cdef class Builder:
 
     def vertex_state(self, Py_ssize_t i):
         """(on grid, grid x, grid y) of vertex ``i`` (for tests)."""
-        if not 0 <= i < self.nv:
+        if not 0 <= i < self.store.nv:
             raise IndexError(i)
-        return bool(self.vs[i].at.grid), self.vs[i].at.gx, self.vs[i].at.gy
+        return bool(self.store.vs[i].at.grid), self.store.vs[i].at.gx, self.store.vs[i].at.gy
 
 
 def cell_hash(int64_t a, int64_t b, int64_t c):

@@ -17,14 +17,17 @@ same digest after every step, the same counters, and seals the same ``Mesh2``
 
 Where the C data live:
 
-* half-edges ``(u, v) -> apex`` and constrained segments in open-addressing hash tables
-  keyed by ``u << 32 | v`` (ids are below ``MAX_VERTICES = 2**32``);
-* per vertex: the doubles of the ``Point2`` (for the float filters), the coordinates times
-  ``2**F`` as int64 when the exact rational lies on that grid (the *grid* vertices), the
-  64-bit digest key, the ``outgoing`` hint and the cached region membership;
+* the mesh in a ``TriangleStore`` (``geomexact/kernel/ctriangulation.pxd``, shared with the
+  Delaunay kernel): the half-edges ``(u, v) -> apex`` keyed by ``u << 32 | v`` (ids are
+  below ``MAX_VERTICES = 2**32``), per vertex the doubles of the ``Point2`` (for the float
+  filters), the coordinates times ``2**F`` as int64 when the exact rational lies on that
+  grid (the *grid* vertices), the 64-bit digest key, the ``outgoing`` hint and the cached
+  region membership; the digest (the sum mod 2**128 of ``geomexact.kernel.digest``) and
+  the step records; its primitive steps (add, flip, split a side, remove an edge's two
+  triangles) are the ones this kernel edits the mesh with;
+* the constrained segments in an open-addressing table of the same kind;
 * the work queue as a binary heap of (key, triangle), keys exact: an ``__int128`` doubled
   area in units of ``2**-2F`` (``MaxArea`` on grid triangles) or a Python key;
-* the digest as an ``unsigned __int128`` (the sum mod 2**128 of ``geomexact.kernel.digest``);
 * for ``AverageAreaFactor``, the region's doubled area as an exact ``__int128`` sum in grid
   units over its grid triangles plus an exact rational sum over the others (empty on
   dyadic inputs), and its triangle count.  The mean test ``area2 <= target2 * count`` is
@@ -71,6 +74,23 @@ from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, point2
 from geomexact.trace.step import Step
 
+from geomexact.kernel.ctriangulation cimport (
+    StepRecord,
+    TriangleStore,
+    TriVertex,
+    store_add,
+    store_apex,
+    store_flip,
+    store_free,
+    store_halfedge_rows,
+    store_hint_array,
+    store_init,
+    store_put,
+    store_record,
+    store_remove_edge,
+    store_split_side,
+    store_vertex_room,
+)
 from geomexact.kernel.ckernel cimport (
     StepLayout,
     make_step,
@@ -156,12 +176,6 @@ def cell_hash(int64_t a, int64_t b, int64_t c):
 
 
 # ---------------------------------------------------------------------------------------
-cdef struct Vertex:
-    GridPoint at       # the doubles; gx, gy: the exact coordinates times 2**F, when grid
-    uint64_t key       # geomexact.kernel.digest.vertex_key
-    int64_t hint       # the outgoing hint, -1 for none
-    int8_t inside      # region membership: -1 not known yet
-
 cdef struct Entry:
     gx_i128 ikey       # the exact key when py < 0
     double rank        # geomexact.mesh2d.refinement.queue.rank(key) when py >= 0
@@ -175,13 +189,7 @@ cdef struct Entry:
     # AnyOf((MinAngle, X)): 0 for a triangle queued for its angle, 1 for X
     int group
 
-cdef struct Record:
-    int64_t u
-    int64_t v
-    gx_u128 digest
-    int64_t extra      # insert_in_quadrilateral: the new vertex
-    int8_t op          # 0 bisect, 1 flip, 2 insert_in_quadrilateral,
-                       # 3 insert_vertex_centroid, 4 insert_centroid
+
 
 cdef object GRID_LIMIT = 1 << 60
 
@@ -300,18 +308,15 @@ cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
 cdef class Kernel:
     """One Lepp-bisection run (see the module docstring).  ``run()`` then ``finish()``."""
 
-    cdef Vertex *vs
-    cdef Py_ssize_t nv, cap_v, n0
-    cdef gx_map apex
+    # the vertices, the half-edge table, the digest, the records, the stack to legalize
+    # (ctriangulation.pxd)
+    cdef TriangleStore store
+    cdef Py_ssize_t n0
     cdef gx_map segs
     cdef Entry *heap
     cdef Py_ssize_t nheap, cap_heap
-    cdef Record *records
-    cdef Py_ssize_t nrec, cap_rec
     cdef int64_t *created
     cdef Py_ssize_t ncreated, cap_created
-    cdef PairStack pending
-    cdef gx_u128 digest
     cdef int64_t limit
     cdef int64_t triangles
     cdef int F
@@ -374,12 +379,9 @@ cdef class Kernel:
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
-        free(self.vs)
+        store_free(&self.store)
         free(self.heap)
-        free(self.records)
         free(self.created)
-        free(self.pending.items)
-        gx_map_free(&self.apex)
         gx_map_free(&self.segs)
         gx_map_free(&self.start_apex)
         gx_map_free(&self.tattr)
@@ -412,26 +414,22 @@ cdef class Kernel:
         region_doubled = run.region_doubled
         centroid = rounded_area_centroid
         cdef Py_ssize_t i, count = start.vertex_count
-        cdef Vertex *vertex
+        cdef TriVertex *vertex
         cdef int64_t[:, ::1] triangles
         cdef int64_t g
         cdef tuple fields
         self.points = start.point_list()
-        self.n0 = self.nv = count
-        self.cap_v = max(16, 2 * count)
-        self.vs = <Vertex *>malloc(self.cap_v * sizeof(Vertex))
-        self.cap_heap = self.cap_rec = self.cap_created = self.pending.capacity = 64
-        self.heap = <Entry *>malloc(self.cap_heap * sizeof(Entry))
-        self.records = <Record *>malloc(self.cap_rec * sizeof(Record))
-        self.created = <int64_t *>malloc(3 * self.cap_created * sizeof(int64_t))
-        self.pending.items = <Pair *>malloc(self.pending.capacity * sizeof(Pair))
-        if (not self.vs or not self.heap or not self.records or not self.created
-                or not self.pending.items):
-            raise MemoryError
+        self.n0 = count
         slots = 64
         while slots < 12 * start.triangle_count:  # the start's half-edges, then room to grow
             slots *= 2
-        if gx_map_alloc(&self.apex, slots) < 0 or gx_map_alloc(&self.segs, 64) < 0:
+        store_init(&self.store, count, max(16, 2 * count), slots, 64, False)
+        self.cap_heap = self.cap_created = 64
+        self.heap = <Entry *>malloc(self.cap_heap * sizeof(Entry))
+        self.created = <int64_t *>malloc(3 * self.cap_created * sizeof(int64_t))
+        if not self.heap or not self.created:
+            raise MemoryError
+        if gx_map_alloc(&self.segs, 64) < 0:
             raise MemoryError
         # the grid: 2**-F with every input coordinate (hence every midpoint) below 2**60
         bound = _coordinate_bound(self.points)
@@ -444,7 +442,7 @@ cdef class Kernel:
         keys = _digest._VERTEX_KEYS
         for i in range(count):
             fields = <tuple>self.points[i]  # a Point2 is a tuple: indexed as one
-            vertex = &self.vs[i]
+            vertex = &self.store.vs[i]
             vertex.at.fx = fields[2]
             vertex.at.fy = fields[3]
             vertex.at.grid = self._on_grid(fields[0], vertex.at.fx, &vertex.at.gx) and (
@@ -458,7 +456,7 @@ cdef class Kernel:
             if gx_map_set(&self.segs, gx_edge(key[0], key[1]), 0) < 0:
                 raise MemoryError
         self.new_markers = {}
-        self.digest = _to_u128(start.digest)
+        self.store.digest = _to_u128(start.digest)
         self.limit = -1 if max_steps is None else max_steps
         self.whole = whole
         self.delaunay = delaunay
@@ -530,13 +528,13 @@ cdef class Kernel:
             self.cos_sign = threshold.cos_sign
             # Refinement.tip_limit reads the start mesh: its half-edges and outgoing hints
             self.start_segments = start.segments
-            if gx_map_copy(&self.start_apex, &self.apex) < 0:
+            if gx_map_copy(&self.start_apex, &self.store.apex) < 0:
                 raise MemoryError
             self.start_hints = <int64_t *>malloc(max(1, count) * sizeof(int64_t))
             if not self.start_hints:
                 raise MemoryError
             for i in range(count):
-                self.start_hints[i] = self.vs[i].hint
+                self.start_hints[i] = self.store.vs[i].hint
         self.on_step = on_step
         self.progress = progress
         self.step_objects = [] if on_step is not None else None
@@ -593,45 +591,25 @@ cdef class Kernel:
         if source is not None:
             rows = np.ascontiguousarray(source.halfedges, dtype=np.int64)
             hints = np.ascontiguousarray(source.hints, dtype=np.int64)
-            for i in range(self.nv):
-                self.vs[i].hint = hints[i]
+            for i in range(self.store.nv):
+                self.store.vs[i].hint = hints[i]
             for i in range(rows.shape[0]):
-                if gx_map_set(&self.apex, gx_edge(rows[i, 0], rows[i, 1]), rows[i, 2]) < 0:
-                    raise MemoryError
+                store_put(&self.store, rows[i, 0], rows[i, 1], rows[i, 2])
             return 0
         outgoing = start.outgoing
-        for i in range(self.nv):
+        for i in range(self.store.nv):
             hint = outgoing.get(i)
-            self.vs[i].hint = -1 if hint is None else hint
+            self.store.vs[i].hint = -1 if hint is None else hint
         for key, w in start.halfedges.items():
-            if gx_map_set(&self.apex, gx_edge((<tuple>key)[0], (<tuple>key)[1]), w) < 0:
-                raise MemoryError
+            store_put(&self.store, (<tuple>key)[0], (<tuple>key)[1], w)
         return 0
 
     cdef int64_t[:, ::1] _start_triangles(self):
         """``sorted(start.iter_triangles())`` read off the kernel's half-edge table: a
         (T x 3) int64 array of canonical triangles (the smallest id first), sorted."""
-        rows = self._halfedge_rows()
+        rows = store_halfedge_rows(&self.store, False)
         rows = rows[(rows[:, 0] < rows[:, 1]) & (rows[:, 0] < rows[:, 2])]
         return np.ascontiguousarray(rows[np.lexsort(rows.T[::-1])])
-
-    cdef object _halfedge_rows(self):
-        """The half-edge table as a (H x 3) int64 array of rows (u, v, apex), in slot
-        order."""
-        cdef uint64_t slot, edge
-        cdef Py_ssize_t row = 0
-        cdef int64_t[:, ::1] view
-        rows = np.empty((self.apex.count, 3), dtype=np.int64)
-        view = rows
-        for slot in range(self.apex.mask + 1):
-            edge = self.apex.keys[slot]
-            if edge == GX_EMPTY:
-                continue
-            view[row, 0] = <int64_t>(edge >> 32)
-            view[row, 1] = <int64_t><uint32_t>edge
-            view[row, 2] = self.apex.values[slot]
-            row += 1
-        return rows
 
     # -- vertices -----------------------------------------------------------------------
     cdef bint _on_grid(self, value, double nearest, int64_t *out) except -1:
@@ -656,8 +634,8 @@ cdef class Kernel:
 
     cdef int64_t _add_midpoint(self, int64_t u, int64_t v) except -1:
         """The vertex at the exact midpoint of u and v (as ``ops.bisect_in``)."""
-        cdef Vertex *vu = &self.vs[u]
-        cdef Vertex *vv = &self.vs[v]
+        cdef TriVertex *vu = &self.store.vs[u]
+        cdef TriVertex *vv = &self.store.vs[v]
         cdef int64_t sx = 0, sy = 0
         cdef int grid = -1
         cdef tuple pu = <tuple>self.points[u]
@@ -681,16 +659,15 @@ cdef class Kernel:
         """A new vertex at the ``Point2`` ``point`` (as the ops' ``add_vertex``,
         no marker).  ``grid``: 1 when it is the grid point (gx, gy), 0 when it is off the
         grid, -1 when not known (then its coordinates are tested)."""
-        cdef int64_t n = self.nv
-        cdef Vertex *vertex
+        cdef int64_t n = self.store.nv
+        cdef TriVertex *vertex
         # a Point2 is a tuple: indexed as one (its class's item lookup is slower)
         cdef tuple fields = <tuple>point
         if n >= MAX_VERTICES:
             raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
-        if n == self.cap_v:
-            grow_array(<void **>&self.vs, &self.cap_v, sizeof(Vertex))
+        store_vertex_room(&self.store)
         self.points.append(point)
-        vertex = &self.vs[n]
+        vertex = &self.store.vs[n]
         vertex.at.fx = fields[2]
         vertex.at.fy = fields[3]
         if grid < 0:
@@ -707,11 +684,11 @@ cdef class Kernel:
         vertex.key = keys[n]
         vertex.hint = -1
         vertex.inside = -1
-        self.nv = n + 1
+        self.store.nv = n + 1
         if vertex.at.grid:
-            self.digest += gx_grid_vertex_hash(n, vertex.at.gx, vertex.at.gy, self.F)
+            self.store.digest += gx_grid_vertex_hash(n, vertex.at.gx, vertex.at.gy, self.F)
         else:
-            self.digest += _to_u128(_vertex_hash(n, fields[0], fields[1]))
+            self.store.digest += _to_u128(_vertex_hash(n, fields[0], fields[1]))
         return n
 
     cdef bint _grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
@@ -724,14 +701,14 @@ cdef class Kernel:
         e = floor(log2(s × 2^-2F)) // 2 − CENTROID_BITS, i.e. 2^(e + F) grid units; the
         exact centroid is u + n / D (D = 3 (A1 + A2), Ai the doubled areas), rounded
         half up to a multiple of 2^(e + F)."""
-        cdef Vertex *pu = &self.vs[u]
-        cdef Vertex *pv = &self.vs[v]
-        cdef Vertex *pw = &self.vs[w]
-        cdef Vertex *px = &self.vs[x]
+        cdef TriVertex *pu = &self.store.vs[u]
+        cdef TriVertex *pv = &self.store.vs[v]
+        cdef TriVertex *pw = &self.store.vs[w]
+        cdef TriVertex *px = &self.store.vs[x]
         cdef gx_i128 shortest, length, dx, dy
         cdef int64_t exponent, cx, cy
         cdef int k
-        cdef Vertex *ends[5]
+        cdef TriVertex *ends[5]
         if not (pu.at.grid and pv.at.grid and pw.at.grid and px.at.grid):
             return False
         ends[0], ends[1], ends[2], ends[3], ends[4] = pu, px, pv, pw, pu
@@ -793,10 +770,10 @@ cdef class Kernel:
         difference of two is within E = 6 u m (m the largest |coordinate|); products and
         sums carry the errors of their operands plus u per rounding, every bound taken
         with a margin."""
-        cdef GridPoint *pu = &self.vs[u].at
-        cdef GridPoint *pv = &self.vs[v].at
-        cdef GridPoint *pw = &self.vs[w].at
-        cdef GridPoint *px = &self.vs[x].at
+        cdef GridPoint *pu = &self.store.vs[u].at
+        cdef GridPoint *pv = &self.store.vs[v].at
+        cdef GridPoint *pw = &self.store.vs[w].at
+        cdef GridPoint *px = &self.store.vs[x].at
         cdef GridPoint *ring[5]
         cdef GridPoint candidate
         cdef double m, e, dx, dy, big, side, err, low, high
@@ -896,7 +873,7 @@ cdef class Kernel:
     cdef int _orient_candidate(self, int64_t a, int64_t b, GridPoint *c,
                                int64_t *at) except -2:
         """The sign of orient2d(a, b, the grid point ``at``) (its GridPoint ``c``)."""
-        cdef int result = filtered_orient(&self.vs[a].at, &self.vs[b].at, c)
+        cdef int result = filtered_orient(&self.store.vs[a].at, &self.store.vs[b].at, c)
         if result != 2:
             return result
         from geomexact.kernel.predicates2d import orient2d_exact
@@ -906,16 +883,16 @@ cdef class Kernel:
 
     # -- predicates (exact): ckernel.pxd's, on these vertices -----------------------------
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
-        return orient_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, self.points, a, b, c)
+        return orient_sign(&self.store.vs[a].at, &self.store.vs[b].at, &self.store.vs[c].at, self.points, a, b, c)
 
     cdef int _incircle(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
-        return incircle_sign(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at, &self.vs[d].at,
+        return incircle_sign(&self.store.vs[a].at, &self.store.vs[b].at, &self.store.vs[c].at, &self.store.vs[d].at,
                              self.points, a, b, c, d)
 
     cdef int _lengths(self, int64_t a, int64_t b, int64_t c, int64_t d) except -2:
         """The sign of |ab|² - |cd|² (compare_squared_lengths)."""
-        cdef int result = filtered_lengths(&self.vs[a].at, &self.vs[b].at, &self.vs[c].at,
-                                           &self.vs[d].at)
+        cdef int result = filtered_lengths(&self.store.vs[a].at, &self.store.vs[b].at, &self.store.vs[c].at,
+                                           &self.store.vs[d].at)
         if result != 2:
             return result
         points = self.points
@@ -924,7 +901,7 @@ cdef class Kernel:
 
     cdef int _dot_sign(self, int64_t p, int64_t a, int64_t b) nogil:
         """The sign of (a - p).(b - p), or 2 when the float filter cannot tell."""
-        return filtered_dot(&self.vs[p].at, &self.vs[a].at, &self.vs[b].at)
+        return filtered_dot(&self.store.vs[p].at, &self.store.vs[a].at, &self.store.vs[b].at)
 
     # -- region, rating, queue ----------------------------------------------------------
     cdef bint _in_region(self, int64_t a, int64_t b, int64_t c) except -1:
@@ -934,7 +911,7 @@ cdef class Kernel:
         return self._inside(a) or self._inside(b) or self._inside(c)
 
     cdef bint _inside(self, int64_t vertex) except -1:
-        cdef Vertex *record = &self.vs[vertex]
+        cdef TriVertex *record = &self.store.vs[vertex]
         if record.inside < 0:
             record.inside = 1 if self.contains(self.points[vertex]) else 0
         return record.inside
@@ -942,14 +919,14 @@ cdef class Kernel:
     cdef int _account(self, int64_t a, int64_t b, int64_t c, int sign) except -1:
         """``Refinement.account`` for one triangle (any rotation) added (sign 1) or
         removed (sign -1): its doubled area and itself counted when it is in the region."""
-        cdef Vertex *va
-        cdef Vertex *vb
-        cdef Vertex *vc
+        cdef TriVertex *va
+        cdef TriVertex *vb
+        cdef TriVertex *vc
         if not self.whole and not self._in_region(a, b, c):
             return 0
-        va = &self.vs[a]
-        vb = &self.vs[b]
-        vc = &self.vs[c]
+        va = &self.store.vs[a]
+        vb = &self.store.vs[b]
+        vc = &self.store.vs[c]
         self.count += sign
         if va.at.grid and vb.at.grid and vc.at.grid:
             if sign > 0:
@@ -1031,9 +1008,9 @@ cdef class Kernel:
         """``compare_angle(points[a], points[b], points[c], threshold)`` (the angle at b)
         as -1, 0, 1: its two-stage float filter, same formulas and constants, else the
         exact Python comparison."""
-        cdef GridPoint *pa = &self.vs[a].at
-        cdef GridPoint *pb = &self.vs[b].at
-        cdef GridPoint *pc = &self.vs[c].at
+        cdef GridPoint *pa = &self.store.vs[a].at
+        cdef GridPoint *pb = &self.store.vs[b].at
+        cdef GridPoint *pc = &self.store.vs[c].at
         cdef double bx = pb.fx, by = pb.fy
         cdef double ux = pa.fx - bx, uy = pa.fy - by, vx = pc.fx - bx, vy = pc.fy - by
         cdef double dot = ux * vx + uy * vy
@@ -1095,9 +1072,9 @@ cdef class Kernel:
         criterion): queue the entry in group 1 when its triangle is bad (a MaxArea or a
         factor: key −(doubled area), in grid units on the grid; else the criterion's own
         exact key); 1 when queued."""
-        cdef Vertex *va = &self.vs[entry.a]
-        cdef Vertex *vb = &self.vs[entry.b]
-        cdef Vertex *vc = &self.vs[entry.c]
+        cdef TriVertex *va = &self.store.vs[entry.a]
+        cdef TriVertex *vb = &self.store.vs[entry.b]
+        cdef TriVertex *vc = &self.store.vs[entry.c]
         entry.group = 1
         if va.at.grid and vb.at.grid and vc.at.grid:
             if self.max_area:
@@ -1123,9 +1100,9 @@ cdef class Kernel:
     cdef int _queue_grid_area(self, Entry *entry, gx_i128 limit) except -1:
         """Queue the entry's grid triangle, key −(doubled area in grid units), when that
         area exceeds ``limit``; 1 when queued."""
-        cdef Vertex *va = &self.vs[entry.a]
-        cdef Vertex *vb = &self.vs[entry.b]
-        cdef Vertex *vc = &self.vs[entry.c]
+        cdef TriVertex *va = &self.store.vs[entry.a]
+        cdef TriVertex *vb = &self.store.vs[entry.b]
+        cdef TriVertex *vc = &self.store.vs[entry.c]
         cdef gx_i128 area2 = gx_grid_area2(va.at.gx, va.at.gy, vb.at.gx, vb.at.gy,
                                            vc.at.gx, vc.at.gy)
         if area2 <= limit:
@@ -1143,9 +1120,9 @@ cdef class Kernel:
         below 12 u, 16 u taken); off the grid from the doubles, with the error of each
         coordinate difference bounded by E = 6 u max|coordinate| and carried through the
         dot product and lengths; else (extreme magnitudes) the exact key."""
-        cdef Vertex *vp = &self.vs[p]
-        cdef Vertex *vq = &self.vs[q]
-        cdef Vertex *vr = &self.vs[r]
+        cdef TriVertex *vp = &self.store.vs[p]
+        cdef TriVertex *vq = &self.store.vs[q]
+        cdef TriVertex *vr = &self.store.vs[r]
         cdef gx_i128 gux, guy, gvx, gvy
         cdef double dot, lu, lv, cos2, ux, uy, vx, vy, m, e, su, sv, edot, elu, elv
         cdef double low, high
@@ -1201,11 +1178,11 @@ cdef class Kernel:
         True with the far ends of its two constraint edges in ``ends``."""
         cdef int64_t first = q, last = r
         while not self._constraint(p, first):
-            first = gx_map_get(&self.apex, gx_edge(first, p), -1)
+            first = store_apex(&self.store, first, p)
             if first == r:
                 return False  # all the way round
         while not self._constraint(p, last):
-            last = gx_map_get(&self.apex, gx_edge(p, last), -1)
+            last = store_apex(&self.store, p, last)
         ends[0] = first
         ends[1] = last
         return True
@@ -1243,8 +1220,8 @@ cdef class Kernel:
         cdef int64_t first, previous, w, x, hint = self.start_hints[vertex]
         cdef gx_map *apex = &self.start_apex
         cdef list ends = []
-        cdef Vertex *a
-        cdef Vertex *b
+        cdef TriVertex *a
+        cdef TriVertex *b
         cdef gx_i128 dx, dy
         cdef int64_t left, right
         if hint < 0:
@@ -1271,7 +1248,7 @@ cdef class Kernel:
         if ends and x < 0:
             ends.append(w)  # a boundary vertex: the last edge of the fan
         lengths = []
-        a = &self.vs[vertex]
+        a = &self.store.vs[vertex]
         for w in ends:
             # is_constraint_edge on the start: a boundary edge, a segment or an
             # attribute border
@@ -1284,7 +1261,7 @@ cdef class Kernel:
                         _canonical(vertex, w, left)) != self.start_tattrs.get(
                             _canonical(w, vertex, right)))):
                 continue
-            b = &self.vs[w]
+            b = &self.store.vs[w]
             if a.at.grid and b.at.grid:
                 dx = <gx_i128>b.at.gx - a.at.gx
                 dy = <gx_i128>b.at.gy - a.at.gy
@@ -1298,8 +1275,8 @@ cdef class Kernel:
     cdef bint _under_tip(self, int64_t p, int64_t u, int64_t v) except -1:
         """True when p (an input vertex) has a tip limit and the edge {u, v} is shorter
         than it (``Refinement.protected``'s length test, exact)."""
-        cdef Vertex *vu
-        cdef Vertex *vv
+        cdef TriVertex *vu
+        cdef TriVertex *vv
         cdef gx_i128 dx, dy
         if p >= self.n0:
             return False  # only input vertices have tip limits
@@ -1313,8 +1290,8 @@ cdef class Kernel:
         limit, bound = entry
         if limit is None:
             return False
-        vu = &self.vs[u]
-        vv = &self.vs[v]
+        vu = &self.store.vs[u]
+        vv = &self.store.vs[v]
         if vu.at.grid and vv.at.grid:
             dx = <gx_i128>vv.at.gx - vu.at.gx
             dy = <gx_i128>vv.at.gy - vu.at.gy
@@ -1339,8 +1316,8 @@ cdef class Kernel:
                 p, s = v, u
             if not self._under_tip(p, u, v):
                 continue
-            left = gx_map_get(&self.apex, gx_edge(p, s), -1)
-            right = gx_map_get(&self.apex, gx_edge(s, p), -1)
+            left = store_apex(&self.store, p, s)
+            right = store_apex(&self.store, s, p)
             if left >= 0 and self._sharp(p, s, left):
                 return True
             if right >= 0 and self._sharp(p, right, s):
@@ -1350,7 +1327,7 @@ cdef class Kernel:
     def left_triangles(self):
         """``Refinement.left_triangles``: the left triangles still in the mesh, sorted."""
         return tuple(sorted(t for t in self.left
-                            if gx_map_get(&self.apex, gx_edge(t[0], t[1]), -1) == t[2]))
+                            if store_apex(&self.store, t[0], t[1]) == t[2]))
 
     def left_reasons(self):
         """``Refinement.left_reasons``: why each of :meth:`left_triangles` was left."""
@@ -1463,49 +1440,44 @@ cdef class Kernel:
             a = self.created[3 * i]
             b = self.created[3 * i + 1]
             c = self.created[3 * i + 2]
-            if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
+            if store_apex(&self.store, a, b) != c:
                 continue
             self._consider(a, b, c)
         self.ncreated = 0
         return 0
 
     # -- mesh edits ---------------------------------------------------------------------
-    cdef inline int _set(self, int64_t u, int64_t v, int64_t w) except -1:
-        if gx_map_set(&self.apex, gx_edge(u, v), w) < 0:
-            raise MemoryError
-        return 0
-
     cdef int _created(self, int64_t a, int64_t b, int64_t c) except -1:
-        """Note the canonical triangle (a, b, c) as created, and add its cell hash."""
+        """Note the canonical triangle (a, b, c) as created (the store added its cell
+        hash): to be considered, with ``cur_attr``'s attributes, in the region's sums."""
         if self.ncreated == self.cap_created:
             grow_array(<void **>&self.created, &self.cap_created, 3 * sizeof(int64_t))
         self.created[3 * self.ncreated] = a
         self.created[3 * self.ncreated + 1] = b
         self.created[3 * self.ncreated + 2] = c
         self.ncreated += 1
-        self.digest += gx_cell_hash(self.vs[a].key, self.vs[b].key, self.vs[c].key)
         if self.attributed and self.cur_attr >= 0:
             if gx_map_set(&self.tattr, gx_edge(a, b), self.cur_attr) < 0:
                 raise MemoryError
-            self.digest += self._triangle_attribute_hash(a, b, c, self.cur_attr)
+            self.store.digest += self._triangle_attribute_hash(a, b, c, self.cur_attr)
         if self.tracking:
             self._account(a, b, c, 1)
         return 0
 
     cdef inline int _removed(self, int64_t a, int64_t b, int64_t c) except -1:
-        """Subtract the cell hash of the triangle (a, b, c), any rotation (and account
-        for it); the id of its attributes becomes ``cur_attr``."""
+        """What the triangle (a, b, c), any rotation, leaves beyond the store (which
+        subtracts its cell hash): its attributes (their id becomes ``cur_attr``) and its
+        place in the region's sums."""
         cdef int64_t p = a, q = b, r = c
         if b < a and b < c:
             p, q, r = b, c, a
         elif c < a and c < b:
             p, q, r = c, a, b
-        self.digest -= gx_cell_hash(self.vs[p].key, self.vs[q].key, self.vs[r].key)
         if self.attributed:
             self.cur_attr = gx_map_get(&self.tattr, gx_edge(p, q), -1)
             if self.cur_attr >= 0:
                 gx_map_del(&self.tattr, gx_edge(p, q))
-                self.digest -= self._triangle_attribute_hash(p, q, r, self.cur_attr)
+                self.store.digest -= self._triangle_attribute_hash(p, q, r, self.cur_attr)
         if self.tracking:
             self._account(a, b, c, -1)
         return 0
@@ -1556,43 +1528,34 @@ cdef class Kernel:
         payload = b"ata:%d,%d,%d" % (a, b, c) + tail
         return _to_u128(int.from_bytes(_blake2b(payload, digest_size=16).digest(), "little"))
 
-    cdef object _step(self, Record *record):
+    cdef object _step(self, StepRecord *record):
         """The Step of a record."""
-        u, v = record.u, record.v
+        u, v = record.a, record.b
         if record.op == 3:
             return make_step(Step, &_STEP_LAYOUT, "insert_vertex_centroid", (u, v))
         if record.op == 4:
             return make_step(Step, &_STEP_LAYOUT, "insert_centroid", (u, v))
         if record.op == 2:
-            point = <tuple>self.points[record.extra]
+            point = <tuple>self.points[record.c]
             x, y = (<tuple>point)[0], (<tuple>point)[1]
             return make_step(Step, &_STEP_LAYOUT, "insert_in_quadrilateral", (u, v, x, y))
         return make_step(Step, &_STEP_LAYOUT, "flip" if record.op else "bisect", (u, v))
 
     cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
-        cdef Record *record
-        if self.nrec == self.cap_rec:
-            grow_array(<void **>&self.records, &self.cap_rec, sizeof(Record))
-        record = &self.records[self.nrec]
-        record.op = op
-        record.u = u
-        record.v = v
-        record.extra = extra
-        record.digest = self.digest
-        self.nrec += 1
-        if not self.nrec & 4095:
+        cdef StepRecord *record = store_record(&self.store, op, u, v, extra, -1)
+        if not self.store.nrec & 4095:
             PyErr_CheckSignals()  # Ctrl-C stops a long run (C loops never check it)
         if self.on_step is not None:
             step = self._step(record)
             self.step_objects.append(step)
-            self.on_step(self.progress(self.nrec, step, self.triangles, self.nv, self.nheap))
+            self.on_step(self.progress(self.store.nrec, step, self.triangles, self.store.nv, self.nheap))
         return 0
 
     cdef int _vertex_attributes(self, int64_t n, attributes) except -1:
         """Give the new vertex n its (interpolated) attributes."""
         if attributes:
             self.vtable[n] = attributes
-            self.digest += _to_u128(_digest.attribute_hash("va", (n,), attributes))
+            self.store.digest += _to_u128(_digest.attribute_hash("va", (n,), attributes))
         return 0
 
     cdef int _quadrilateral_attributes(self, int64_t u, int64_t v, int64_t w, int64_t x,
@@ -1612,10 +1575,10 @@ cdef class Kernel:
         change then)."""
         cdef int64_t w, x, n, p, q, r, side
         cdef uint64_t key
-        if self.limit >= 0 and self.nrec >= self.limit:
+        if self.limit >= 0 and self.store.nrec >= self.limit:
             return -1
-        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
-        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+        w = store_apex(&self.store, u, v)
+        x = store_apex(&self.store, v, u)
         key = gx_edge(u, v) if u < v else gx_edge(v, u)
         marker = None
         if gx_map_get(&self.segs, key, -1) >= 0:
@@ -1628,7 +1591,7 @@ cdef class Kernel:
                 points[n]))
         if marker:
             self.new_markers[n] = marker
-            self.digest += _to_u128(_digest.attribute_hash("vm", (n,), (marker,)))
+            self.store.digest += _to_u128(_digest.attribute_hash("vm", (n,), (marker,)))
         for side in range(2):
             if side == 0:
                 p, q, r = u, v, w
@@ -1636,12 +1599,10 @@ cdef class Kernel:
                 p, q, r = v, u, x
             if r < 0:
                 continue
-            # (p, q, r) -> (p, n, r), (n, q, r).  The half-edges (q, r) and (r, p) stay,
-            # with new apexes.
-            gx_map_del(&self.apex, gx_edge(p, q))
             self._removed(p, q, r)
-            self._triangle(p, n, r)
-            self._triangle(n, q, r)
+            store_split_side(&self.store, p, q, r, n)  # (p, n, r), (n, q, r)
+            self._created_any(p, n, r)
+            self._created_any(n, q, r)
             self.triangles += 1
         if marker is not None:
             segments = self.segments
@@ -1652,7 +1613,7 @@ cdef class Kernel:
             if (gx_map_set(&self.segs, gx_edge(u, n) if u < n else gx_edge(n, u), 0) < 0
                     or gx_map_set(&self.segs, gx_edge(n, v) if n < v else gx_edge(v, n), 0) < 0):
                 raise MemoryError
-            self.digest += (
+            self.store.digest += (
                 _to_u128(_digest.segment_hash(min(u, n), max(u, n), marker))
                 + _to_u128(_digest.segment_hash(min(n, v), max(n, v), marker))
                 - _to_u128(_digest.segment_hash(min(u, v), max(u, v), marker))
@@ -1663,14 +1624,14 @@ cdef class Kernel:
     cdef int _flip(self, int64_t u, int64_t v) except -2:
         """``BatchTriangulation.flip``: 0, or -1 at the step limit (no change then)."""
         cdef int64_t w, x
-        if self.limit >= 0 and self.nrec >= self.limit:
+        if self.limit >= 0 and self.store.nrec >= self.limit:
             return -1
-        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
-        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
-        # (u, v, w), (v, u, x) -> (x, w, u), (w, x, v)
-        self._remove_edge(u, v, w, x)
-        self._triangle(x, w, u)
-        self._triangle(w, x, v)
+        w = store_apex(&self.store, u, v)
+        x = store_apex(&self.store, v, u)
+        self._removed_edge(u, v, w, x)
+        store_flip(&self.store, u, v, w, x)  # (x, w, u), (w, x, v)
+        self._created_any(x, w, u)
+        self._created_any(w, x, v)
         self._record(1, u, v)
         return 0
 
@@ -1679,7 +1640,8 @@ cdef class Kernel:
         """(u, v, w), (v, u, x) -> (u, x, n), (x, v, n), (v, w, n), (w, u, n) for the new
         vertex n, recorded as ``op`` (``_step``: ``insert_in_quadrilateral`` by default);
         returns n."""
-        self._remove_edge(u, v, w, x)
+        self._removed_edge(u, v, w, x)
+        store_remove_edge(&self.store, u, v, w, x)
         self._triangle(u, x, n)
         self._triangle(x, v, n)
         self._triangle(v, w, n)
@@ -1694,7 +1656,7 @@ cdef class Kernel:
         else ``centroid``): the new vertex, or -1 at the step limit (no change)."""
         cdef int64_t n
         cdef int64_t at[2]
-        if self.limit >= 0 and self.nrec >= self.limit:
+        if self.limit >= 0 and self.store.nrec >= self.limit:
             return -1
         if self.grid_centroids and (self._grid_centroid(u, v, w, x, at)
                                     or self._float_centroid(u, v, w, x, at)):
@@ -1712,40 +1674,33 @@ cdef class Kernel:
         self._quadrilateral_attributes(u, v, w, x, n)
         return self._join_in_quadrilateral(u, v, w, x, n, self.centroid_op)
 
-    cdef int _remove_edge(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
-        """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
-        cell hashes and the edge's two half-edges (the caller gives the other four new
-        apexes); the new triangles take the attributes of (u, v, w), as in the ops."""
+    cdef int _removed_edge(self, int64_t u, int64_t v, int64_t w, int64_t x) except -1:
+        """``_removed`` of the triangles (u, v, w) and (v, u, x) of the interior edge
+        (u, v): the new triangles take the attributes of (u, v, w), as in the ops."""
         cdef int64_t attribute
         self._removed(u, v, w)
         attribute = self.cur_attr
         self._removed(v, u, x)
         self.cur_attr = attribute
-        gx_map_del(&self.apex, gx_edge(u, v))
-        gx_map_del(&self.apex, gx_edge(v, u))
         return 0
 
     cdef int _triangle(self, int64_t a, int64_t b, int64_t c) except -1:
-        """The ops' ``add_triangle``: the triangle (a, b, c) (with ``cur_attr``), its
-        hints, noted as created."""
-        self._set(a, b, c)
-        self._set(b, c, a)
-        self._set(c, a, b)
-        self.vs[a].hint = b
-        self.vs[b].hint = c
-        self.vs[c].hint = a
+        """The ops' ``add_triangle`` (with ``cur_attr``), noted as created."""
+        store_add(&self.store, a, b, c)
+        return self._created_any(a, b, c)
+
+    cdef inline int _created_any(self, int64_t a, int64_t b, int64_t c) except -1:
+        """``_created`` of the triangle (a, b, c), any rotation."""
         if a < b and a < c:
-            self._created(a, b, c)
-        elif b < c:
-            self._created(b, c, a)
-        else:
-            self._created(c, a, b)
-        return 0
+            return self._created(a, b, c)
+        if b < c:
+            return self._created(b, c, a)
+        return self._created(c, a, b)
 
     cdef bint _constraint(self, int64_t u, int64_t v) except -1:
         """``Refinement.constraint``: a boundary, segment or attribute-border edge."""
-        cdef int64_t w = gx_map_get(&self.apex, gx_edge(u, v), -1)
-        cdef int64_t x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+        cdef int64_t w = store_apex(&self.store, u, v)
+        cdef int64_t x = store_apex(&self.store, v, u)
         if w < 0 or x < 0:
             return True
         if gx_map_get(&self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
@@ -1761,8 +1716,8 @@ cdef class Kernel:
         star (as ``snapshot.walk_star`` lists it); 0, or -1 at the step limit."""
         cdef int64_t w, x, n
         cdef Pair star[4]
-        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
-        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+        w = store_apex(&self.store, u, v)
+        x = store_apex(&self.store, v, u)
         n = self._bisect(u, v)
         if n < 0:
             return -1
@@ -1831,13 +1786,13 @@ cdef class Kernel:
         for index in range(1, size):
             if star[index].a < star[start].a:
                 start = index
-        self.pending.count = 0
+        self.store.pending.count = 0
         for index in range(size - 1, -1, -1):  # popped in star order from ``start``
-            push_pair(&self.pending, star[(start + index) % size].a, star[(start + index) % size].b)
-        while pop_pair(&self.pending, &a, &b):
-            if gx_map_get(&self.apex, gx_edge(vertex, a), -1) != b:
+            push_pair(&self.store.pending, star[(start + index) % size].a, star[(start + index) % size].b)
+        while pop_pair(&self.store.pending, &a, &b):
+            if store_apex(&self.store, vertex, a) != b:
                 continue
-            q = gx_map_get(&self.apex, gx_edge(b, a), -1)
+            q = store_apex(&self.store, b, a)
             if q < 0 or gx_map_get(&self.segs, gx_edge(a, b) if a < b else gx_edge(b, a), -1) >= 0:
                 continue
             first = self._dot_sign(vertex, a, b)
@@ -1851,8 +1806,8 @@ cdef class Kernel:
                 continue
             if self._flip(a, b) < 0:
                 return -1
-            push_pair(&self.pending, q, b)
-            push_pair(&self.pending, a, q)
+            push_pair(&self.store.pending, q, b)
+            push_pair(&self.store.pending, a, q)
         return 0
 
     # -- the loop -----------------------------------------------------------------------
@@ -1870,7 +1825,7 @@ cdef class Kernel:
             if self.passes:
                 self.pass_number = <int64_t>target.ikey
             a, b, c = target.a, target.b, target.c
-            if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
+            if store_apex(&self.store, a, b) != c:
                 continue
             self.targets += 1
             while True:
@@ -1891,7 +1846,7 @@ cdef class Kernel:
                 self.searches += 1
                 hops = 1
                 while True:
-                    x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+                    x = store_apex(&self.store, v, u)
                     if x < 0 or gx_map_get(
                         &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1
                     ) >= 0 or (self.attributed and self._border(u, v, w, x)):
@@ -1922,7 +1877,7 @@ cdef class Kernel:
                     self._drain()
                     if self.stop_per_action and self.tracking and self._mean_reached():
                         return "complete"
-                    if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
+                    if store_apex(&self.store, a, b) != c:
                         break
                     continue
                 if constrained and self.min_angle and self._protected(u, v):
@@ -1949,7 +1904,7 @@ cdef class Kernel:
                 self._drain()
                 if self.stop_per_action and self.tracking and self._mean_reached():
                     return "complete"  # the region-wide target is met (CriterionMet)
-                if gx_map_get(&self.apex, gx_edge(a, b), -1) != c:
+                if store_apex(&self.store, a, b) != c:
                     break
             if not self.stop_per_action and self.tracking and self._mean_reached():
                 return "complete"  # factor_stop "target": checked after each target
@@ -1960,20 +1915,14 @@ cdef class Kernel:
         tables are built from the kernel's arrays on first use (``TableSource``, sharing
         ``start``'s structure)."""
         cdef Py_ssize_t i
-        cdef int64_t[::1] hint_view
-        halfedges = self._halfedge_rows()
-        hints = np.empty(self.nv, dtype=np.int64)
-        hint_view = hints
-        for i in range(self.nv):
-            hint_view[i] = self.vs[i].hint
+        halfedges = store_halfedge_rows(&self.store, False)
+        hints = store_hint_array(&self.store)
         markers = start.vertex_markers
         if self.new_markers:
             table = markers.mutate()
             for vertex, marker in self.new_markers.items():
                 table[vertex] = marker
             markers = table.finish()
-        halfedges.setflags(write=False)
-        hints.setflags(write=False)
         mesh = Mesh2(
             vertices=None,
             halfedges=None,
@@ -1985,15 +1934,15 @@ cdef class Kernel:
             triangle_attributes=self._triangle_attribute_map() if self.attributed
             else start.triangle_attributes,
             triangle_count=self.triangles,
-            digest=_from_u128(self.digest),
+            digest=_from_u128(self.store.digest),
             source=TableSource(self.points, halfedges, hints, start),
         )
         steps = self.step_objects
         if steps is None:
             steps = []
-            for i in range(self.nrec):
-                steps.append(self._step(&self.records[i]))
-        digests = [_from_u128(self.records[i].digest) for i in range(self.nrec)]
+            for i in range(self.store.nrec):
+                steps.append(self._step(&self.store.records[i]))
+        digests = [_from_u128(self.store.records[i].digest) for i in range(self.store.nrec)]
         return mesh, steps, digests
 
     cdef object _triangle_attribute_map(self):
@@ -2009,7 +1958,7 @@ cdef class Kernel:
                 continue
             a = <int64_t>(edge >> 32)
             b = <int64_t><uint32_t>edge
-            found[(a, b, gx_map_get(&self.apex, edge, -1))] = values[self.tattr.values[slot]]
+            found[(a, b, store_apex(&self.store, a, b))] = values[self.tattr.values[slot]]
         return immutables.Map(found)
 
     @property
@@ -2019,9 +1968,9 @@ cdef class Kernel:
 
     def vertex_state(self, Py_ssize_t i):
         """(on grid, grid x, grid y, F) of vertex ``i`` (for tests)."""
-        if not 0 <= i < self.nv:
+        if not 0 <= i < self.store.nv:
             raise IndexError(i)
-        return bool(self.vs[i].at.grid), self.vs[i].at.gx, self.vs[i].at.gy, self.F
+        return bool(self.store.vs[i].at.grid), self.store.vs[i].at.gx, self.store.vs[i].at.gy, self.F
 
     def grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x):
         """The grid path of ``rounded_area_centroid`` for the quadrilateral of triangles
@@ -2029,7 +1978,7 @@ cdef class Kernel:
         tests)."""
         cdef int64_t at[2]
         for vertex in (u, v, w, x):
-            if not 0 <= vertex < self.nv:
+            if not 0 <= vertex < self.store.nv:
                 raise IndexError(vertex)
         if not self._grid_centroid(u, v, w, x, at):
             return None
@@ -2041,7 +1990,7 @@ cdef class Kernel:
         the kernel asks Python (for tests)."""
         cdef int64_t at[2]
         for vertex in (u, v, w, x):
-            if not 0 <= vertex < self.nv:
+            if not 0 <= vertex < self.store.nv:
                 raise IndexError(vertex)
         if not self._float_centroid(u, v, w, x, at):
             return None
@@ -2053,7 +2002,7 @@ cdef class Kernel:
 
     # -- replaying a trace ----------------------------------------------------------------
     cdef bint _has_vertex(self, object vertex):
-        return type(vertex) is int and 0 <= vertex < self.nv
+        return type(vertex) is int and 0 <= vertex < self.store.nv
 
     cdef int64_t _insert_point(self, int64_t u, int64_t v, object point,
                                int op=2) except -2:
@@ -2063,8 +2012,8 @@ cdef class Kernel:
         strictly inside the four new triangles): the new vertex, or -1 (nothing changed)
         when a precondition fails."""
         cdef int64_t w, x, n
-        w = gx_map_get(&self.apex, gx_edge(u, v), -1)
-        x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+        w = store_apex(&self.store, u, v)
+        x = store_apex(&self.store, v, u)
         if w < 0 or x < 0 or gx_map_get(
                 &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
             return -1
@@ -2101,16 +2050,16 @@ cdef class Kernel:
                 if not (self._has_vertex(args[0]) and self._has_vertex(args[1])):
                     return i
                 u, v = args[0], args[1]
-                if u == v or (gx_map_get(&self.apex, gx_edge(u, v), -1) < 0
-                              and gx_map_get(&self.apex, gx_edge(v, u), -1) < 0):
+                if u == v or (store_apex(&self.store, u, v) < 0
+                              and store_apex(&self.store, v, u) < 0):
                     return i
                 self._bisect(u, v)
             elif op == "flip" and len(args) == 2:
                 if not (self._has_vertex(args[0]) and self._has_vertex(args[1])):
                     return i
                 u, v = args[0], args[1]
-                w = gx_map_get(&self.apex, gx_edge(u, v), -1)
-                x = gx_map_get(&self.apex, gx_edge(v, u), -1)
+                w = store_apex(&self.store, u, v)
+                x = store_apex(&self.store, v, u)
                 if w < 0 or x < 0 or gx_map_get(
                         &self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
                     return i
@@ -2135,6 +2084,6 @@ cdef class Kernel:
             else:
                 return i
             expected = _to_u128(digests[i])
-            if self.digest != expected:
+            if self.store.digest != expected:
                 return i
         return count

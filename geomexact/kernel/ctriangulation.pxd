@@ -1,0 +1,340 @@
+# cython: language_level=3
+"""The compiled triangulation store both 2D kernels run on (``cimport`` only: there is no
+module of this name at run time).
+
+A :class:`TriangleStore` holds what a triangle mesh under construction is, apart from
+the algorithm working on it — the way CGAL separates its triangulation data structure
+from the algorithms:
+
+* the vertices (their doubles and exact grid coordinates for the predicates, their digest
+  key, their ``outgoing`` hint and a region-membership cache);
+* the half-edge table ``(u, v) -> apex`` keyed by ``u << 32 | v``.  With ``ordered`` set,
+  each entry also carries the number of its insertion, kept when its apex is replaced in
+  place and renewed when it is deleted and put again — the order of a Python dict, from
+  which the Python Delaunay engine takes its ``outgoing`` hints;
+* the incremental digest (the sum mod 2**128 of the cell hashes and whatever else the
+  caller adds);
+* the step records (an op code, up to four ids, the digest after the step);
+* a stack of half-edges for legalization.
+
+Its primitive steps: :func:`store_add` (the ops' ``add_triangle``: three half-edges, the
+hints a -> b, b -> c, c -> a, the cell hash), :func:`store_remove`,
+:func:`store_remove_edge` (the two triangles of an interior edge), :func:`store_flip`
+(``ops.flip_in``), :func:`store_split_side` (a triangle split at a new vertex on one of its
+edges, as ``ops.bisect_in`` does each side) and the boundary walk.  The kernels keep
+only their own loops, rules and bookkeeping (attributes, area sums, queues) on top.
+"""
+
+from libc.stdint cimport int64_t, int8_t, uint32_t, uint64_t
+from libc.stdlib cimport free, malloc
+
+from geomexact.kernel.ckernel cimport (
+    GX_APEX_MASK,
+    GX_EMPTY,
+    GX_SEQ_LIMIT,
+    GridPoint,
+    Pair,
+    PairStack,
+    grow_array,
+    gx_cell_hash,
+    gx_edge,
+    gx_map,
+    gx_map_alloc,
+    gx_map_del,
+    gx_map_free,
+    gx_map_get,
+    gx_map_grow,
+    gx_map_slot,
+    gx_u128,
+    incircle_sign,
+    orient_sign,
+)
+
+
+cdef struct TriVertex:
+    GridPoint at       # the doubles; gx, gy: the exact coordinates times 2**F, when grid
+    uint64_t key       # geomexact.kernel.digest.vertex_key
+    int64_t hint       # the outgoing hint, -1 for none
+    int8_t inside      # region membership, -1 not known yet (refinement only)
+
+
+cdef struct StepRecord:
+    gx_u128 digest     # the digest after the step
+    int64_t a
+    int64_t b
+    int64_t c
+    int64_t d
+    int8_t op          # the kernel's own op code
+
+
+cdef struct TriangleStore:
+    TriVertex *vs
+    Py_ssize_t nv, cap_v
+    gx_map apex        # (u, v) -> apex, or insertion number << 32 | apex when ordered
+    bint ordered
+    bint hinted        # store_add writes the hints (off while an ordered store's hints
+                       # are read from the insertion order at the end)
+    int64_t seq        # the next insertion number (ordered)
+    gx_u128 digest
+    StepRecord *records
+    Py_ssize_t nrec, cap_rec
+    PairStack pending  # the half-edges to legalize
+
+
+cdef inline int store_init(TriangleStore *s, Py_ssize_t vertices, Py_ssize_t vertex_room,
+                           uint64_t slots, Py_ssize_t record_room, bint ordered) except -1:
+    """Allocate a store of ``vertices`` vertices (room for ``vertex_room``; their fields
+    are the caller's to fill), a half-edge table of ``slots`` slots (a power of two) and
+    room for ``record_room`` records.  A store starts zeroed (a Cython object's C fields
+    are): :func:`store_free` releases what this reached."""
+    s.nv = vertices
+    s.cap_v = max(1, vertex_room)
+    s.vs = <TriVertex *>malloc(s.cap_v * sizeof(TriVertex))
+    s.cap_rec = max(64, record_room)
+    s.records = <StepRecord *>malloc(s.cap_rec * sizeof(StepRecord))
+    s.pending.capacity = 64
+    s.pending.count = 0
+    s.pending.items = <Pair *>malloc(s.pending.capacity * sizeof(Pair))
+    if not s.vs or not s.records or not s.pending.items:
+        raise MemoryError
+    if gx_map_alloc(&s.apex, slots) < 0:
+        raise MemoryError
+    s.ordered = ordered
+    s.hinted = True
+    s.seq = 0
+    s.nrec = 0
+    s.digest = 0
+    return 0
+
+
+cdef inline void store_free(TriangleStore *s) noexcept:
+    free(s.vs)
+    free(s.records)
+    free(s.pending.items)
+    gx_map_free(&s.apex)
+    s.vs = NULL
+    s.records = NULL
+    s.pending.items = NULL
+
+
+cdef inline int store_vertex_room(TriangleStore *s) except -1:
+    """Room for one more vertex (``s.vs`` may move)."""
+    if s.nv == s.cap_v:
+        grow_array(<void **>&s.vs, &s.cap_v, sizeof(TriVertex))
+    return 0
+
+
+# -- the half-edge table ----------------------------------------------------------------
+cdef inline int64_t store_apex(const TriangleStore *s, int64_t u, int64_t v) noexcept nogil:
+    """apex(u, v), or -1."""
+    cdef int64_t value = gx_map_get(&s.apex, gx_edge(u, v), -1)
+    return value if value < 0 else (value & GX_APEX_MASK)
+
+
+cdef inline int store_put(TriangleStore *s, int64_t u, int64_t v, int64_t w) except -1:
+    """apex[(u, v)] = w as a dict does it: an existing key keeps its place (its insertion
+    number), a new one goes last."""
+    cdef uint64_t key = gx_edge(u, v)
+    cdef uint64_t i = gx_map_slot(&s.apex, key)
+    if s.apex.keys[i] == key:
+        s.apex.values[i] = (s.apex.values[i] & ~GX_APEX_MASK) | w
+        return 0
+    if 2 * (s.apex.count + 1) > s.apex.mask + 1:
+        if gx_map_grow(&s.apex) < 0:
+            raise MemoryError
+        i = gx_map_slot(&s.apex, key)
+    s.apex.keys[i] = key
+    if s.ordered:
+        if s.seq >= GX_SEQ_LIMIT:
+            raise OverflowError("too many half-edge insertions for the kernel")
+        s.apex.values[i] = (s.seq << 32) | w
+        s.seq += 1
+    else:
+        s.apex.values[i] = w
+    s.apex.count += 1
+    return 0
+
+
+cdef inline void store_delete(TriangleStore *s, int64_t u, int64_t v) noexcept nogil:
+    gx_map_del(&s.apex, gx_edge(u, v))
+
+
+cdef inline gx_u128 store_hash(const TriangleStore *s, int64_t a, int64_t b,
+                               int64_t c) noexcept nogil:
+    """The cell hash of the triangle (a, b, c), any rotation."""
+    cdef TriVertex *vs = s.vs
+    if b < a and b < c:
+        return gx_cell_hash(vs[b].key, vs[c].key, vs[a].key)
+    if c < a and c < b:
+        return gx_cell_hash(vs[c].key, vs[a].key, vs[b].key)
+    return gx_cell_hash(vs[a].key, vs[b].key, vs[c].key)
+
+
+cdef inline void store_canonical(int64_t a, int64_t b, int64_t c, Pair *out) noexcept nogil:
+    """The first two vertices of canonical_triangle(a, b, c) (the smallest id first)."""
+    if a < b and a < c:
+        out.a, out.b = a, b
+    elif b < c:
+        out.a, out.b = b, c
+    else:
+        out.a, out.b = c, a
+
+
+# -- the primitive steps ----------------------------------------------------------------
+cdef inline int store_add(TriangleStore *s, int64_t a, int64_t b, int64_t c) except -1:
+    """The ops' ``add_triangle``: the half-edges (a, b) -> c, (b, c) -> a, (c, a) -> b in
+    that order, the hints a -> b, b -> c, c -> a, the cell hash."""
+    store_put(s, a, b, c)
+    store_put(s, b, c, a)
+    store_put(s, c, a, b)
+    if s.hinted:
+        s.vs[a].hint = b
+        s.vs[b].hint = c
+        s.vs[c].hint = a
+    s.digest += store_hash(s, a, b, c)
+    return 0
+
+
+cdef inline void store_remove(TriangleStore *s, int64_t a, int64_t b, int64_t c) noexcept:
+    """The ops' ``remove_triangle``: its three half-edges and its cell hash (the hints
+    stay; a broken one is repaired when the result is sealed)."""
+    gx_map_del(&s.apex, gx_edge(a, b))
+    gx_map_del(&s.apex, gx_edge(b, c))
+    gx_map_del(&s.apex, gx_edge(c, a))
+    s.digest -= store_hash(s, a, b, c)
+
+
+cdef inline void store_remove_edge(TriangleStore *s, int64_t u, int64_t v, int64_t w,
+                                   int64_t x) noexcept:
+    """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
+    cell hashes and the edge's two half-edges (the caller puts the other four again, with
+    new apexes, in place)."""
+    gx_map_del(&s.apex, gx_edge(u, v))
+    gx_map_del(&s.apex, gx_edge(v, u))
+    s.digest -= store_hash(s, u, v, w) + store_hash(s, v, u, x)
+
+
+cdef inline int store_flip(TriangleStore *s, int64_t u, int64_t v, int64_t w,
+                           int64_t x) except -1:
+    """``ops.flip_in`` of the interior edge (u, v) with apexes w (left) and x (right):
+    (u, v, w), (v, u, x) -> (x, w, u), (w, x, v)."""
+    store_remove_edge(s, u, v, w, x)
+    store_add(s, x, w, u)
+    store_add(s, w, x, v)
+    return 0
+
+
+cdef inline int store_split_side(TriangleStore *s, int64_t p, int64_t q, int64_t r,
+                                 int64_t n) except -1:
+    """The triangle (p, q, r) split at the new vertex n on its edge (p, q):
+    (p, n, r), (n, q, r), as ``ops.bisect_in`` does each side (the half-edges (q, r) and
+    (r, p) keep their places with new apexes)."""
+    gx_map_del(&s.apex, gx_edge(p, q))
+    s.digest -= store_hash(s, p, q, r)
+    store_add(s, p, n, r)
+    store_add(s, n, q, r)
+    return 0
+
+
+cdef inline StepRecord *store_record(TriangleStore *s, int8_t op, int64_t a, int64_t b,
+                                     int64_t c, int64_t d) except NULL:
+    """Append a step record with the digest as it is now."""
+    cdef StepRecord *record
+    if s.nrec == s.cap_rec:
+        grow_array(<void **>&s.records, &s.cap_rec, sizeof(StepRecord))
+    record = &s.records[s.nrec]
+    record.op = op
+    record.a = a
+    record.b = b
+    record.c = c
+    record.d = d
+    record.digest = s.digest
+    s.nrec += 1
+    return record
+
+
+# -- walks ------------------------------------------------------------------------------
+cdef inline int store_boundary_step(const TriangleStore *s, int64_t u, int64_t v,
+                                    bint forward, Pair *out) except -1:
+    """The boundary half-edge next to the boundary half-edge (u, v), turning about v
+    (``forward``: ``next_boundary_edge``, (v, z)) or about u (``previous_boundary_edge``,
+    (z, u))."""
+    cdef int64_t x = store_apex(s, u, v), y
+    while x >= 0:
+        y = store_apex(s, x, v) if forward else store_apex(s, u, x)
+        if y < 0:
+            if forward:
+                out.a, out.b = v, x
+            else:
+                out.a, out.b = x, u
+            return 0
+        x = y
+    raise ValueError(f"({u}, {v}) is not a boundary half-edge")
+
+
+# -- the exact predicates on the store's vertices ---------------------------------------
+cdef inline int store_orient(const TriangleStore *s, object points, int64_t a, int64_t b,
+                             int64_t c) except -2:
+    """The sign of orient2d(points[a], points[b], points[c])."""
+    return orient_sign(&s.vs[a].at, &s.vs[b].at, &s.vs[c].at, points, a, b, c)
+
+
+cdef inline int store_incircle(const TriangleStore *s, object points, int64_t a,
+                               int64_t b, int64_t c, int64_t d) except -2:
+    """The sign of incircle(points[a], points[b], points[c], points[d])."""
+    return incircle_sign(&s.vs[a].at, &s.vs[b].at, &s.vs[c].at, &s.vs[d].at,
+                         points, a, b, c, d)
+
+
+# -- sealing ----------------------------------------------------------------------------
+cdef inline object store_halfedge_rows(TriangleStore *s, bint ordered_hints):
+    """The half-edge table as a read-only (H x 3) int64 array of rows (u, v, apex), in
+    slot order.  With ``ordered_hints`` (an ordered store), each vertex's hint becomes the
+    last inserted live half-edge out of it, -1 for none: the ``outgoing`` hints a
+    dict-based engine seals (from then on :func:`store_add` writes the hints again)."""
+    import numpy
+    cdef uint64_t slot, key
+    cdef Py_ssize_t row = 0, i
+    cdef int64_t u, seq
+    cdef int64_t[:, ::1] view
+    cdef int64_t *best = NULL
+    rows = numpy.empty((s.apex.count, 3), dtype=numpy.int64)
+    view = rows
+    if ordered_hints:
+        best = <int64_t *>malloc(max(1, s.nv) * sizeof(int64_t))
+        if not best:
+            raise MemoryError
+        for i in range(s.nv):
+            best[i] = -1
+            s.vs[i].hint = -1
+        s.hinted = True
+    for slot in range(s.apex.mask + 1):
+        key = s.apex.keys[slot]
+        if key == GX_EMPTY:
+            continue
+        u = <int64_t>(key >> 32)
+        view[row, 0] = u
+        view[row, 1] = <int64_t><uint32_t>key
+        view[row, 2] = s.apex.values[slot] & GX_APEX_MASK
+        row += 1
+        if best != NULL:
+            seq = s.apex.values[slot] >> 32
+            if seq > best[u]:
+                best[u] = seq
+                s.vs[u].hint = <int64_t><uint32_t>key
+    free(best)
+    rows.setflags(write=False)
+    return rows
+
+
+cdef inline object store_hint_array(const TriangleStore *s):
+    """The vertices' hints as a read-only int64 array (-1 for none)."""
+    import numpy
+    cdef Py_ssize_t i
+    cdef int64_t[::1] view
+    hints = numpy.empty(s.nv, dtype=numpy.int64)
+    view = hints
+    for i in range(s.nv):
+        view[i] = s.vs[i].hint
+    hints.setflags(write=False)
+    return hints
