@@ -57,6 +57,19 @@ cdef extern from "ckernel.h":
                           double dot_c, double dot_k)
 
 
+cdef inline bint gx_map_next(const gx_map *m, uint64_t *slot, uint64_t *key,
+                             int64_t *value) noexcept nogil:
+    """The next entry of ``m`` in slot order from ``slot[0]`` (start at 0): True with
+    ``key``, ``value`` set and ``slot`` past it; False at the end."""
+    while slot[0] <= m.mask:
+        key[0] = m.keys[slot[0]]
+        slot[0] += 1
+        if key[0] != GX_EMPTY:
+            value[0] = m.values[slot[0] - 1]
+            return True
+    return False
+
+
 cdef inline gx_u128 _to_u128(object value) except *:
     """A Python int taken mod 2**128."""
     value = value & ((1 << 128) - 1)

@@ -44,6 +44,7 @@ from geomexact.kernel.ckernel cimport (
     gx_map_free,
     gx_map_get,
     gx_map_grow,
+    gx_map_next,
     gx_map_slot,
     gx_u128,
     incircle_sign,
@@ -157,6 +158,20 @@ cdef inline int store_put(TriangleStore *s, int64_t u, int64_t v, int64_t w) exc
 
 cdef inline void store_delete(TriangleStore *s, int64_t u, int64_t v) noexcept nogil:
     gx_map_del(&s.apex, gx_edge(u, v))
+
+
+cdef inline bint store_next_halfedge(const TriangleStore *s, uint64_t *slot, int64_t *u,
+                                    int64_t *v, int64_t *w) noexcept nogil:
+    """The next live half-edge (u, v) -> w in slot order from ``slot[0]`` (start at 0);
+    False at the end."""
+    cdef uint64_t key
+    cdef int64_t value
+    if not gx_map_next(&s.apex, slot, &key, &value):
+        return False
+    u[0] = <int64_t>(key >> 32)
+    v[0] = <int64_t><uint32_t>key
+    w[0] = value & GX_APEX_MASK
+    return True
 
 
 cdef inline gx_u128 store_hash(const TriangleStore *s, int64_t a, int64_t b,
@@ -293,9 +308,9 @@ cdef inline object store_halfedge_rows(TriangleStore *s, bint ordered_hints):
     last inserted live half-edge out of it, -1 for none: the ``outgoing`` hints a
     dict-based engine seals (from then on :func:`store_add` writes the hints again)."""
     import numpy
-    cdef uint64_t slot, key
+    cdef uint64_t slot = 0
     cdef Py_ssize_t row = 0, i
-    cdef int64_t u, seq
+    cdef int64_t u, v, w, seq
     cdef int64_t[:, ::1] view
     cdef int64_t *best = NULL
     rows = numpy.empty((s.apex.count, 3), dtype=numpy.int64)
@@ -308,20 +323,16 @@ cdef inline object store_halfedge_rows(TriangleStore *s, bint ordered_hints):
             best[i] = -1
             s.vs[i].hint = -1
         s.hinted = True
-    for slot in range(s.apex.mask + 1):
-        key = s.apex.keys[slot]
-        if key == GX_EMPTY:
-            continue
-        u = <int64_t>(key >> 32)
+    while store_next_halfedge(s, &slot, &u, &v, &w):
         view[row, 0] = u
-        view[row, 1] = <int64_t><uint32_t>key
-        view[row, 2] = s.apex.values[slot] & GX_APEX_MASK
+        view[row, 1] = v
+        view[row, 2] = w
         row += 1
         if best != NULL:
-            seq = s.apex.values[slot] >> 32
+            seq = s.apex.values[slot - 1] >> 32
             if seq > best[u]:
                 best[u] = seq
-                s.vs[u].hint = <int64_t><uint32_t>key
+                s.vs[u].hint = v
     free(best)
     rows.setflags(write=False)
     return rows

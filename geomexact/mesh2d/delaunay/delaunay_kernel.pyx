@@ -57,24 +57,8 @@ import numpy as np
 from geomexact.kernel import digest as _digest
 from geomexact.trace.step import Step
 
-from geomexact.kernel.ctriangulation cimport (
-    StepRecord,
-    TriangleStore,
-    TriVertex,
-    store_add,
-    store_apex,
-    store_canonical,
-    store_flip,
-    store_free,
-    store_halfedge_rows,
-    store_hint_array,
-    store_incircle,
-    store_init,
-    store_boundary_step,
-    store_orient,
-    store_record,
-    store_remove,
-)
+# the triangulation store: its types and store_* steps (names prefixed, see the .pxd)
+from geomexact.kernel.ctriangulation cimport *
 from geomexact.kernel.ckernel cimport (
     StepLayout,
     make_step,
@@ -82,8 +66,6 @@ from geomexact.kernel.ckernel cimport (
     GridPoint,
     Pair,
     PairStack,
-    GX_APEX_MASK,
-    GX_EMPTY,
     _from_u128,
     _init_constants,
     _to_u128,
@@ -93,16 +75,12 @@ from geomexact.kernel.ckernel cimport (
     gx_edge,
     gx_map,
     gx_map_alloc,
-    gx_map_del,
     gx_map_free,
     gx_map_get,
-    gx_map_grow,
+    gx_map_next,
     gx_map_set,
     gx_map_slot,
-    gx_u128,
     grow_array,
-    incircle_sign,
-    orient_sign,
     pop_pair,
     push_pair,
 )
@@ -279,42 +257,43 @@ cdef class Builder:
         self.last_b = b if self._get(a, b) >= 0 else c
         return 0
 
+    cdef inline bint _cross(self, int64_t x, int64_t y, int64_t *abc,
+                            int64_t *out) noexcept:
+        """Walk across the edge (x, y) of the current triangle: ``abc`` := (y, x, apex) of
+        the triangle beyond, True; or, on the hull, ``out`` := (x, y), False."""
+        cdef int64_t d = self._get(y, x)
+        if d < 0:
+            out[0], out[1] = x, y
+            return False
+        abc[0], abc[1], abc[2] = y, x, d
+        return True
+
     cdef int _locate(self, int64_t p, int64_t *out) except -1:
         """``BatchDelaunay.locate`` for vertex p: WHERE_INSIDE (a, b, c), WHERE_EDGE
         (u, v, _) or WHERE_OUTSIDE (u, v, _), the triple in ``out``."""
-        cdef int64_t a = self.last_a, b = self.last_b, c, d
+        cdef int64_t a, b, c
+        cdef int64_t abc[3]
         cdef int o0, o1, o2
-        c = self._get(a, b)
-        if self._orient(a, b, p) == -1:
-            d = self._get(b, a)
-            if d < 0:
-                out[0], out[1] = a, b
-                return WHERE_OUTSIDE
-            a, b, c = b, a, d
+        abc[0], abc[1] = self.last_a, self.last_b
+        abc[2] = self._get(abc[0], abc[1])
+        if self._orient(abc[0], abc[1], p) == -1 and not self._cross(abc[0], abc[1], abc, out):
+            return WHERE_OUTSIDE
         while True:
+            a, b, c = abc[0], abc[1], abc[2]
             o1 = self._orient(b, c, p)
             if o1 == -1:
-                d = self._get(c, b)
-                if d < 0:
-                    out[0], out[1] = b, c
+                if not self._cross(b, c, abc, out):
                     return WHERE_OUTSIDE
-                a, b, c = c, b, d
                 continue
             o2 = self._orient(c, a, p)
             if o2 == -1:
-                d = self._get(a, c)
-                if d < 0:
-                    out[0], out[1] = c, a
+                if not self._cross(c, a, abc, out):
                     return WHERE_OUTSIDE
-                a, b, c = a, c, d
                 continue
             o0 = self._orient(a, b, p)
             if o0 == -1:  # only possible in the first triangle
-                d = self._get(b, a)
-                if d < 0:
-                    out[0], out[1] = a, b
+                if not self._cross(a, b, abc, out):
                     return WHERE_OUTSIDE
-                a, b, c = b, a, d
                 continue
             if o1 == 0:
                 out[0], out[1], out[2] = b, c, a
@@ -330,7 +309,8 @@ cdef class Builder:
 
     cdef int _insert(self, int64_t vertex) except -1:
         cdef int64_t found[3]
-        cdef int64_t a, b, c, u, v, w, x
+        cdef int64_t a, b, c, u, v, w, x, p, q, r
+        cdef int side
         cdef int where = self._locate(vertex, found)
         a, b, c = found[0], found[1], found[2]
         self.store.pending.count = 0
@@ -347,18 +327,20 @@ cdef class Builder:
             u, v = a, b
             w = self._get(u, v)
             x = self._get(v, u)
-            if w >= 0:
-                store_remove(&self.store, u, v, w)
-                store_add(&self.store, u, vertex, w)
-                store_add(&self.store, vertex, v, w)
-                push_pair(&self.store.pending, v, w)
-                push_pair(&self.store.pending, w, u)
-            if x >= 0:
-                store_remove(&self.store, v, u, x)
-                store_add(&self.store, v, vertex, x)
-                store_add(&self.store, vertex, u, x)
-                push_pair(&self.store.pending, u, x)
-                push_pair(&self.store.pending, x, v)
+            for side in range(2):
+                # (p, q, r) -> (p, vertex, r), (vertex, q, r); removed whole, as the dict
+                # engine does (its outer half-edges go last in the insertion order)
+                if side == 0:
+                    p, q, r = u, v, w
+                else:
+                    p, q, r = v, u, x
+                if r < 0:
+                    continue
+                store_remove(&self.store, p, q, r)
+                store_add(&self.store, p, vertex, r)
+                store_add(&self.store, vertex, q, r)
+                push_pair(&self.store.pending, q, r)
+                push_pair(&self.store.pending, r, p)
             self._record(OP_ATTACH_IN_EDGE, vertex, u, v, -1)
         else:
             self._attach_outside(vertex, a, b)
@@ -622,8 +604,8 @@ cdef class Builder:
     def lawson(self):
         """``triangulation.make_delaunay_in`` (no triangle attributes yet): returns the
         number of flips."""
-        cdef Py_ssize_t i, slots = self.store.apex.mask + 1, n = 0, flips = 0
-        cdef uint64_t key, swap
+        cdef Py_ssize_t i, n = 0, flips = 0
+        cdef uint64_t slot = 0, swap
         cdef uint64_t four[4]
         cdef int64_t u, v, w, x
         cdef uint64_t *edges = <uint64_t *>malloc(
@@ -632,14 +614,9 @@ cdef class Builder:
         if edges == NULL:
             raise MemoryError
         try:
-            for i in range(slots):
-                key = self.store.apex.keys[i]
-                if key == GX_EMPTY:
-                    continue
-                u = <int64_t>(key >> 32)
-                v = <int64_t><uint32_t>key
+            while store_next_halfedge(&self.store, &slot, &u, &v, &w):
                 if u < v:
-                    edges[n] = key
+                    edges[n] = gx_edge(u, v)
                     n += 1
                 elif self._get(v, u) < 0:
                     edges[n] = gx_edge(v, u)
@@ -686,6 +663,7 @@ cdef class Builder:
         cdef gx_map seen
         cdef Py_ssize_t i = 0, slots = 64
         cdef int64_t a, b, c, e0, e1, w
+        cdef int64_t ring[4]
         cdef int k
         cdef Pair canonical
         cdef uint64_t key
@@ -703,13 +681,9 @@ cdef class Builder:
                 b = region.items[i].b
                 c = self._get(a, b)
                 i += 1
+                ring[0], ring[1], ring[2], ring[3] = a, b, c, a
                 for k in range(3):
-                    if k == 0:
-                        e0, e1 = a, b
-                    elif k == 1:
-                        e0, e1 = b, c
-                    else:
-                        e0, e1 = c, a
+                    e0, e1 = ring[k], ring[k + 1]
                     if self._constrained(e0, e1):
                         continue
                     w = self._get(e1, e0)
@@ -733,9 +707,9 @@ cdef class Builder:
     def carve_exterior(self):
         """``ops.carve_exterior_in`` when ``exterior_triangles`` is not empty (else
         nothing, no step): returns the number of triangles removed."""
-        cdef Py_ssize_t i, slots = self.store.apex.mask + 1, removed
-        cdef uint64_t key
-        cdef int64_t u, v
+        cdef Py_ssize_t removed
+        cdef uint64_t slot = 0
+        cdef int64_t u, v, w
         cdef Pair canonical
         cdef PairStack region
         region.count = 0
@@ -744,16 +718,11 @@ cdef class Builder:
         if region.items == NULL:
             raise MemoryError
         try:
-            for i in range(slots):
-                key = self.store.apex.keys[i]
-                if key == GX_EMPTY:
-                    continue
-                u = <int64_t>(key >> 32)
-                v = <int64_t><uint32_t>key
+            while store_next_halfedge(&self.store, &slot, &u, &v, &w):
                 if self._get(v, u) >= 0 or self._constrained(u, v):
                     continue
                 # one seed per triangle: a triangle may have several boundary edges
-                store_canonical(u, v, self.store.apex.values[i] & GX_APEX_MASK, &canonical)
+                store_canonical(u, v, w, &canonical)
                 if not self._first_boundary(canonical.a, canonical.b, u, v):
                     continue
                 push_pair(&region, canonical.a, canonical.b)
@@ -769,14 +738,11 @@ cdef class Builder:
         (u, v) is the first of its unconstrained boundary half-edges (a, b), (b, c),
         (c, a) — so each triangle is seeded once."""
         cdef int64_t c = self._get(a, b), e0, e1
+        cdef int64_t ring[4]
         cdef int k
+        ring[0], ring[1], ring[2], ring[3] = a, b, c, a
         for k in range(3):
-            if k == 0:
-                e0, e1 = a, b
-            elif k == 1:
-                e0, e1 = b, c
-            else:
-                e0, e1 = c, a
+            e0, e1 = ring[k], ring[k + 1]
             if self._get(e1, e0) < 0 and not self._constrained(e0, e1):
                 return e0 == u and e1 == v
         return False
@@ -794,8 +760,8 @@ cdef class Builder:
         smallest canonical one whose closure does, ``ops.containing_triangle``), recording
         ``carve`` with ``args``; returns the number removed, or -1 when no triangle
         contains the point (the seed is ignored, no step)."""
-        cdef Py_ssize_t i, slots = self.store.apex.mask + 1, removed
-        cdef uint64_t key
+        cdef Py_ssize_t removed
+        cdef uint64_t slot = 0
         cdef int64_t a, b, c, ba = -1, bb = -1, bc = -1
         cdef double value
         cdef PairStack region
@@ -809,13 +775,7 @@ cdef class Builder:
             if self._grid_value(self.probe.fy, &value):
                 self.probe.gy = <int64_t>value
                 self.probe.grid = 1
-        for i in range(slots):
-            key = self.store.apex.keys[i]
-            if key == GX_EMPTY:
-                continue
-            a = <int64_t>(key >> 32)
-            b = <int64_t><uint32_t>key
-            c = self.store.apex.values[i] & GX_APEX_MASK
+        while store_next_halfedge(&self.store, &slot, &a, &b, &c):
             if not (a < b and a < c):
                 continue
             if ba >= 0 and (a > ba or (a == ba and (b > bb or (b == bb and c >= bc)))):
@@ -846,9 +806,9 @@ cdef class Builder:
         none), the segments as an ``immutables.Map``.  A broken hint (its half-edge
         removed) is repaired to the smallest neighbour, or dropped for an isolated
         vertex."""
-        cdef Py_ssize_t i, slots = self.store.apex.mask + 1
-        cdef uint64_t key
-        cdef int64_t u, w
+        cdef Py_ssize_t i
+        cdef uint64_t slot = 0, key
+        cdef int64_t u, w, x, marker
         cdef bint broken = False
         cdef TriVertex *vs = self.store.vs
         cdef int8_t *repair = <int8_t *>malloc(max(1, self.store.nv) * sizeof(int8_t))
@@ -861,12 +821,7 @@ cdef class Builder:
                     repair[i] = 1
                     vs[i].hint = -1
                     broken = True
-            for i in range(slots if broken else 0):
-                key = self.store.apex.keys[i]
-                if key == GX_EMPTY:
-                    continue
-                u = <int64_t>(key >> 32)
-                w = <int64_t><uint32_t>key
+            while broken and store_next_halfedge(&self.store, &slot, &u, &w, &x):
                 if repair[u] and (vs[u].hint < 0 or w < vs[u].hint):
                     vs[u].hint = w
         finally:
@@ -874,13 +829,9 @@ cdef class Builder:
         halfedges = store_halfedge_rows(&self.store, False)
         hints = store_hint_array(&self.store)
         segments = {}
-        slots = <Py_ssize_t>(self.segments.mask + 1)
-        for i in range(slots):
-            key = self.segments.keys[i]
-            if key == GX_EMPTY:
-                continue
-            edge = (<int64_t>(key >> 32), <int64_t><uint32_t>key)
-            segments[edge] = self.segments.values[i]
+        slot = 0
+        while gx_map_next(&self.segments, &slot, &key, &marker):
+            segments[(<int64_t>(key >> 32), <int64_t><uint32_t>key)] = marker
         return (halfedges, hints, immutables.Map(segments), halfedges.shape[0] // 3,
                 _from_u128(self.store.digest))
 

@@ -74,23 +74,8 @@ from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import Point2, point2
 from geomexact.trace.step import Step
 
-from geomexact.kernel.ctriangulation cimport (
-    StepRecord,
-    TriangleStore,
-    TriVertex,
-    store_add,
-    store_apex,
-    store_flip,
-    store_free,
-    store_halfedge_rows,
-    store_hint_array,
-    store_init,
-    store_put,
-    store_record,
-    store_remove_edge,
-    store_split_side,
-    store_vertex_room,
-)
+# the triangulation store: its types and store_* steps (names prefixed, see the .pxd)
+from geomexact.kernel.ctriangulation cimport *
 from geomexact.kernel.ckernel cimport (
     StepLayout,
     make_step,
@@ -98,10 +83,8 @@ from geomexact.kernel.ckernel cimport (
     GridPoint,
     filtered_orient,
     Pair,
-    PairStack,
     filtered_dot,
     filtered_lengths,
-    GX_EMPTY,
     _from_i128,
     _from_u128,
     _init_constants,
@@ -120,6 +103,7 @@ from geomexact.kernel.ckernel cimport (
     gx_map_del,
     gx_map_free,
     gx_map_get,
+    gx_map_next,
     gx_map_set,
     gx_u128,
     grow_array,
@@ -1948,17 +1932,14 @@ cdef class Kernel:
     cdef object _triangle_attribute_map(self):
         """The triangles' attributes as a persistent map (canonical triangle ->
         attributes)."""
-        cdef uint64_t slot, edge
-        cdef int64_t a, b
+        cdef uint64_t slot = 0, edge
+        cdef int64_t a, b, attribute
         values = self.attribute_values
         found = {}
-        for slot in range(self.tattr.mask + 1):
-            edge = self.tattr.keys[slot]
-            if edge == GX_EMPTY:
-                continue
+        while gx_map_next(&self.tattr, &slot, &edge, &attribute):
             a = <int64_t>(edge >> 32)
             b = <int64_t><uint32_t>edge
-            found[(a, b, store_apex(&self.store, a, b))] = values[self.tattr.values[slot]]
+            found[(a, b, store_apex(&self.store, a, b))] = values[attribute]
         return immutables.Map(found)
 
     @property
@@ -1976,23 +1957,22 @@ cdef class Kernel:
         """The grid path of ``rounded_area_centroid`` for the quadrilateral of triangles
         (u, v, w), (v, u, x): the Point2, or None where the kernel asks Python (for
         tests)."""
-        cdef int64_t at[2]
-        for vertex in (u, v, w, x):
-            if not 0 <= vertex < self.store.nv:
-                raise IndexError(vertex)
-        if not self._grid_centroid(u, v, w, x, at):
-            return None
-        return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
+        return self._centroid_path(u, v, w, x, True)
 
     def float_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x):
         """The certified float path of ``rounded_area_centroid`` (corners off the grid)
         for the quadrilateral of triangles (u, v, w), (v, u, x): the Point2, or None where
         the kernel asks Python (for tests)."""
+        return self._centroid_path(u, v, w, x, False)
+
+    cdef object _centroid_path(self, int64_t u, int64_t v, int64_t w, int64_t x,
+                               bint grid):
         cdef int64_t at[2]
         for vertex in (u, v, w, x):
             if not 0 <= vertex < self.store.nv:
                 raise IndexError(vertex)
-        if not self._float_centroid(u, v, w, x, at):
+        if not (self._grid_centroid(u, v, w, x, at) if grid
+                else self._float_centroid(u, v, w, x, at)):
             return None
         return point2(mpq(at[0], self.unit), mpq(at[1], self.unit))
 
