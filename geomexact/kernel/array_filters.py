@@ -8,9 +8,10 @@ either): the caller decides those entries exactly, with the scalar predicate.  T
 repeat the scalar ones of :mod:`~geomexact.kernel.predicates2d`,
 :mod:`~geomexact.kernel.predicates3d` and :mod:`~geomexact.kernel.comparisons` operation
 for operation, in the same order and with the same constants
-(:mod:`~geomexact.kernel.filter_bounds`), so they certify exactly the queries the scalar
-filter certifies, with the same sign; NaN (a coordinate beyond the double range) and
-overflow are never certified.  They do not touch the filter counters.
+(:mod:`~geomexact.kernel.filter_bounds`), and evaluate the incircle and orient3d
+determinants with the very functions the exact predicates use, so they certify exactly
+the queries the scalar filter certifies, with the same sign; NaN (a coordinate beyond the
+double range) and overflow are never certified.  They do not touch the filter counters.
 """
 
 from __future__ import annotations
@@ -31,6 +32,8 @@ from geomexact.kernel.filter_bounds import (
     ORIENT3D_K,
 )
 from geomexact.kernel.points import Point2, Point3
+from geomexact.kernel.predicates2d import _incircle_determinant
+from geomexact.kernel.predicates3d import _orient3d_determinant
 
 __all__ = ["incircle_signs", "orient2d_signs", "orient3d_signs", "point_doubles",
            "point_doubles3", "squared_length_signs"]
@@ -81,11 +84,7 @@ def orient3d_signs(
     adx, ady, adz = fx[ids[0]] - dx, fy[ids[0]] - dy, fz[ids[0]] - dz
     bdx, bdy, bdz = fx[ids[1]] - dx, fy[ids[1]] - dy, fz[ids[1]] - dz
     cdx, cdy, cdz = fx[ids[2]] - dx, fy[ids[2]] - dy, fz[ids[2]] - dz
-    det = (
-        adz * (cdx * bdy - bdx * cdy)
-        + bdz * (adx * cdy - cdx * ady)
-        + cdz * (bdx * ady - adx * bdy)
-    )
+    det = _orient3d_determinant(adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz)
     t = (
         np.abs(adx) + np.abs(ady) + np.abs(adz) + np.abs(bdx) + np.abs(bdy) + np.abs(bdz)
         + np.abs(cdx) + np.abs(cdy) + np.abs(cdz) + ORIENT3D_K
@@ -158,11 +157,7 @@ def incircle_signs(
     bdy = by - dy
     cdx = cx - dx
     cdy = cy - dy
-    det = (
-        (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy)
-        + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy)
-        + (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady)
-    )
+    det = _incircle_determinant(adx, ady, bdx, bdy, cdx, cdy)
     t = (np.abs(adx) + np.abs(ady) + np.abs(bdx) + np.abs(bdy) + np.abs(cdx) + np.abs(cdy)
          + INCIRCLE_K)
     bound = t * t * t * (np.abs(dx) + np.abs(dy) + t) * INCIRCLE_C
