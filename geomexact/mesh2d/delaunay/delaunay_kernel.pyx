@@ -122,11 +122,6 @@ RECOVERED = 0
 DECLINED = 1
 
 
-cdef int _compare_keys(const void *first, const void *second) noexcept nogil:
-    cdef uint64_t a = (<const uint64_t *>first)[0], b = (<const uint64_t *>second)[0]
-    return (a > b) - (a < b)
-
-
 cdef class Builder:
     """One ``triangulate_points`` construction: ``run(a, b, c, rest)`` then
     ``finish(start)``."""
@@ -621,7 +616,7 @@ cdef class Builder:
                 elif self._get(v, u) < 0:
                     edges[n] = gx_edge(v, u)
                     n += 1
-            qsort(edges, n, sizeof(uint64_t), _compare_keys)
+            qsort(edges, n, sizeof(uint64_t), store_compare_keys)
             self.store.pending.count = 0
             for i in range(n - 1, -1, -1):
                 push_pair(&self.store.pending, <int64_t>(edges[i] >> 32),

@@ -353,6 +353,7 @@ def refine(
                 compiled.left, compiled.targets, compiled.searches, compiled.hops
             )
             reasons: tuple[LeftReason, ...] = compiled.left_reasons
+            ops = Counter(compiled.op_counts)
         else:
             # the reference ops: the engine of every run the kernel does not take, and of
             # "python" (its pure-Python batch engine was retired: issue 25)
@@ -362,6 +363,7 @@ def refine(
             result, steps, digests = run.finish(mesh)
             left, reasons = run.left_triangles(), run.left_reasons()
             targets, searches, hops = run.targets, run.searches, run.hops
+            ops = Counter(map(_OP, steps))
             del run  # its work tables go now, before the collector would scan them
     if budget is not None and status == "step-limit":
         status = "budget"
@@ -384,7 +386,6 @@ def refine(
     parameters.update({name: value for name, value in chosen.changed().items()
                        if name != "centroid"})
     trace = Trace(mesh.digest, steps, digests, parameters, __version__)
-    ops = Counter(map(_OP, steps))
     stats = RefineStats(
         status=status,
         steps=len(steps),

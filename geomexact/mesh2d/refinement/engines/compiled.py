@@ -83,6 +83,8 @@ class CompiledRun:
     searches: int
     hops: int
     left_reasons: tuple[LeftReason, ...] = ()
+    op_counts: dict[str, int] = attrs.field(factory=dict)
+    """How many steps of each op (counted by the kernel off its records)."""
 
 
 @attrs.frozen(slots=True)
@@ -210,6 +212,7 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
         searches=kernel.searches,
         hops=kernel.hops,
         left_reasons=kernel.left_reasons(),
+        op_counts=kernel.op_counts(),
     )
 
 

@@ -120,6 +120,10 @@ _init_constants()
 
 cdef StepLayout _STEP_LAYOUT = step_layout(Step)
 
+# the op of each record code (``_step``)
+_OP_NAMES = ("bisect", "flip", "insert_in_quadrilateral", "insert_vertex_centroid",
+             "insert_centroid")
+
 cdef extern from "grid_rational.h":
     int gx_gmpy2_import(const char *runtime_version, const char *module_path)
     const char *gx_gmpy2_built_version()
@@ -131,6 +135,7 @@ cdef bytes _GMPY2_MODULE = os.fsencode(
     getattr(getattr(gmpy2, "gmpy2", gmpy2), "__file__", None) or "")
 GRID_MPQ_IN_C = bool(gx_gmpy2_import(_GMPY2_VERSION, _GMPY2_MODULE))
 """True when grid coordinates become mpq objects in C (``grid_rational.h``)."""
+cdef bint _GRID_MPQ_IN_C = GRID_MPQ_IN_C
 GMPY2_BUILT_VERSION = (<bytes>gx_gmpy2_built_version()).decode()
 """The gmpy2 whose C headers the kernel was built with ("" when none were found)."""
 
@@ -399,7 +404,9 @@ cdef class Kernel:
         centroid = rounded_area_centroid
         cdef Py_ssize_t i, count = start.vertex_count
         cdef TriVertex *vertex
-        cdef int64_t[:, ::1] triangles
+        cdef uint64_t *first_edges = NULL
+        cdef Py_ssize_t ntriangles
+        cdef int64_t a, b
         cdef int64_t g
         cdef tuple fields
         self.points = start.point_list()
@@ -542,26 +549,32 @@ cdef class Kernel:
         self.target_grid = 0.0
         self.pysum = mpq(0)
         self.target2 = self.target_scaled = None
-        triangles = self._start_triangles()
-        if average:
-            # Refinement.start_queue: the region's initial doubled area and count
-            self.max_area = True
-            self.area_limit = -(<gx_i128>1 << 126)  # every grid triangle is bad
-            for i in range(triangles.shape[0]):
-                self._account(triangles[i, 0], triangles[i, 1], triangles[i, 2], 1)
-            total = _from_i128(self.gsum) / self.scale + self.pysum
-            target = criterion.target_mean_area(total / 2, self.count)
-            self.target2 = 2 * target
-            self.target_scaled = self.target2 * self.scale
-            try:
-                self.target_grid = float(self.target_scaled)
-            except OverflowError:
-                self.target_grid = math.inf
-            # the filter needs a normal, moderate double (relative error below 2**-50)
-            self.filtered = 2.0 ** -500 < self.target_grid < 2.0 ** 500
-            self.tracking = True
-        for i in range(triangles.shape[0]):
-            self._consider(triangles[i, 0], triangles[i, 1], triangles[i, 2])
+        # sorted(start.iter_triangles()), read off the table: first edges (a, b), apex c
+        ntriangles = store_sorted_triangles(&self.store, &first_edges)
+        try:
+            if average:
+                # Refinement.start_queue: the region's initial doubled area and count
+                self.max_area = True
+                self.area_limit = -(<gx_i128>1 << 126)  # every grid triangle is bad
+                for i in range(ntriangles):
+                    a, b = <int64_t>(first_edges[i] >> 32), <int64_t><uint32_t>first_edges[i]
+                    self._account(a, b, store_apex(&self.store, a, b), 1)
+                total = _from_i128(self.gsum) / self.scale + self.pysum
+                target = criterion.target_mean_area(total / 2, self.count)
+                self.target2 = 2 * target
+                self.target_scaled = self.target2 * self.scale
+                try:
+                    self.target_grid = float(self.target_scaled)
+                except OverflowError:
+                    self.target_grid = math.inf
+                # the filter needs a normal, moderate double (relative error below 2**-50)
+                self.filtered = 2.0 ** -500 < self.target_grid < 2.0 ** 500
+                self.tracking = True
+            for i in range(ntriangles):
+                a, b = <int64_t>(first_edges[i] >> 32), <int64_t><uint32_t>first_edges[i]
+                self._consider(a, b, store_apex(&self.store, a, b))
+        finally:
+            free(first_edges)
 
     cdef int _read_start_tables(self, start) except -1:
         """The start's half-edges into the C table and its outgoing hints into the
@@ -587,13 +600,6 @@ cdef class Kernel:
         for key, w in start.halfedges.items():
             store_put(&self.store, (<tuple>key)[0], (<tuple>key)[1], w)
         return 0
-
-    cdef int64_t[:, ::1] _start_triangles(self):
-        """``sorted(start.iter_triangles())`` read off the kernel's half-edge table: a
-        (T x 3) int64 array of canonical triangles (the smallest id first), sorted."""
-        rows = store_halfedge_rows(&self.store, False)
-        rows = rows[(rows[:, 0] < rows[:, 1]) & (rows[:, 0] < rows[:, 2])]
-        return np.ascontiguousarray(rows[np.lexsort(rows.T[::-1])])
 
     # -- vertices -----------------------------------------------------------------------
     cdef bint _on_grid(self, value, double nearest, int64_t *out) except -1:
@@ -621,21 +627,30 @@ cdef class Kernel:
         cdef TriVertex *vu = &self.store.vs[u]
         cdef TriVertex *vv = &self.store.vs[v]
         cdef int64_t sx = 0, sy = 0
-        cdef int grid = -1
-        cdef tuple pu = <tuple>self.points[u]
-        cdef tuple pv = <tuple>self.points[v]
-        mx = (pu[0] + pv[0]) / 2
-        my = (pu[1] + pv[1]) / 2
-        try:
-            # Point2(mx, my, fx, fy) without the Python-level __new__ of the NamedTuple
-            point = tuple.__new__(Point2, (mx, my, float(mx), float(my)))
-        except OverflowError:
-            point = point2(mx, my)
+        cdef int grid = -1, half = self.F + 1
+        cdef tuple pu, pv
+        point = None
         if vu.at.grid and vv.at.grid:
-            # the midpoint of two grid points is on the grid when both sums are even
+            # the midpoint is (sx, sy) / 2**(F + 1): on the grid when both sums are even
             sx = vu.at.gx + vv.at.gx
             sy = vu.at.gy + vv.at.gy
             grid = not (sx & 1) and not (sy & 1)
+            if _GRID_MPQ_IN_C and half <= 62:
+                # built in C (GMP); the doubles: one rounding of |s| < 2**61, then an
+                # exact scaling (2**-63 is far from the subnormals)
+                point = tuple.__new__(Point2, (
+                    _grid_mpq(None, sx, half), _grid_mpq(None, sy, half),
+                    ldexp(<double>sx, -half), ldexp(<double>sy, -half)))
+        if point is None:
+            pu = <tuple>self.points[u]
+            pv = <tuple>self.points[v]
+            mx = (pu[0] + pv[0]) / 2
+            my = (pu[1] + pv[1]) / 2
+            try:
+                # Point2(mx, my, fx, fy) without the Python-level __new__ of the NamedTuple
+                point = tuple.__new__(Point2, (mx, my, float(mx), float(my)))
+            except OverflowError:
+                point = point2(mx, my)
         return self._add_point(point, grid, sx >> 1, sy >> 1)
 
     cdef int64_t _add_point(self, point, int grid=-1, int64_t gx=0,
@@ -1515,15 +1530,12 @@ cdef class Kernel:
     cdef object _step(self, StepRecord *record):
         """The Step of a record."""
         u, v = record.a, record.b
-        if record.op == 3:
-            return make_step(Step, &_STEP_LAYOUT, "insert_vertex_centroid", (u, v))
-        if record.op == 4:
-            return make_step(Step, &_STEP_LAYOUT, "insert_centroid", (u, v))
-        if record.op == 2:
+        cdef str name = <str>(<tuple>_OP_NAMES)[record.op]
+        if record.op == 2:  # insert_in_quadrilateral names its point
             point = <tuple>self.points[record.c]
             x, y = (<tuple>point)[0], (<tuple>point)[1]
-            return make_step(Step, &_STEP_LAYOUT, "insert_in_quadrilateral", (u, v, x, y))
-        return make_step(Step, &_STEP_LAYOUT, "flip" if record.op else "bisect", (u, v))
+            return make_step(Step, &_STEP_LAYOUT, name, (u, v, x, y))
+        return make_step(Step, &_STEP_LAYOUT, name, (u, v))
 
     cdef int _record(self, int op, int64_t u, int64_t v, int64_t extra=-1) except -1:
         cdef StepRecord *record = store_record(&self.store, op, u, v, extra, -1)
@@ -1941,6 +1953,16 @@ cdef class Kernel:
             b = <int64_t><uint32_t>edge
             found[(a, b, store_apex(&self.store, a, b))] = values[attribute]
         return immutables.Map(found)
+
+    def op_counts(self):
+        """How many recorded steps of each op, by op name."""
+        cdef Py_ssize_t i
+        cdef int64_t counts[5]
+        for i in range(5):
+            counts[i] = 0
+        for i in range(self.store.nrec):
+            counts[self.store.records[i].op] += 1
+        return {name: counts[i] for i, name in enumerate(_OP_NAMES) if counts[i]}
 
     @property
     def pending(self):
