@@ -31,10 +31,6 @@ typedef unsigned __int128 gx_u128;
 /* ---- open-addressing hash table: uint64 key -> int64 value, linear probing,
    backward-shift deletion (no tombstones), load <= 1/2 ---- */
 #define GX_EMPTY UINT64_MAX
-/* the triangulation store (ctriangulation.pxd): an ordered table keeps each entry's
-   insertion number above its apex; the numbers stay below 2**31 (positive values) */
-#define GX_APEX_MASK ((int64_t)0xFFFFFFFF)
-#define GX_SEQ_LIMIT ((((int64_t)1) << 31) - 1)
 /* the key of the half-edge (u, v), ids below 2^32 */
 static inline uint64_t gx_edge(int64_t u, int64_t v) { return ((uint64_t)u << 32) | (uint64_t)v; }
 typedef struct { uint64_t *keys; int64_t *values; uint64_t mask; uint64_t count; } gx_map;

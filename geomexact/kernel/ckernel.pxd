@@ -20,8 +20,6 @@ cdef extern from "ckernel.h":
         uint64_t *keys
         int64_t *values
     uint64_t GX_EMPTY
-    int64_t GX_APEX_MASK
-    int64_t GX_SEQ_LIMIT
     uint64_t gx_edge(int64_t u, int64_t v) nogil
     int gx_map_alloc(gx_map *m, uint64_t slots)
     void gx_map_free(gx_map *m)

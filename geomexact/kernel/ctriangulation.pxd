@@ -8,10 +8,7 @@ from the algorithms:
 
 * the vertices (their doubles and exact grid coordinates for the predicates, their digest
   key, their ``outgoing`` hint and a region-membership cache);
-* the half-edge table ``(u, v) -> apex`` keyed by ``u << 32 | v``.  With ``ordered`` set,
-  each entry also carries the number of its insertion, kept when its apex is replaced in
-  place and renewed when it is deleted and put again — the order of a Python dict, from
-  which the Python Delaunay engine takes its ``outgoing`` hints;
+* the half-edge table ``(u, v) -> apex`` keyed by ``u << 32 | v``;
 * the incremental digest (the sum mod 2**128 of the cell hashes and whatever else the
   caller adds);
 * the step records (an op code, up to four ids, the digest after the step);
@@ -29,9 +26,7 @@ from libc.stdint cimport int64_t, int8_t, uint32_t, uint64_t
 from libc.stdlib cimport free, malloc, qsort
 
 from geomexact.kernel.ckernel cimport (
-    GX_APEX_MASK,
     GX_EMPTY,
-    GX_SEQ_LIMIT,
     GridPoint,
     Pair,
     PairStack,
@@ -43,9 +38,8 @@ from geomexact.kernel.ckernel cimport (
     gx_map_del,
     gx_map_free,
     gx_map_get,
-    gx_map_grow,
+    gx_map_set,
     gx_map_next,
-    gx_map_slot,
     gx_u128,
     incircle_sign,
     orient_sign,
@@ -71,11 +65,7 @@ cdef struct StepRecord:
 cdef struct TriangleStore:
     TriVertex *vs
     Py_ssize_t nv, cap_v
-    gx_map apex        # (u, v) -> apex, or insertion number << 32 | apex when ordered
-    bint ordered
-    bint hinted        # store_add writes the hints (off while an ordered store's hints
-                       # are read from the insertion order at the end)
-    int64_t seq        # the next insertion number (ordered)
+    gx_map apex        # (u, v) -> apex
     gx_u128 digest
     StepRecord *records
     Py_ssize_t nrec, cap_rec
@@ -83,7 +73,7 @@ cdef struct TriangleStore:
 
 
 cdef inline int store_init(TriangleStore *s, Py_ssize_t vertices, Py_ssize_t vertex_room,
-                           uint64_t slots, Py_ssize_t record_room, bint ordered) except -1:
+                           uint64_t slots, Py_ssize_t record_room) except -1:
     """Allocate a store of ``vertices`` vertices (room for ``vertex_room``; their fields
     are the caller's to fill), a half-edge table of ``slots`` slots (a power of two) and
     room for ``record_room`` records.  A store starts zeroed (a Cython object's C fields
@@ -100,9 +90,6 @@ cdef inline int store_init(TriangleStore *s, Py_ssize_t vertices, Py_ssize_t ver
         raise MemoryError
     if gx_map_alloc(&s.apex, slots) < 0:
         raise MemoryError
-    s.ordered = ordered
-    s.hinted = True
-    s.seq = 0
     s.nrec = 0
     s.digest = 0
     return 0
@@ -128,31 +115,13 @@ cdef inline int store_vertex_room(TriangleStore *s) except -1:
 # -- the half-edge table ----------------------------------------------------------------
 cdef inline int64_t store_apex(const TriangleStore *s, int64_t u, int64_t v) noexcept nogil:
     """apex(u, v), or -1."""
-    cdef int64_t value = gx_map_get(&s.apex, gx_edge(u, v), -1)
-    return value if value < 0 else (value & GX_APEX_MASK)
+    return gx_map_get(&s.apex, gx_edge(u, v), -1)
 
 
 cdef inline int store_put(TriangleStore *s, int64_t u, int64_t v, int64_t w) except -1:
-    """apex[(u, v)] = w as a dict does it: an existing key keeps its place (its insertion
-    number), a new one goes last."""
-    cdef uint64_t key = gx_edge(u, v)
-    cdef uint64_t i = gx_map_slot(&s.apex, key)
-    if s.apex.keys[i] == key:
-        s.apex.values[i] = (s.apex.values[i] & ~GX_APEX_MASK) | w
-        return 0
-    if 2 * (s.apex.count + 1) > s.apex.mask + 1:
-        if gx_map_grow(&s.apex) < 0:
-            raise MemoryError
-        i = gx_map_slot(&s.apex, key)
-    s.apex.keys[i] = key
-    if s.ordered:
-        if s.seq >= GX_SEQ_LIMIT:
-            raise OverflowError("too many half-edge insertions for the kernel")
-        s.apex.values[i] = (s.seq << 32) | w
-        s.seq += 1
-    else:
-        s.apex.values[i] = w
-    s.apex.count += 1
+    """apex[(u, v)] = w."""
+    if gx_map_set(&s.apex, gx_edge(u, v), w) < 0:
+        raise MemoryError
     return 0
 
 
@@ -170,7 +139,7 @@ cdef inline bint store_next_halfedge(const TriangleStore *s, uint64_t *slot, int
         return False
     u[0] = <int64_t>(key >> 32)
     v[0] = <int64_t><uint32_t>key
-    w[0] = value & GX_APEX_MASK
+    w[0] = value
     return True
 
 
@@ -229,10 +198,9 @@ cdef inline int store_add(TriangleStore *s, int64_t a, int64_t b, int64_t c) exc
     store_put(s, a, b, c)
     store_put(s, b, c, a)
     store_put(s, c, a, b)
-    if s.hinted:
-        s.vs[a].hint = b
-        s.vs[b].hint = c
-        s.vs[c].hint = a
+    s.vs[a].hint = b
+    s.vs[b].hint = c
+    s.vs[c].hint = a
     s.digest += store_hash(s, a, b, c)
     return 0
 
@@ -329,38 +297,45 @@ cdef inline int store_incircle(const TriangleStore *s, object points, int64_t a,
 
 
 # -- sealing ----------------------------------------------------------------------------
-cdef inline object store_halfedge_rows(TriangleStore *s, bint ordered_hints):
+cdef inline int store_repair_hints(TriangleStore *s) except -1:
+    """``Transient2.seal``'s repair: a hint whose half-edge was removed becomes the
+    smallest neighbour of its vertex, or -1 for an isolated vertex."""
+    cdef Py_ssize_t i
+    cdef uint64_t slot = 0
+    cdef int64_t u, w, x
+    cdef bint broken = False
+    cdef TriVertex *vs = s.vs
+    cdef int8_t *repair = <int8_t *>malloc(max(1, s.nv) * sizeof(int8_t))
+    if repair == NULL:
+        raise MemoryError
+    for i in range(s.nv):
+        repair[i] = 0
+        if vs[i].hint >= 0 and store_apex(s, i, vs[i].hint) < 0:
+            repair[i] = 1
+            vs[i].hint = -1
+            broken = True
+    while broken and store_next_halfedge(s, &slot, &u, &w, &x):
+        if repair[u] and (vs[u].hint < 0 or w < vs[u].hint):
+            vs[u].hint = w
+    free(repair)
+    return 0
+
+
+cdef inline object store_halfedge_rows(const TriangleStore *s):
     """The half-edge table as a read-only (H x 3) int64 array of rows (u, v, apex), in
-    slot order.  With ``ordered_hints`` (an ordered store), each vertex's hint becomes the
-    last inserted live half-edge out of it, -1 for none: the ``outgoing`` hints a
-    dict-based engine seals (from then on :func:`store_add` writes the hints again)."""
+    slot order."""
     import numpy
     cdef uint64_t slot = 0
-    cdef Py_ssize_t row = 0, i
-    cdef int64_t u, v, w, seq
+    cdef Py_ssize_t row = 0
+    cdef int64_t u, v, w
     cdef int64_t[:, ::1] view
-    cdef int64_t *best = NULL
     rows = numpy.empty((s.apex.count, 3), dtype=numpy.int64)
     view = rows
-    if ordered_hints:
-        best = <int64_t *>malloc(max(1, s.nv) * sizeof(int64_t))
-        if not best:
-            raise MemoryError
-        for i in range(s.nv):
-            best[i] = -1
-            s.vs[i].hint = -1
-        s.hinted = True
     while store_next_halfedge(s, &slot, &u, &v, &w):
         view[row, 0] = u
         view[row, 1] = v
         view[row, 2] = w
         row += 1
-        if best != NULL:
-            seq = s.apex.values[slot - 1] >> 32
-            if seq > best[u]:
-                best[u] = seq
-                s.vs[u].hint = v
-    free(best)
     rows.setflags(write=False)
     return rows
 

@@ -5,10 +5,9 @@
   engine;
 * ``"compiled"``: the Cython kernel, or :class:`~geomexact.errors.PreconditionError` when it
   is not built or the run is outside what it implements (never something else silently);
-* ``"python"``: the pure-Python engine: for triangulation the batch Delaunay
-  (:mod:`geomexact.mesh2d.batch_store`), for refinement the reference ops (its batch
-  engine was retired: two tiers, issue 25);
-* ``"reference"``: the pure ops on a transient (refinement only).
+* ``"reference"``: the pure ops on a transient, the definition (``"python"`` names it
+  too): two tiers, the reference and the compiled kernel (issue 25 retired the batch
+  engines in between).
 
 All record the same trace; the engine is never a parameter of it.  ``"fast"`` and
 ``"transient"`` are the old names of ``"auto"`` and ``"reference"``, still accepted.

@@ -91,12 +91,11 @@ def _interior_edge(t: Transient2, op: str, u: int, v: int) -> tuple[int, int]:
 
 
 # ---------------------------------------------------------------------------------------
-# the triangle edits of the ops (on a transient, or on the batch engines' store)
+# the triangle edits of the ops
 # ---------------------------------------------------------------------------------------
 class TriangleEditor(Protocol):
-    """What the ops' triangle edits need of a mesh editor: a
-    :class:`~geomexact.mesh2d.transient.Transient2`, or the batch engines' store
-    :class:`~geomexact.mesh2d.batch_store.BatchTriangulation`."""
+    """What the ops' triangle edits need of a mesh editor (a
+    :class:`~geomexact.mesh2d.transient.Transient2`)."""
 
     def apex(self, u: int, v: int, /) -> int | None: ...
 
@@ -428,7 +427,14 @@ def legalize_in(t: Transient2, vertex: int) -> list[Step]:
     star = walk_star(t.apex, vertex, t.outgoing(vertex))
     if not star:
         raise PreconditionError("legalize", f"vertex {vertex} is in no triangle")
-    pending = legalization_stack([(a, b) for _, a, b in star])
+    return legalize_stack_in(t, vertex, legalization_stack([(a, b) for _, a, b in star]))
+
+
+def legalize_stack_in(t: Transient2, vertex: int, pending: list[Edge]) -> list[Step]:
+    """:func:`legalize_in`'s flips from the stack ``pending`` of edges (a, b) opposite
+    ``vertex`` (popped last first; an edge whose triangle (vertex, a, b) is gone is
+    skipped): the order an insertion that knows the edges it made examines them in.
+    Returns the flips."""
     flips: list[Step] = []
     p = t.point(vertex)
     while pending:

@@ -1276,16 +1276,26 @@ def test_compiled_refuses_when_not_built(monkeypatch: pytest.MonkeyPatch) -> Non
 def test_unknown_and_missing_engines() -> None:
     with pytest.raises(PreconditionError, match=r"unknown engine 'turbo'.*'fast' for 'auto'"):
         refine(square(), MaxArea("0.1"), engine="turbo")  # type: ignore[arg-type]
-    with pytest.raises(PreconditionError, match="no 'reference' engine for Delaunay"):
-        triangulate_points(random_doubles(10, 3), engine="reference")  # type: ignore[arg-type]
-    with pytest.raises(PreconditionError, match="no 'reference' engine for Delaunay"):
-        triangulate_points(random_doubles(10, 3), engine="transient")  # type: ignore[arg-type]
+    with pytest.raises(PreconditionError, match=r"unknown engine 'turbo'"):
+        triangulate_points(random_doubles(10, 3), engine="turbo")  # type: ignore[arg-type]
+
+
+def test_delaunay_reference_engine_names() -> None:
+    """``"reference"``, its old name ``"transient"`` and ``"python"`` all run the reference
+    ops on a transient, which record the compiled kernel's trace and mesh."""
+    points = random_doubles(60, 3)
+    compiled = triangulate_points(points, engine="compiled")
+    for engine in ("reference", "python", "transient"):
+        result = triangulate_points(points, engine=engine)  # type: ignore[arg-type]
+        assert result.trace == compiled.trace
+        assert result.mesh == compiled.mesh
+        assert dict(result.mesh.outgoing.items()) == dict(compiled.mesh.outgoing.items())
 
 
 def test_engines_are_no_trace_parameter() -> None:
     for engine in ("auto", "python", "reference"):
         parameters = dict(refine(square(), MaxArea("0.1"), engine=engine).trace.parameters)
         assert "engine" not in parameters and "engine" not in repr(parameters)
-    for engine in ("auto", "python"):
+    for engine in ("auto", "python", "reference"):
         parameters = dict(triangulate(superior_pslg(), engine=engine).trace.parameters)
         assert "engine" not in parameters

@@ -2,7 +2,7 @@
 :func:`geomexact.mesh2d.delaunay.triangulation.triangulate_points` and the typed kernel
 :mod:`geomexact.mesh2d.delaunay.delaunay_kernel` (a Cython extension, optional).
 
-``run_compiled(points, start, first, rest)`` runs what ``BatchDelaunay`` runs —
+``run_compiled(points, start, first, rest)`` runs what ``ReferenceDelaunay`` runs —
 ``make_triangle(*first)`` then ``insert(v)`` for each ``v`` of ``rest`` — and returns a
 :class:`CompiledConstruction` with the same steps, the same digest after every step and
 the same final ``Mesh2`` (``outgoing`` hints included), or None when the kernel is not
@@ -55,15 +55,11 @@ def run_compiled(
     ``points``: the ``Point2`` of every vertex id; ``start``: the mesh of isolated vertices
     (its digest starts the run, the result is ``start`` with the triangles);
     ``first``: the vertices of ``make_triangle``; ``rest``: the vertices inserted after,
-    in order.  The kernel refuses a run that would exceed its internal counters (about
-    2**31 half-edge insertions) with ``OverflowError``; then this returns None too."""
+    in order."""
     if _delaunay_kernel is None:
         return None
     builder = _delaunay_kernel.Builder(points, start.digest)
-    try:
-        builder.run(first[0], first[1], first[2], rest)
-    except OverflowError:
-        return None
+    builder.run(first[0], first[1], first[2], rest)
     halfedges, hints, triangle_count, digest = builder.finish()
     mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest,
                        start.segments)
@@ -117,26 +113,23 @@ def run_compiled_constrained(
     recovered in order, the Lawson pass, the exterior carved (when ``carve_exterior`` and
     it is not empty) and each hole carved — what ``triangulate`` runs on a transient,
     step for step.  None when the kernel is not built or declines: a marker beyond int64,
-    a crossing point to insert (``split_segments``), a :class:`SegmentError` to raise, a
-    run beyond its counters; then the caller runs the Python ops (and raises there)."""
+    a crossing point to insert (``split_segments``), a :class:`SegmentError` to raise;
+    then the caller runs the reference ops (and raises there)."""
     if _delaunay_kernel is None or any(marker not in INT64 for _, _, marker in segments):
         return None
     builder = _delaunay_kernel.Builder(points, start.digest)
-    try:
-        builder.run(first[0], first[1], first[2], rest)
-        builder.begin_constrained()
-        if builder.recover(segments, split_segments) != _delaunay_kernel.RECOVERED:
-            return None
-        builder.lawson()
-        if carve_exterior:
-            builder.carve_exterior()
-        ignored = []
-        for index, hole in enumerate(holes):
-            seed = point2(hole.x, hole.y)
-            if builder.carve(seed, (seed.x, seed.y)) < 0:
-                ignored.append(index)
-    except OverflowError:
+    builder.run(first[0], first[1], first[2], rest)
+    builder.begin_constrained()
+    if builder.recover(segments, split_segments) != _delaunay_kernel.RECOVERED:
         return None
+    builder.lawson()
+    if carve_exterior:
+        builder.carve_exterior()
+    ignored = []
+    for index, hole in enumerate(holes):
+        seed = point2(hole.x, hole.y)
+        if builder.carve(seed, (seed.x, seed.y)) < 0:
+            ignored.append(index)
     halfedges, hints, segment_map, triangle_count, digest = builder.finish_constrained()
     mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest, segment_map)
     return CompiledConstrained(mesh, builder.steps(), builder.digests(), tuple(ignored))

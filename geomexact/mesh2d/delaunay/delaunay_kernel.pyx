@@ -1,17 +1,16 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True
 # cython: initializedcheck=False, infer_types=False
 """Typed kernel of ``geomexact.mesh2d.delaunay.triangulation.triangulate_points``: the incremental Delaunay
-construction of ``BatchDelaunay`` on C data structures.
+construction of ``ReferenceDelaunay`` on C data structures.
 
-Contract: :class:`Builder` runs exactly ``BatchDelaunay.make_triangle`` then
-``insert`` for every vertex of the given order (visibility walk ``locate``,
-``attach_in_triangle`` / ``attach_in_edge`` / ``_attach_outside``, ``legalize_edges`` with Lawson
-flips and the tie rule "no flip on cocircular").  It records the same steps, the same
-digest after every step, and seals the same ``Mesh2`` — including the ``outgoing`` hints,
-which the Python engine takes from the insertion order of its half-edge dict (the last
-inserted live half-edge out of each vertex): every half-edge here carries the sequence
-number of its insertion, kept when its apex is updated in place, as a dict does.
-``geomexact.mesh2d.delaunay.compiled`` is the only caller.
+Contract: :class:`Builder` runs exactly ``ReferenceDelaunay.make_triangle`` then
+``insert`` for every vertex of the given order (the visibility walk ``locate``, the ops
+``attach_in_triangle`` / ``attach_in_edge`` / ``attach_outside``, Lawson flips from the
+edges the attachment made, with the tie rule "no flip on cocircular").  It records the
+same steps, the same digest after every step, and seals the same ``Mesh2`` — including the
+``outgoing`` hints, Transient2's: ``add_triangle`` writes a -> b, b -> c, c -> a,
+``remove_triangle`` leaves them, and sealing repairs a broken hint to the smallest
+neighbour.  ``geomexact.mesh2d.delaunay.compiled`` is the only caller.
 
 The constrained phase (``begin_constrained``, ``recover``, ``lawson``, ``carve_exterior``,
 ``carve``, ``finish_constrained``) continues on the same tables what
@@ -20,21 +19,18 @@ The constrained phase (``begin_constrained``, ``recover``, ``lawson``, ``carve_e
 ``split_segments``, the FIFO queue of crossed edges), ``make_delaunay_in`` (the sorted
 stack, the four outer edges pushed back), ``ops.carve_exterior_in`` and ``ops.carve_in``
 (``containing_triangle``: the smallest canonical triangle whose closure holds the seed).
-Its edits are Transient2's: ``add_triangle`` writes the outgoing hints a -> b, b -> c,
-c -> a, ``remove_triangle`` leaves them, and sealing repairs a broken hint to the smallest
-neighbour.  Where the Python engine would insert a crossing point or raise (a
-``SegmentError``, a segment it cannot recover) ``recover`` answers ``DECLINED`` and the
-caller runs the Python ops from the start.
+Where the reference would insert a crossing point or raise (a ``SegmentError``, a segment
+it cannot recover) ``recover`` answers ``DECLINED`` and the caller runs the reference ops
+from the start.
 
-Where the C data live: in an ordered ``TriangleStore`` (``geomexact/kernel/
-ctriangulation.pxd``, the store the Lepp kernel runs on too): the half-edges with their
-insertion numbers, the vertices (the doubles of the ``Point2`` for the float filters; the
-coordinates times ``2**F`` as int64 when the exact rational is a double on that grid —
-the *grid* vertices; ``F`` makes the largest finite coordinate below ``2**60``, so every
-double in [0, 1) at or above ``2**-8`` is on the grid; the digest key; the hints of the
-constrained phase), the digest and the step records.  This module keeps its own loops:
-the walk, the three attachments, the legalization, segment recovery, the Lawson pass and
-carving.
+Where the C data live: in a ``TriangleStore`` (``geomexact/kernel/ctriangulation.pxd``,
+the store the Lepp kernel runs on too): the half-edges, the vertices (the doubles of the
+``Point2`` for the float filters; the coordinates times ``2**F`` as int64 when the exact
+rational is a double on that grid — the *grid* vertices; ``F`` makes the largest finite
+coordinate below ``2**60``, so every double in [0, 1) at or above ``2**-8`` is on the
+grid; the digest key; the hints), the digest and the step records.  This module keeps its
+own loops: the walk, the three attachments, the legalization, segment recovery, the Lawson
+pass and carving.
 
 Every geometric decision is exact: orient2d on grid vertices by integer arithmetic in
 ``__int128`` (differences below 2**61, products below 2**122); incircle on grid vertices
@@ -126,7 +122,7 @@ cdef class Builder:
     """One ``triangulate_points`` construction: ``run(a, b, c, rest)`` then
     ``finish(start)``."""
 
-    # the vertices, the ordered half-edge table, the digest, the records, the stack to
+    # the vertices, the half-edge table, the digest, the records, the stack to
     # legalize (ctriangulation.pxd)
     cdef TriangleStore store
     cdef Pair *visible
@@ -168,8 +164,7 @@ cdef class Builder:
         # at most 6n - 12 half-edges, at load <= 1/2: no growth on the way
         while slots < 12 * <uint64_t>count + 64:
             slots *= 2
-        store_init(&self.store, count, count, slots, 5 * count, True)
-        self.store.hinted = False  # the point phase's hints come from the insertion order
+        store_init(&self.store, count, count, slots, 5 * count)
         self.cap_visible = 64
         self.visible = <Pair *>malloc(self.cap_visible * sizeof(Pair))
         if not self.visible:
@@ -264,7 +259,7 @@ cdef class Builder:
         return True
 
     cdef int _locate(self, int64_t p, int64_t *out) except -1:
-        """``BatchDelaunay.locate`` for vertex p: WHERE_INSIDE (a, b, c), WHERE_EDGE
+        """``ReferenceDelaunay.locate`` for vertex p: WHERE_INSIDE (a, b, c), WHERE_EDGE
         (u, v, _) or WHERE_OUTSIDE (u, v, _), the triple in ``out``."""
         cdef int64_t a, b, c
         cdef int64_t abc[3]
@@ -323,8 +318,7 @@ cdef class Builder:
             w = self._get(u, v)
             x = self._get(v, u)
             for side in range(2):
-                # (p, q, r) -> (p, vertex, r), (vertex, q, r); removed whole, as the dict
-                # engine does (its outer half-edges go last in the insertion order)
+                # (p, q, r) -> (p, vertex, r), (vertex, q, r): ops.join_in_edge
                 if side == 0:
                     p, q, r = u, v, w
                 else:
@@ -350,7 +344,7 @@ cdef class Builder:
         return 0
 
     cdef int _attach_outside(self, int64_t vertex, int64_t u, int64_t v) except -1:
-        """``BatchDelaunay._attach_outside``: the visible run is the edges before (u, v)
+        """``ops.attach_outside_in``: the visible run is the edges before (u, v)
         (collected backwards, then reversed), (u, v), the edges after it."""
         cdef Pair edge, swap
         cdef Py_ssize_t before = 0, total, i
@@ -401,13 +395,12 @@ cdef class Builder:
     # b -> c, c -> a; remove_triangle leaves them (a broken hint is repaired when sealing,
     # to the smallest neighbour); the steps are those of ``geomexact.mesh2d.ops``.
     def begin_constrained(self):
-        """Enter the constrained phase after ``run``: the outgoing hints of the sealed
-        point triangulation (the last inserted half-edge out of each vertex) become the
-        hints that Transient2 edits."""
+        """Enter the constrained phase after ``run``: the hints of the sealed point
+        triangulation (broken ones repaired) are the hints that Transient2 edits."""
         if self.constrained:
             raise RuntimeError("the constrained phase has begun already")
         self.constrained = True
-        store_halfedge_rows(&self.store, True)  # (its rows are not needed here)
+        store_repair_hints(&self.store)  # as the sealed point triangulation has them
         if gx_map_alloc(&self.segments, 64) < 0:
             raise MemoryError
         self.work.capacity = self.crossed.capacity = self.queue.capacity = 64
@@ -801,27 +794,10 @@ cdef class Builder:
         none), the segments as an ``immutables.Map``.  A broken hint (its half-edge
         removed) is repaired to the smallest neighbour, or dropped for an isolated
         vertex."""
-        cdef Py_ssize_t i
         cdef uint64_t slot = 0, key
-        cdef int64_t u, w, x, marker
-        cdef bint broken = False
-        cdef TriVertex *vs = self.store.vs
-        cdef int8_t *repair = <int8_t *>malloc(max(1, self.store.nv) * sizeof(int8_t))
-        if repair == NULL:
-            raise MemoryError
-        try:
-            for i in range(self.store.nv):
-                repair[i] = 0
-                if vs[i].hint >= 0 and self._get(i, vs[i].hint) < 0:
-                    repair[i] = 1
-                    vs[i].hint = -1
-                    broken = True
-            while broken and store_next_halfedge(&self.store, &slot, &u, &w, &x):
-                if repair[u] and (vs[u].hint < 0 or w < vs[u].hint):
-                    vs[u].hint = w
-        finally:
-            free(repair)
-        halfedges = store_halfedge_rows(&self.store, False)
+        cdef int64_t marker
+        store_repair_hints(&self.store)
+        halfedges = store_halfedge_rows(&self.store)
         hints = store_hint_array(&self.store)
         segments = {}
         slot = 0
@@ -847,10 +823,10 @@ cdef class Builder:
 
     def finish(self):
         """(halfedges, hints, triangle count, digest) of the result, as
-        ``BatchDelaunay.seal`` makes them: the half-edges as a (H x 3) int64 array of rows
-        (u, v, apex), the outgoing hint of each vertex (the last inserted live half-edge
-        out of it; -1 for none) as an int64 array."""
-        halfedges = store_halfedge_rows(&self.store, True)
+        ``Transient2.seal`` makes them: the half-edges as a (H x 3) int64 array of rows
+        (u, v, apex), the outgoing hint of each vertex (-1 for none) as an int64 array."""
+        store_repair_hints(&self.store)
+        halfedges = store_halfedge_rows(&self.store)
         return (halfedges, store_hint_array(&self.store), halfedges.shape[0] // 3,
                 _from_u128(self.store.digest))
 

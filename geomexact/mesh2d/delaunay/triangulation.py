@@ -27,9 +27,11 @@ from geomexact.kernel.points import Point2
 from geomexact.kernel.predicate_results import CircleLocation, Orientation
 from geomexact.kernel.predicates2d import incircle, orient2d
 from geomexact.kernel.vectorising import worth_vectorising
-from geomexact.mesh2d.batch_store import BatchTriangulation
-from geomexact.mesh2d.engine_names import OLD_NAMES, engine_named
+from geomexact.mesh2d.engine_names import engine_named
 from geomexact.mesh2d.ops import (
+    attach_in_edge_in,
+    attach_in_triangle_in,
+    attach_outside_in,
     carve_exterior_in,
     carve_in,
     constrain_in,
@@ -37,8 +39,8 @@ from geomexact.mesh2d.ops import (
     exterior_triangles,
     flip_in,
     insert_in_edge_in,
-    join_in_edge,
-    join_in_triangle,
+    legalize_stack_in,
+    make_triangle_in,
     set_region_in,
 )
 from geomexact.mesh2d.pslg import PSLG
@@ -49,8 +51,6 @@ from geomexact.mesh2d.snapshot import (
     Mesh2,
     canonical_triangle,
     empty_mesh,
-    next_boundary_edge,
-    previous_boundary_edge,
     walk_star,
 )
 from geomexact.mesh2d.transient import Transient2
@@ -61,10 +61,10 @@ CW = Orientation.CLOCKWISE
 COLLINEAR = Orientation.COLLINEAR
 INSIDE = CircleLocation.INSIDE
 
-DelaunayEngine: TypeAlias = Literal["auto", "compiled", "python", "fast"]
-ENGINES: tuple[str, ...] = ("auto", "compiled", "python")
-"""The engines of :func:`triangulate_points` (:mod:`geomexact.mesh2d.engine_names`; no
-``"reference"``: replaying the trace applies the reference ops)."""
+DelaunayEngine: TypeAlias = Literal["auto", "compiled", "python", "reference", "fast"]
+ENGINES: tuple[str, ...] = ("auto", "compiled", "python", "reference")
+"""The engines of :func:`triangulate_points` (:mod:`geomexact.mesh2d.engine_names`;
+``"python"`` names the reference engine)."""
 
 
 def non_delaunay_edges(mesh: Mesh2) -> list[Edge]:
@@ -244,58 +244,57 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     return result
 
 
-class BatchDelaunay(BatchTriangulation):
-    """The Python engine of :func:`triangulate_points`: the incremental insertion on a
-    :class:`~geomexact.mesh2d.batch_store.BatchTriangulation`, owned by one call.  Its steps
-    are those of :mod:`geomexact.mesh2d.ops` (``make_triangle``, ``attach_in_triangle``,
-    ``attach_in_edge``, ``attach_outside``, ``flip``); the tests replay its trace through
-    them and compare it with the compiled kernel's."""
+class ReferenceDelaunay:
+    """The reference engine of :func:`triangulate_points`: the incremental insertion made
+    of the ops of :mod:`geomexact.mesh2d.ops` on a
+    :class:`~geomexact.mesh2d.transient.Transient2` (each precondition checked, each step
+    recorded with its digest): ``make_triangle``, then for each vertex the visibility walk
+    to it, ``attach_in_triangle``, ``attach_in_edge`` or ``attach_outside``, and Lawson
+    flips from the edges the attachment made.  The compiled kernel
+    (:mod:`geomexact.mesh2d.delaunay.compiled`) runs the same steps on its store; the tests
+    compare them step by step."""
 
-    __slots__ = ("last",)
+    __slots__ = ("last", "t")
 
     def __init__(self, start: Mesh2) -> None:
-        super().__init__(start)
+        self.t = start.transient(batch=True)
         self.last: tuple[int, int] = (0, 0)  # a half-edge of the last triangle made
 
     def make_triangle(self, a: int, b: int, c: int) -> None:
-        pa, pb, pc = self.points[a], self.points[b], self.points[c]
-        if orient2d(pa, pb, pc) == CCW:
-            self.add_triangle(a, b, c)
-        else:
-            self.add_triangle(a, c, b)
-        self.record("make_triangle", (a, b, c))
-        self.last = (a, b) if (a, b) in self.halfedges else (a, c)
+        made = make_triangle_in(self.t, a, b, c)
+        self.last = (made[0], made[1])
 
     def locate(self, p: Point2) -> tuple[str, tuple[int, int, int]]:
         """Walk from the last triangle to ``p``: ("inside", (a, b, c)), ("edge", (u, v, _))
         or ("outside", (u, v, _)) for a boundary half-edge (u, v) with p strictly right."""
-        apex, points = self.halfedges, self.points
+        apex, point = self.t.apex, self.t.point
         a, b = self.last
-        c = apex[(a, b)]
-        if orient2d(points[a], points[b], p) == CW:
-            d = apex.get((b, a))
+        c = apex(a, b)
+        assert c is not None
+        if orient2d(point(a), point(b), p) == CW:
+            d = apex(b, a)
             if d is None:
                 return "outside", (a, b, -1)
             a, b, c = b, a, d
         while True:
-            pa, pb, pc = points[a], points[b], points[c]
+            pa, pb, pc = point(a), point(b), point(c)
             o1 = orient2d(pb, pc, p)
             if o1 == CW:
-                d = apex.get((c, b))
+                d = apex(c, b)
                 if d is None:
                     return "outside", (b, c, -1)
                 a, b, c = c, b, d
                 continue
             o2 = orient2d(pc, pa, p)
             if o2 == CW:
-                d = apex.get((a, c))
+                d = apex(a, c)
                 if d is None:
                     return "outside", (c, a, -1)
                 a, b, c = a, c, d
                 continue
             o0 = orient2d(pa, pb, p)
             if o0 == CW:  # only possible in the first triangle
-                d = apex.get((b, a))
+                d = apex(b, a)
                 if d is None:
                     return "outside", (a, b, -1)
                 a, b, c = b, a, d
@@ -309,60 +308,34 @@ class BatchDelaunay(BatchTriangulation):
             return "inside", (a, b, c)
 
     def insert(self, vertex: int) -> None:
-        """Attach the isolated ``vertex`` where it lies, then legalize around it."""
-        where, (a, b, c) = self.locate(self.points[vertex])
+        """Attach the isolated ``vertex`` where it lies, then legalize the edges the
+        attachment made opposite it."""
+        t = self.t
+        where, (a, b, c) = self.locate(t.point(vertex))
         pending: list[tuple[int, int]]
         if where == "inside":
-            join_in_triangle(self, a, b, c, vertex)
-            self.record("attach_in_triangle", (vertex, a, b, c))
+            attach_in_triangle_in(t, vertex, (a, b, c))
             pending = [(c, a), (b, c), (a, b)]
         elif where == "edge":
             u, v = a, b
-            w, x = self.apex(u, v), self.apex(v, u)
-            join_in_edge(self, u, v, vertex)
-            self.record("attach_in_edge", (vertex, u, v))
+            w, x = t.apex(u, v), t.apex(v, u)
+            attach_in_edge_in(t, vertex, u, v)
             pending = []
             if w is not None:
                 pending += [(v, w), (w, u)]
             if x is not None:
                 pending += [(u, x), (x, v)]
         else:
-            pending = self._attach_outside(vertex, a, b)
+            pending = [(q, p) for p, q in attach_outside_in(t, vertex, a, b)]
         self.last = (vertex, pending[0][0])
-        self.legalize_edges(vertex, pending)
-
-    def _attach_outside(self, vertex: int, u: int, v: int) -> list[tuple[int, int]]:
-        points = self.points
-        p = points[vertex]
-        visible = [(u, v)]
-        edge = next_boundary_edge(self.apex, u, v)
-        while orient2d(points[edge[0]], points[edge[1]], p) == CW:
-            visible.append(edge)
-            edge = next_boundary_edge(self.apex, *edge)
-        edge = previous_boundary_edge(self.apex, u, v)
-        while orient2d(points[edge[0]], points[edge[1]], p) == CW:
-            visible.insert(0, edge)
-            edge = previous_boundary_edge(self.apex, *edge)
-        for a, b in visible:
-            self.add_triangle(b, a, vertex)
-        self.record("attach_outside", (vertex, u, v))
-        return [(b, a) for a, b in visible]
-
-    def seal(self, start: Mesh2) -> Mesh2:
-        # the outgoing hint of a vertex: its last inserted live half-edge (the compiled
-        # kernel keeps insertion numbers to give the same hints)
-        return self.sealed(start, outgoing=immutables.Map({u: v for u, v in self.halfedges}))
+        legalize_stack_in(t, vertex, pending)
 
 
 def _delaunay_engine(engine: str) -> str:
-    """The Delaunay engine ``engine`` names (:mod:`geomexact.mesh2d.engine_names`)."""
-    if OLD_NAMES.get(engine, engine) == "reference":
-        raise PreconditionError(
-            "triangulate", "there is no 'reference' engine for Delaunay triangulation: "
-            "engine 'python' records the same trace, and replaying it "
-            "(geomexact.trace.playback.replay) applies the reference ops step by step"
-        )
-    return engine_named("triangulate", engine, ENGINES)
+    """The Delaunay engine ``engine`` names (:mod:`geomexact.mesh2d.engine_names`):
+    ``"python"`` and ``"reference"`` both name :class:`ReferenceDelaunay`."""
+    name = engine_named("triangulate", engine, ENGINES)
+    return "reference" if name == "python" else name
 
 
 @attrs.frozen(slots=True)
@@ -429,14 +402,11 @@ def triangulate_points(
     first stays isolated and is listed in ``Construction.duplicates``).
 
     ``engine``: ``"auto"`` runs the compiled kernel (:mod:`geomexact.mesh2d.delaunay.compiled`)
-    when it is built, else the Python engine :class:`BatchDelaunay`; ``"compiled"`` runs the
-    kernel or raises :class:`PreconditionError` (not built, or a run beyond its counters);
-    ``"python"`` runs :class:`BatchDelaunay`.  All record the same trace and build the same
-    mesh.  There is no ``"reference"`` engine: a reference run would need the walk, the
-    hull attachment and the insertion-order legalization written a second time against a
-    transient; instead the trace, replayed (:func:`geomexact.trace.playback.replay`),
-    applies the reference ops step by step and reproduces every digest.  ``"fast"`` is
-    the old name of ``"auto"``.
+    when it is built, else the reference engine :class:`ReferenceDelaunay` (the ops on a
+    transient); ``"compiled"`` runs the kernel or raises :class:`PreconditionError` (not
+    built); ``"reference"`` (or ``"python"``) runs
+    :class:`ReferenceDelaunay`.  Both record the same trace and build the same mesh.
+    ``"fast"`` is the old name of ``"auto"``.
     """
     # imported here: loading the kernel loads NumPy, which reading a mesh does not need
     from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
@@ -455,20 +425,18 @@ def triangulate_points(
         )
         if compiled is None and name == "compiled":
             raise PreconditionError(
-                "triangulate", "engine 'compiled' cannot run this triangulation: "
-                + ("the compiled Delaunay kernel is not built (no C compiler at install)"
-                   if not compiled_delaunay.AVAILABLE else
-                   "it exceeds the kernel's counters (about 2**31 half-edge insertions)")
-                + " (engine 'auto' runs the Python engine then)"
+                "triangulate", "engine 'compiled' cannot run this triangulation: the "
+                "compiled Delaunay kernel is not built (no C compiler at install; engine "
+                "'auto' runs the reference engine then)"
             )
         if compiled is not None:
             mesh, steps, digests = compiled.mesh, compiled.steps, compiled.digests
         else:
-            builder = BatchDelaunay(start)
+            builder = ReferenceDelaunay(start)
             builder.make_triangle(a, b, c)
             for vertex in plan.rest:
                 builder.insert(vertex)
-            mesh, steps, digests = builder.seal(start), builder.steps, builder.digests
+            mesh, steps, digests = builder.t.seal(), builder.t.steps, builder.t.step_digests
         # the engine is not a parameter of the construction: both record this trace
         trace = Trace(start.digest, steps, digests,
                       {"algorithm": "delaunay", "seed": seed,

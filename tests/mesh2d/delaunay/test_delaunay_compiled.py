@@ -1,6 +1,6 @@
 """The compiled Delaunay kernel (``geomexact.mesh2d.delaunay.delaunay_kernel`` through
 ``geomexact.mesh2d.delaunay.compiled``): what only the kernel has — its grid states and its
-hashes.  Its equality with the Python engine ``BatchDelaunay`` (same steps, same digest
+hashes.  Its equality with the reference engine ``ReferenceDelaunay`` (same steps, same digest
 after every step, same mesh with ``outgoing`` hints) on random, lattice, collinear,
 duplicated, huge, tiny, beyond-double, non-dyadic and real point sets and PSLGs, and the
 replay of every trace through the reference ops, are in

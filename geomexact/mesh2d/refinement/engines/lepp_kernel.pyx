@@ -414,7 +414,7 @@ cdef class Kernel:
         slots = 64
         while slots < 12 * start.triangle_count:  # the start's half-edges, then room to grow
             slots *= 2
-        store_init(&self.store, count, max(16, 2 * count), slots, 64, False)
+        store_init(&self.store, count, max(16, 2 * count), slots, 64)
         self.cap_heap = self.cap_created = 64
         self.heap = <Entry *>malloc(self.cap_heap * sizeof(Entry))
         self.created = <int64_t *>malloc(3 * self.cap_created * sizeof(int64_t))
@@ -1618,7 +1618,7 @@ cdef class Kernel:
         return n
 
     cdef int _flip(self, int64_t u, int64_t v) except -2:
-        """``BatchTriangulation.flip``: 0, or -1 at the step limit (no change then)."""
+        """``ops.flip_in`` on a flippable edge: 0, or -1 at the step limit (no change then)."""
         cdef int64_t w, x
         if self.limit >= 0 and self.store.nrec >= self.limit:
             return -1
@@ -1911,7 +1911,7 @@ cdef class Kernel:
         tables are built from the kernel's arrays on first use (``TableSource``, sharing
         ``start``'s structure)."""
         cdef Py_ssize_t i
-        halfedges = store_halfedge_rows(&self.store, False)
+        halfedges = store_halfedge_rows(&self.store)
         hints = store_hint_array(&self.store)
         markers = start.vertex_markers
         if self.new_markers:
