@@ -42,11 +42,10 @@ if TYPE_CHECKING:
     from geomexact.mesh2d.refinement.driver import Method
 
 _TRIANGULATION_ENGINE: dict[str, DelaunayEngine] = {
-    "auto": "auto", "compiled": "compiled", "python": "python", "reference": "python",
-    "fast": "auto", "transient": "python",
+    "auto": "auto", "compiled": "compiled", "python": "reference", "reference": "reference",
+    "fast": "auto", "transient": "reference",
 }
-"""``--engine`` -> the engine that triangulates a PSLG input first (Delaunay has no
-reference engine: the Python engine's trace replays through the reference ops)."""
+"""``--engine`` -> the engine that triangulates a PSLG input first."""
 
 
 class RefineProgress:

@@ -105,10 +105,13 @@ def add_parser(commands: Subcommands) -> None:
     triangulate_.add_argument("--check", action="store_true",
                               help="validate the result and check Delaunay-ness (exit 1 if not)")
     triangulate_.add_argument("--trace", metavar="FILE", help="write the trace (JSON Lines)")
-    triangulate_.add_argument("--engine", choices=("auto", "compiled", "python", "fast"),
+    triangulate_.add_argument("--engine",
+                              choices=("auto", "compiled", "reference", "python", "fast",
+                                       "transient"),
                               default="auto",
-                              help="auto (default: compiled when built, else python), "
+                              help="auto (default: compiled when built, else reference), "
                                    "compiled (the kernel; an error when not built) or "
-                                   "python (the batch engine); all record the same trace; "
-                                   "fast is the old name of auto")
+                                   "reference (the ops on a transient; python names it "
+                                   "too); all record the same trace; fast and transient "
+                                   "are the old names of auto and reference")
     add_writing_options(triangulate_)
