@@ -170,6 +170,70 @@ def test_edge_only_neighbours_are_balanced_too() -> None:
     assert run.leaf_mesh.forced_splits == 1 and run.conformity.conforming
 
 
+def _balanced_by_rounds(grid: tuple[int, int, int],
+                        leaves: set[tuple[int, int, int, int]]) -> set[tuple[int, ...]]:
+    """The 2:1 balance by its definition, on plain sets (no geomexact code): while a leaf
+    of level L touches, across a face or an edge, a cell of level L-1 lying inside a
+    coarser leaf, split that coarser leaf once."""
+    leaves = set(leaves)
+    offsets = [(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1)
+               if 1 <= abs(x) + abs(y) + abs(z) <= 2]
+
+    def covering(cell: tuple[int, int, int, int]) -> tuple[int, int, int, int] | None:
+        level, i, j, k = cell
+        for up in range(1, level + 1):
+            above = (level - up, i >> up, j >> up, k >> up)
+            if above in leaves:
+                return above
+        return None
+
+    while True:
+        coarse = set()
+        for level, i, j, k in leaves:
+            for x, y, z in offsets:
+                a, b, c = i + x, j + y, k + z
+                if not all(0 <= v < n << level for v, n in zip((a, b, c), grid)):
+                    continue
+                target = (level - 1, a >> 1, b >> 1, c >> 1)
+                if level >= 2 and target not in leaves:
+                    found = covering(target)
+                    if found is not None:
+                        coarse.add(found)
+        if not coarse:
+            return leaves
+        for level, i, j, k in coarse:
+            leaves.discard((level, i, j, k))
+            leaves.update((level + 1, 2 * i + (o & 1), 2 * j + (o >> 1 & 1),
+                           2 * k + (o >> 2 & 1)) for o in range(8))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 63), st.integers(0, 63),
+                          st.integers(0, 63)), min_size=1, max_size=12),
+       st.sampled_from([(1, 1, 1), (2, 1, 1), (1, 2, 3)]))
+def test_balance_equals_rounds_of_forced_splits(picks: list[tuple[int, int, int, int]],
+                                                grid: tuple[int, int, int]) -> None:
+    """The level-by-level balance gives the leaves of the definition (rounds of forced
+    splits until none is needed) on random unbalanced octrees: refine toward random
+    points down to level 5, one chain each."""
+    leaves = {(0, i, j, k) for i in range(grid[0]) for j in range(grid[1])
+              for k in range(grid[2])}
+    for depth, x, y, z in picks:  # split the chain of cells above a level-5 cell
+        cell = (5, x % (grid[0] << 5), y % (grid[1] << 5), z % (grid[2] << 5))
+        chain = [(level, cell[1] >> (5 - level), cell[2] >> (5 - level),
+                  cell[3] >> (5 - level)) for level in range(depth + 2)]
+        for above in chain[:-1]:
+            if above in leaves:
+                leaves.discard(above)
+                level, i, j, k = above
+                leaves.update((level + 1, 2 * i + (o & 1), 2 * j + (o >> 1 & 1),
+                               2 * k + (o >> 2 & 1)) for o in range(8))
+    tree = Octree(box_of_extents(*grid), grid, sorted(leaves))
+    balanced = balance_two_to_one(tree)
+    assert set(balanced.leaves) == _balanced_by_rounds(grid, leaves)
+    assert irregular_leaves(balanced) == [] and tiling_problems(balanced) == []
+
+
 def test_tiling_problems_name_overlaps_and_gaps() -> None:
     assert tiling_problems(Octree(unit_cube(), (1, 1, 1), [(0, 0, 0, 0), (1, 0, 0, 0)]))
     assert tiling_problems(Octree(unit_cube(), (1, 1, 1), [(1, 0, 0, 0)]))

@@ -13,7 +13,7 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
-from geomexact.mesh3d.octree.tree import Cell, Octree, cell_children
+from geomexact.mesh3d.octree.tree import Cell, Octree
 
 __all__ = ["NEIGHBOUR_OFFSETS", "balance_two_to_one", "irregular_leaves", "tiling_problems"]
 
@@ -24,17 +24,13 @@ NEIGHBOUR_OFFSETS: Final[tuple[tuple[int, int, int], ...]] = tuple(
 """The 6 face and 12 edge neighbours of a cell, as offsets on its own level."""
 
 
-def _ancestors(leaves: Iterable[Cell]) -> set[Cell]:
-    """Every leaf and every cell above one."""
-    nodes: set[Cell] = set()
-    for cell in leaves:
-        while cell not in nodes:
-            nodes.add(cell)
-            level, i, j, k = cell
-            if level == 0:
-                break
-            cell = (level - 1, i >> 1, j >> 1, k >> 1)
-    return nodes
+def _by_level(cells: Iterable[Cell]) -> dict[int, Any]:
+    """The cells as one (m x 3) int64 array of (i, j, k) per level."""
+    rows: dict[int, list[tuple[int, int, int]]] = {}
+    for level, i, j, k in cells:
+        rows.setdefault(level, []).append((i, j, k))
+    return {level: np.array(found, dtype=np.int64).reshape(-1, 3)
+            for level, found in rows.items()}
 
 
 def _level_keys(cells: Any, grid: tuple[int, int, int], level: int) -> Any:
@@ -43,68 +39,111 @@ def _level_keys(cells: Any, grid: tuple[int, int, int], level: int) -> Any:
     return (cells[:, 0] * ny + cells[:, 1]) * nz + cells[:, 2]
 
 
+def _node_keys(by_level: dict[int, Any], grid: tuple[int, int, int], level: int) -> Any:
+    """The sorted keys of the nodes of ``level``: the leaves there and every cell of that
+    level above a finer leaf."""
+    parts = [_level_keys(cells >> (finer - level), grid, level)
+             for finer, cells in by_level.items() if finer >= level and len(cells)]
+    return np.unique(np.concatenate(parts)) if parts else np.zeros(0, dtype=np.int64)
+
+
+def _among(known: Any, keys: Any) -> Any:
+    """Which of ``keys`` are in the sorted array ``known``."""
+    if not len(known):
+        return np.zeros(len(keys), dtype=bool)
+    at = np.minimum(np.searchsorted(known, keys), len(known) - 1)
+    return known[at] == keys
+
+
+def _uncovered_targets(by_level: dict[int, Any], grid: tuple[int, int, int],
+                       level: int) -> tuple[Any, Any]:
+    """For the leaves of ``level`` >= 2: (rows, targets) of each level L-1 cell next to
+    one of them across a face or an edge that is not a node (a coarser leaf covers it):
+    ``rows[n]`` is the leaf's row in ``by_level[level]``, ``targets[n]`` the cell."""
+    cells = by_level[level]
+    offsets = np.array(NEIGHBOUR_OFFSETS, dtype=np.int64)
+    neighbours = (cells[:, None, :] + offsets[None, :, :]).reshape(-1, 3)  # 18 per leaf
+    bound = np.array(grid, dtype=np.int64) << level
+    inside = ((neighbours >= 0) & (neighbours < bound)).all(axis=1)
+    targets = neighbours >> 1
+    known = _node_keys(by_level, grid, level - 1)
+    missing = inside & ~_among(known, _level_keys(targets, grid, level - 1))
+    rows = np.flatnonzero(missing)
+    return rows // len(offsets), targets[rows]
+
+
 def _coarse_targets(octree: Octree, leaves: Iterable[Cell]) -> list[tuple[Cell, Cell]]:
     """(leaf, target): each level L-1 cell next to a leaf of level L >= 2 (across a face or
-    an edge) that is covered by a leaf coarser than L-1 (vectorised by level)."""
-    nodes = _ancestors(leaves)
-    by_level: dict[int, list[Cell]] = {}
-    for cell in nodes:
-        by_level.setdefault(cell[0], []).append(cell)
-    offsets = np.array(NEIGHBOUR_OFFSETS, dtype=np.int64)
+    an edge) that is covered by a leaf coarser than L-1."""
+    by_level = _by_level(leaves)
     found: list[tuple[Cell, Cell]] = []
-    leaf_set = set(leaves)
     for level in sorted(by_level):
         if level < 2:
             continue
-        cells = np.array(sorted(c for c in by_level[level] if c in leaf_set),
-                         dtype=np.int64).reshape(-1, 4)[:, 1:]
-        if not len(cells):
-            continue
-        neighbours = cells[:, None, :] + offsets[None, :, :]  # n x 18 x 3
-        bound = np.array(octree.grid, dtype=np.int64) << level
-        inside = ((neighbours >= 0) & (neighbours < bound)).all(axis=2)
-        targets = neighbours >> 1
-        upper = np.array(sorted(by_level.get(level - 1, [])), dtype=np.int64).reshape(-1, 4)
-        known = np.sort(_level_keys(upper[:, 1:], octree.grid, level - 1))
-        keys = _level_keys(targets.reshape(-1, 3), octree.grid, level - 1)
-        at = np.minimum(np.searchsorted(known, keys), max(len(known) - 1, 0))
-        present = (known[at] == keys) if len(known) else np.zeros(len(keys), dtype=bool)
-        missing = inside.ravel() & ~present
-        for row in np.flatnonzero(missing).tolist():
-            i, j, k = cells[row // 18].tolist()
-            ti, tj, tk = targets.reshape(-1, 3)[row].tolist()
+        rows, targets = _uncovered_targets(by_level, octree.grid, level)
+        cells = by_level[level]
+        for row, (ti, tj, tk) in zip(rows.tolist(), targets.tolist(), strict=True):
+            i, j, k = cells[row].tolist()
             found.append(((level, i, j, k), (level - 1, ti, tj, tk)))
     return found
 
 
 def balance_two_to_one(octree: Octree) -> Octree:
     """The coarsest refinement of ``octree`` in which leaves sharing part of a face or an
-    edge differ by at most one level: rounds of forced splits (each split is forced, so
-    the result does not depend on the order) until none is needed."""
+    edge differ by at most one level.  Every split is forced, so the result does not
+    depend on their order; they are made level by level from the finest (a leaf of
+    level L only forces cells of level L-1 to be nodes, and the leaves a split makes are
+    of level L-1 or coarser, checked when their level's turn comes)."""
     if octree.balanced:
         return octree
-    leaves = set(octree.leaves)
-    while True:
-        pending = _coarse_targets(octree, leaves)
-        if not pending:
-            return attrs.evolve(octree, leaves=leaves, balanced=True)
-        nodes = _ancestors(leaves)
-        for _, target in sorted(pending):
-            _split_down_to(target, leaves, nodes)
+    grid = octree.grid
+    by_level = _by_level(octree.leaves)
+    for level in range(max(by_level, default=0), 1, -1):
+        if level not in by_level or not len(by_level[level]):
+            continue
+        _, targets = _uncovered_targets(by_level, grid, level)
+        if len(targets):
+            _split_down_to(by_level, grid, np.unique(targets, axis=0), level - 1)
+    leaves = [(level, i, j, k) for level, cells in by_level.items()
+              for i, j, k in cells.tolist()]
+    return attrs.evolve(octree, leaves=leaves, balanced=True)
 
 
-def _split_down_to(target: Cell, leaves: set[Cell], nodes: set[Cell]) -> None:
-    """Split the leaf covering ``target`` and its descendants until ``target`` is a node."""
-    chain = [target]
-    while chain[-1] not in nodes:
-        level, i, j, k = chain[-1]
-        chain.append((level - 1, i >> 1, j >> 1, k >> 1))
-    for cell in reversed(chain[:-1]):
-        parent = (cell[0] - 1, cell[1] >> 1, cell[2] >> 1, cell[3] >> 1)
-        leaves.discard(parent)
-        for child in cell_children(parent):
-            leaves.add(child)
-            nodes.add(child)
+def _split_down_to(by_level: dict[int, Any], grid: tuple[int, int, int], targets: Any,
+                   level: int) -> None:
+    """Split the leaves covering the cells ``targets`` of ``level`` (none of them a node)
+    and their descendants until every target is a node (a leaf)."""
+    covering = np.full(len(targets), -1, dtype=np.int64)
+    for coarse in range(level - 1, -1, -1):
+        if coarse not in by_level or not len(by_level[coarse]):
+            continue
+        open_rows = covering < 0
+        keys = _level_keys(targets >> (level - coarse), grid, coarse)
+        leaf_keys = np.sort(_level_keys(by_level[coarse], grid, coarse))
+        covering[open_rows & _among(leaf_keys, keys)] = coarse
+    # the cells to split on each level: a covering leaf and the chain down to the target
+    split: dict[int, Any] = {}
+    for coarse in np.unique(covering).tolist():
+        chosen = targets[covering == coarse]
+        for depth in range(coarse, level):
+            cells = chosen >> (level - depth)
+            split[depth] = cells if depth not in split else np.concatenate((split[depth],
+                                                                              cells))
+    octants = np.array([(c & 1, c >> 1 & 1, c >> 2 & 1) for c in range(8)], dtype=np.int64)
+    for depth in sorted(split):
+        cells = np.unique(split[depth], axis=0)
+        split_keys = _level_keys(cells, grid, depth)
+        leaves = by_level.get(depth)
+        if leaves is not None and len(leaves):  # the covering leaves stop being leaves
+            keep = ~_among(np.sort(split_keys), _level_keys(leaves, grid, depth))
+            by_level[depth] = leaves[keep]
+        children = (2 * cells[:, None, :] + octants[None, :, :]).reshape(-1, 3)
+        if depth + 1 in split:  # a child split further is a node, not a leaf
+            further = np.unique(_level_keys(split[depth + 1], grid, depth + 1))
+            children = children[~_among(further, _level_keys(children, grid, depth + 1))]
+        below = by_level.get(depth + 1)
+        by_level[depth + 1] = children if below is None else np.concatenate((below,
+                                                                             children))
 
 
 def irregular_leaves(octree: Octree) -> list[tuple[Cell, Cell]]:
