@@ -271,11 +271,9 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
     faces = _rotate_to_smallest(np.concatenate(
         [np.stack(f, axis=1) for f in ((a, b, c), (a, c, d), (a, d, b), (b, d, c))]))
     apexes = np.concatenate((d, b, c, a))
-    if len(faces) > 1:
-        ordered = faces[np.lexsort(faces.T[::-1])]
-        if bool(np.any((ordered[1:] == ordered[:-1]).all(axis=1))):
-            raise PreconditionError("mesh3_from_positive_arrays",
-                                    "two tetrahedra are on the same side of a face")
+    if len(faces) > 1 and _repeats_a_row(faces, count):
+        raise PreconditionError("mesh3_from_positive_arrays",
+                                "two tetrahedra are on the same side of a face")
     total = 0
     for vertex, point in enumerate(points):
         total = _digest.combine(total, _digest.vertex_hash(vertex, point[:3]))
@@ -316,9 +314,26 @@ def _rotate_to_smallest(faces: Any) -> Any:
     """Each row (a, b, c) rotated to start at its smallest id (``canonical_face``)."""
     import numpy as np
 
-    shift = np.argmin(faces, axis=1)
-    columns = (np.arange(3)[None, :] + shift[:, None]) % 3
-    return np.take_along_axis(faces, columns, axis=1)
+    x, y, z = faces[:, 0], faces[:, 1], faces[:, 2]
+    # the rotation is chosen column by column (cheaper than gathering whole rows)
+    first, second = (x <= y) & (x <= z), (y < x) & (y <= z)
+    rotated = np.empty_like(faces)
+    rotated[:, 0] = np.where(first, x, np.where(second, y, z))
+    rotated[:, 1] = np.where(first, y, np.where(second, z, x))
+    rotated[:, 2] = np.where(first, z, np.where(second, x, y))
+    return rotated
+
+
+def _repeats_a_row(rows: Any, count: int) -> bool:
+    """Whether two rows of the (n x 3) id array ``rows`` (ids below ``count``) are equal:
+    one int64 key per row sorted where the ids fit in 21 bits, else a sort of the rows."""
+    import numpy as np
+
+    if count <= 1 << 21:
+        keys = np.sort((rows[:, 0] << 42) | (rows[:, 1] << 21) | rows[:, 2])
+        return bool(np.any(keys[1:] == keys[:-1]))
+    ordered = rows[np.lexsort(rows.T[::-1])]
+    return bool(np.any((ordered[1:] == ordered[:-1]).all(axis=1)))
 
 
 def _canonical_rows(tetrahedra: Any) -> Any:

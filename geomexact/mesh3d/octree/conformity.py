@@ -51,12 +51,13 @@ def _det6(points: Any, tetrahedra: Any) -> Any:
 
 
 def _sorted_with_parity(faces: Any) -> tuple[Any, Any]:
-    """Each face's ids sorted, and whether the sorting permutation is odd."""
-    order = np.argsort(faces, axis=1, kind="stable")
-    ordered = np.take_along_axis(faces, order, axis=1)
-    # a permutation of three is odd when it is a transposition: (0 2 1), (1 0 2), (2 1 0)
-    odd = ((order[:, 0] == 0) & (order[:, 1] == 2)) | ((order[:, 0] == 1) & (order[:, 1] == 0)) \
-        | ((order[:, 0] == 2) & (order[:, 1] == 1))
+    """Each face's ids sorted, and whether the sorting permutation is odd (an odd number
+    of inversions among the three)."""
+    x, y, z = faces[:, 0], faces[:, 1], faces[:, 2]
+    low = np.minimum(np.minimum(x, y), z)
+    high = np.maximum(np.maximum(x, y), z)
+    ordered = np.stack((low, x + y + z - low - high, high), axis=1)
+    odd = ((x > y).astype(np.int8) + (x > z) + (y > z)) % 2 == 1
     return ordered, odd
 
 
@@ -76,7 +77,9 @@ def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
     if bad.size:
         problems.append(f"{bad.size} tetrahedra are not positive, e.g. "
                         f"{tetrahedra[bad[:limit]].tolist()}")
-    volume6 = int(det.astype(object).sum())
+    # |det| < 2**63 / T: the int64 sum is exact (else Python ints)
+    exact = not len(det) or int(np.abs(det).max()) < (1 << 62) // len(det)
+    volume6 = int(det.sum()) if exact else int(det.astype(object).sum())
     nx, ny, nz = size
     if volume6 != 6 * nx * ny * nz:
         problems.append(f"the volumes add up to {mpq(volume6, 6)} lattice cells, not "
