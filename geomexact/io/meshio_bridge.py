@@ -560,10 +560,8 @@ def _doubles3(path: Path, points: list[Point3]) -> tuple[list[tuple[float, float
                 f"vertex {index} has a coordinate beyond the range of a double, which these "
                 "formats store; write an exact text format (.ele) instead",
             ) from None
-        rounded += sum(
-            gmpy2.mpq(double) != exact
-            for double, exact in ((x, point.x), (y, point.y), (z, point.z))
-        )
+        # (gmpy2 compares an mpq with a float exactly)
+        rounded += (x != point.x) + (y != point.y) + (z != point.z)
         rows.append((x, y, z))
     return rows, rounded
 

@@ -36,15 +36,20 @@ def dihedral_angles(points: Any, tetrahedra: Any) -> Any:
     """The six dihedral angles (degrees) of each tetrahedron (T x 6), from float
     coordinates ``points`` (V x 3)."""
     p = _corners(points, tetrahedra)
-    angles = []
-    for i, j, k, m in _EDGES:
-        edge = p[:, j] - p[:, i]
-        first = np.cross(edge, p[:, k] - p[:, i])
-        second = np.cross(edge, p[:, m] - p[:, i])
+    x, y, z = p[:, :, 0], p[:, :, 1], p[:, :, 2]
+    angles = np.empty((len(p), len(_EDGES)))
+    for n, (i, j, k, m) in enumerate(_EDGES):
+        # the normals of the faces (i, j, k) and (i, j, m): np.cross's arithmetic written
+        # out on the coordinate columns (the same doubles, without its reshaping)
+        ex, ey, ez = x[:, j] - x[:, i], y[:, j] - y[:, i], z[:, j] - z[:, i]
+        kx, ky, kz = x[:, k] - x[:, i], y[:, k] - y[:, i], z[:, k] - z[:, i]
+        mx, my, mz = x[:, m] - x[:, i], y[:, m] - y[:, i], z[:, m] - z[:, i]
+        first = np.stack((ey * kz - ez * ky, ez * kx - ex * kz, ex * ky - ey * kx), axis=1)
+        second = np.stack((ey * mz - ez * my, ez * mx - ex * mz, ex * my - ey * mx), axis=1)
         cosine = np.einsum("ij,ij->i", first, second) / (
             np.linalg.norm(first, axis=1) * np.linalg.norm(second, axis=1))
-        angles.append(np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0))))
-    return np.stack(angles, axis=1)
+        angles[:, n] = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+    return angles
 
 
 def radius_edge_ratios(points: Any, tetrahedra: Any) -> Any:
