@@ -246,6 +246,18 @@ cdef inline int store_split_side(TriangleStore *s, int64_t p, int64_t q, int64_t
     return 0
 
 
+cdef inline int store_split_edge(TriangleStore *s, int64_t u, int64_t v, int64_t w,
+                                  int64_t x, int64_t n) except -1:
+    """``ops.join_in_edge``: the new vertex n on the edge (u, v) joined to its apexes w
+    (left) and x (right), each -1 when that side has no triangle: (u, n, w), (n, v, w)
+    and (v, n, x), (n, u, x)."""
+    if w >= 0:
+        store_split_side(s, u, v, w, n)
+    if x >= 0:
+        store_split_side(s, v, u, x, n)
+    return 0
+
+
 cdef inline StepRecord *store_record(TriangleStore *s, int8_t op, int64_t a, int64_t b,
                                      int64_t c, int64_t d) except NULL:
     """Append a step record with the digest as it is now."""

@@ -299,8 +299,7 @@ cdef class Builder:
 
     cdef int _insert(self, int64_t vertex) except -1:
         cdef int64_t found[3]
-        cdef int64_t a, b, c, u, v, w, x, p, q, r
-        cdef int side
+        cdef int64_t a, b, c, u, v, w, x
         cdef int where = self._locate(vertex, found)
         a, b, c = found[0], found[1], found[2]
         self.store.pending.count = 0
@@ -317,19 +316,13 @@ cdef class Builder:
             u, v = a, b
             w = self._get(u, v)
             x = self._get(v, u)
-            for side in range(2):
-                # (p, q, r) -> (p, vertex, r), (vertex, q, r): ops.join_in_edge
-                if side == 0:
-                    p, q, r = u, v, w
-                else:
-                    p, q, r = v, u, x
-                if r < 0:
-                    continue
-                store_remove(&self.store, p, q, r)
-                store_add(&self.store, p, vertex, r)
-                store_add(&self.store, vertex, q, r)
-                push_pair(&self.store.pending, q, r)
-                push_pair(&self.store.pending, r, p)
+            store_split_edge(&self.store, u, v, w, x, vertex)
+            if w >= 0:
+                push_pair(&self.store.pending, v, w)
+                push_pair(&self.store.pending, w, u)
+            if x >= 0:
+                push_pair(&self.store.pending, u, x)
+                push_pair(&self.store.pending, x, v)
             self._record(OP_ATTACH_IN_EDGE, vertex, u, v, -1)
         else:
             self._attach_outside(vertex, a, b)

@@ -1588,18 +1588,18 @@ cdef class Kernel:
         if marker:
             self.new_markers[n] = marker
             self.store.digest += _to_u128(_digest.attribute_hash("vm", (n,), (marker,)))
+        store_split_edge(&self.store, u, v, w, x, n)
+        # each side's attributes and sums: (p, q, r) -> (p, n, r), (n, q, r)
         for side in range(2):
             if side == 0:
                 p, q, r = u, v, w
             else:
                 p, q, r = v, u, x
-            if r < 0:
-                continue
-            self._removed(p, q, r)
-            store_split_side(&self.store, p, q, r, n)  # (p, n, r), (n, q, r)
-            self._created_any(p, n, r)
-            self._created_any(n, q, r)
-            self.triangles += 1
+            if r >= 0:
+                self._removed(p, q, r)
+                self._created_any(p, n, r)
+                self._created_any(n, q, r)
+                self.triangles += 1
         if marker is not None:
             segments = self.segments
             del segments[(u, v) if u < v else (v, u)]
