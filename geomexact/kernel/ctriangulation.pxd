@@ -30,6 +30,7 @@ from geomexact.kernel.ckernel cimport (
     GridPoint,
     Pair,
     PairStack,
+    _from_u128,
     grow_array,
     gx_cell_hash,
     gx_edge,
@@ -350,6 +351,25 @@ cdef inline object store_halfedge_rows(const TriangleStore *s):
         row += 1
     rows.setflags(write=False)
     return rows
+
+
+cdef inline object store_digests(const TriangleStore *s):
+    """The digest after each recorded step, as Python ints."""
+    cdef Py_ssize_t i
+    return [_from_u128(s.records[i].digest) for i in range(s.nrec)]
+
+
+cdef inline object store_digest_at(const TriangleStore *s, Py_ssize_t i):
+    """The digest after step ``i`` (0 <= i < nrec), as a Python int."""
+    if not 0 <= i < s.nrec:
+        raise IndexError(i)
+    return _from_u128(s.records[i].digest)
+
+
+cdef inline void store_release_table(TriangleStore *s) noexcept:
+    """Free the half-edge table once the result is sealed: the vertices and the step
+    records stay (a deferred trace reads them)."""
+    gx_map_free(&s.apex)  # (the kernels refuse every edit and read of the table after)
 
 
 cdef inline object store_hint_array(const TriangleStore *s):

@@ -4,22 +4,24 @@ replay: :mod:`geomexact.trace.playback`.  Specification: ``specs/trace.md``."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 import attrs
 
 from geomexact._version import __version__
+from geomexact.trace.deferred import DeferredSequence
 from geomexact.trace.protocols import Snapshot, Transient
 from geomexact.trace.step import Step
 
 
-def _steps(values: Iterable[Step]) -> tuple[Step, ...]:
-    return tuple(values)
+def _steps(values: Iterable[Step]) -> Sequence[Step]:
+    # a kernel's deferred steps stay deferred: made only when read
+    return values if isinstance(values, DeferredSequence) else tuple(values)
 
 
-def _digests(values: Iterable[int]) -> tuple[int, ...]:
-    return tuple(values)
+def _digests(values: Iterable[int]) -> Sequence[int]:
+    return values if isinstance(values, DeferredSequence) else tuple(values)
 
 
 def _freeze(
@@ -39,8 +41,10 @@ class Trace:
     not known, e.g. a run on a value made in memory)."""
 
     input_digest: int
-    steps: tuple[Step, ...] = attrs.field(converter=_steps)
-    digests: tuple[int, ...] = attrs.field(converter=_digests)
+    steps: Sequence[Step] = attrs.field(converter=_steps)
+    """A tuple, or a kernel's :class:`~geomexact.trace.deferred.DeferredSequence` (made
+    on first read, equal to the tuple)."""
+    digests: Sequence[int] = attrs.field(converter=_digests)
     parameters: tuple[tuple[str, Any], ...] = attrs.field(default=(), converter=_freeze)
     version: str = ""
     input_name: str = ""

@@ -22,6 +22,7 @@ import attrs
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.snapshot import Mesh2, TableSource
+from geomexact.trace.deferred import DeferredSequence
 from geomexact.trace.step import Step
 
 __all__ = ["AVAILABLE", "CompiledConstrained", "CompiledConstruction", "run_compiled",
@@ -40,8 +41,15 @@ class CompiledConstruction:
     digest after each step."""
 
     mesh: Mesh2
-    steps: list[Step]
-    digests: list[int]
+    steps: Sequence[Step]
+    digests: Sequence[int]
+
+
+def _deferred_trace(builder: Any) -> tuple[DeferredSequence[Step], DeferredSequence[int]]:
+    """The builder's steps and digests, made from its records when first read."""
+    count = builder.step_count
+    return (DeferredSequence(count, builder.steps),
+            DeferredSequence(count, builder.digests, builder.digest_at))
 
 
 def run_compiled(
@@ -63,7 +71,7 @@ def run_compiled(
     halfedges, hints, triangle_count, digest = builder.finish()
     mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest,
                        start.segments)
-    return CompiledConstruction(mesh, builder.steps(), builder.digests())
+    return CompiledConstruction(mesh, *_deferred_trace(builder))
 
 
 def _built_mesh(start: Mesh2, points: Sequence[Point2], halfedges: Any, hints: Any,
@@ -89,8 +97,8 @@ class CompiledConstrained:
     triangle."""
 
     mesh: Mesh2
-    steps: list[Step]
-    digests: list[int]
+    steps: Sequence[Step]
+    digests: Sequence[int]
     ignored_holes: tuple[int, ...]
 
 
@@ -132,4 +140,4 @@ def run_compiled_constrained(
             ignored.append(index)
     halfedges, hints, segment_map, triangle_count, digest = builder.finish_constrained()
     mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest, segment_map)
-    return CompiledConstrained(mesh, builder.steps(), builder.digests(), tuple(ignored))
+    return CompiledConstrained(mesh, *_deferred_trace(builder), tuple(ignored))

@@ -135,6 +135,7 @@ cdef class Builder:
     # Transient2's outgoing hints; the constrained edges (min, max) -> marker, the work
     # stacks, the probe (a seed point)
     cdef bint constrained
+    cdef bint sealed  # finish* sealed the result and freed the half-edge table
     cdef gx_map segments
     cdef PairStack work, crossed, queue
     cdef Py_ssize_t queue_head
@@ -219,6 +220,11 @@ cdef class Builder:
             return False
         out[0] = scaled
         return True
+
+    cdef int _open(self) except -1:
+        if self.sealed:
+            raise RuntimeError("the builder has sealed its result: its tables are freed")
+        return 0
 
     # -- predicates (exact): the store's, on these vertices -------------------------------
     cdef int _orient(self, int64_t a, int64_t b, int64_t c) except -2:
@@ -390,6 +396,7 @@ cdef class Builder:
     def begin_constrained(self):
         """Enter the constrained phase after ``run``: the hints of the sealed point
         triangulation (broken ones repaired) are the hints that Transient2 edits."""
+        self._open()
         if self.constrained:
             raise RuntimeError("the constrained phase has begun already")
         self.constrained = True
@@ -568,6 +575,7 @@ cdef class Builder:
         """Recover each ``(u, v, marker)`` of ``segments`` in order (ids in range, markers
         int64): RECOVERED, or DECLINED at the first segment the Python engine must do (a
         crossing point to insert, a SegmentError to raise); the builder is then spent."""
+        self._open()
         cdef int64_t u, v, marker
         cdef Py_ssize_t count = 0
         if not self.constrained:
@@ -585,6 +593,7 @@ cdef class Builder:
     def lawson(self):
         """``triangulation.make_delaunay_in`` (no triangle attributes yet): returns the
         number of flips."""
+        self._open()
         cdef Py_ssize_t i, n = 0, flips = 0
         cdef uint64_t slot = 0, swap
         cdef uint64_t four[4]
@@ -688,6 +697,7 @@ cdef class Builder:
     def carve_exterior(self):
         """``ops.carve_exterior_in`` when ``exterior_triangles`` is not empty (else
         nothing, no step): returns the number of triangles removed."""
+        self._open()
         cdef Py_ssize_t removed
         cdef uint64_t slot = 0
         cdef int64_t u, v, w
@@ -741,6 +751,7 @@ cdef class Builder:
         smallest canonical one whose closure does, ``ops.containing_triangle``), recording
         ``carve`` with ``args``; returns the number removed, or -1 when no triangle
         contains the point (the seed is ignored, no step)."""
+        self._open()
         cdef Py_ssize_t removed
         cdef uint64_t slot = 0
         cdef int64_t a, b, c, ba = -1, bb = -1, bc = -1
@@ -789,11 +800,8 @@ cdef class Builder:
         vertex."""
         cdef uint64_t slot = 0, key
         cdef int64_t marker
-        store_repair_hints(&self.store)
-        halfedges = store_halfedge_rows(&self.store)
-        hints = store_hint_array(&self.store)
+        halfedges, hints = self._sealed_arrays()
         segments = {}
-        slot = 0
         while gx_map_next(&self.segments, &slot, &key, &marker):
             segments[(<int64_t>(key >> 32), <int64_t><uint32_t>key)] = marker
         return (halfedges, hints, immutables.Map(segments), halfedges.shape[0] // 3,
@@ -801,6 +809,7 @@ cdef class Builder:
 
     def run(self, int64_t a, int64_t b, int64_t c, rest):
         """``make_triangle(a, b, c)``, then ``insert`` each vertex of ``rest`` in order."""
+        self._open()
         cdef int64_t vertex
         for vertex in (a, b, c):
             if not 0 <= vertex < self.store.nv:
@@ -818,10 +827,19 @@ cdef class Builder:
         """(halfedges, hints, triangle count, digest) of the result, as
         ``Transient2.seal`` makes them: the half-edges as a (H x 3) int64 array of rows
         (u, v, apex), the outgoing hint of each vertex (-1 for none) as an int64 array."""
+        halfedges, hints = self._sealed_arrays()
+        return halfedges, hints, halfedges.shape[0] // 3, _from_u128(self.store.digest)
+
+    cdef tuple _sealed_arrays(self):
+        """The half-edge rows and the hints as ``Transient2.seal`` leaves them; then the
+        half-edge table is freed (only the step records are read after)."""
+        self._open()
         store_repair_hints(&self.store)
         halfedges = store_halfedge_rows(&self.store)
-        return (halfedges, store_hint_array(&self.store), halfedges.shape[0] // 3,
-                _from_u128(self.store.digest))
+        hints = store_hint_array(&self.store)
+        self.sealed = True
+        store_release_table(&self.store)
+        return halfedges, hints
 
     def steps(self):
         """The recorded steps, as ``Step`` objects."""
@@ -848,8 +866,16 @@ cdef class Builder:
 
     def digests(self):
         """The digest after each recorded step."""
-        cdef Py_ssize_t i
-        return [_from_u128(self.store.records[i].digest) for i in range(self.store.nrec)]
+        return store_digests(&self.store)
+
+    def digest_at(self, Py_ssize_t i):
+        """The digest after step ``i``."""
+        return store_digest_at(&self.store, i)
+
+    @property
+    def step_count(self):
+        """How many steps were recorded."""
+        return self.store.nrec
 
     @property
     def grid(self):

@@ -63,7 +63,7 @@ def partition_codes(pattern: int, template: int, shape: Box | None = None,
     if compiled.unsupported(box) is None:
         run = compiled.run_compiled(pattern, box, template=template, improve=improve)
         tetrahedra: Sequence[Sequence[int]] = run.tetrahedra
-        steps = run.steps
+        steps: Sequence[Step] = run.steps
     else:
         reference = partition_cuboid(pattern, box, template=template, improve=improve)
         tetrahedra = reference.mesh.tetrahedra()

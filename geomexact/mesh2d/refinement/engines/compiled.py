@@ -57,6 +57,7 @@ from geomexact.mesh2d.refinement.criteria import (
 from geomexact.mesh2d.refinement.driver import LeftReason, Progress, RunOptions
 from geomexact.mesh2d.refinement.regions import Whole
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
+from geomexact.trace.deferred import DeferredSequence
 from geomexact.trace.step import Step
 
 _lepp_kernel: Any = compiled_kernel("geomexact.mesh2d.refinement.engines.lepp_kernel")
@@ -75,8 +76,8 @@ class CompiledRun:
     as ``Refinement.left_triangles`` and ``left_reasons``)."""
 
     mesh: Mesh2
-    steps: list[Step]
-    digests: list[int]
+    steps: Sequence[Step]
+    digests: Sequence[int]
     status: Literal["complete", "step-limit"]
     left: tuple[Triangle, ...]
     targets: int
@@ -201,11 +202,13 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
         factor_stop=run.rules.factor_stop, rate_attributes=_needs_attributes(criterion),
         region_doubled=_region_doubled(sized)))
     status = kernel.run()
-    result, steps, digests = kernel.finish(mesh)
+    result, made = kernel.finish(mesh)
+    count = kernel.step_count
     return CompiledRun(
         mesh=result,
-        steps=steps,
-        digests=digests,
+        # made from the kernel's records when first read (on_step made them already)
+        steps=made if made is not None else DeferredSequence(count, kernel.steps),
+        digests=DeferredSequence(count, kernel.digests, kernel.digest_at),
         status=status,
         left=kernel.left_triangles(),
         targets=kernel.targets,

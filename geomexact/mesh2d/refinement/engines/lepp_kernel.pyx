@@ -365,6 +365,7 @@ cdef class Kernel:
     # vertex attributes: the table (new vertices get them interpolated), when any
     cdef bint vattributed
     cdef object vtable
+    cdef bint sealed  # finish sealed the result and freed the half-edge tables
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
@@ -1325,8 +1326,12 @@ cdef class Kernel:
 
     def left_triangles(self):
         """``Refinement.left_triangles``: the left triangles still in the mesh, sorted."""
-        return tuple(sorted(t for t in self.left
-                            if store_apex(&self.store, t[0], t[1]) == t[2]))
+        return tuple(sorted(self.left if self.sealed else self._still_left()))
+
+    cdef dict _still_left(self):
+        """The left triangles still in the mesh, with why they were left."""
+        return {t: why for t, why in self.left.items()
+                if store_apex(&self.store, t[0], t[1]) == t[2]}
 
     def left_reasons(self):
         """``Refinement.left_reasons``: why each of :meth:`left_triangles` was left."""
@@ -1810,6 +1815,7 @@ cdef class Kernel:
     def run(self):
         """``Refinement.run`` (on ``ReferenceRefinement``) for Lepp-bisection: ``"complete"`` or
         ``"step-limit"``."""
+        self._open()
         cdef Entry target
         cdef int64_t a, b, c, u, v, w, x, n, hops
         cdef int order, done
@@ -1907,10 +1913,13 @@ cdef class Kernel:
         return "complete"
 
     def finish(self, start):
-        """(mesh, steps, digests) as ``ReferenceRefinement.finish``.  The mesh's persistent
-        tables are built from the kernel's arrays on first use (``TableSource``, sharing
-        ``start``'s structure)."""
-        cdef Py_ssize_t i
+        """(mesh, the Step objects made for ``on_step`` or None) as
+        ``ReferenceRefinement.finish`` seals the mesh; the steps and digests are read off
+        the records after (:meth:`steps`, :meth:`digests`).  The mesh's persistent tables
+        are built from the kernel's arrays on first use (``TableSource``, sharing
+        ``start``'s structure).  The half-edge tables are freed then: the kernel runs no
+        more."""
+        self._open()
         halfedges = store_halfedge_rows(&self.store)
         hints = store_hint_array(&self.store)
         markers = start.vertex_markers
@@ -1933,13 +1942,36 @@ cdef class Kernel:
             digest=_from_u128(self.store.digest),
             source=TableSource(self.points, halfedges, hints, start),
         )
-        steps = self.step_objects
-        if steps is None:
-            steps = []
-            for i in range(self.store.nrec):
-                steps.append(self._step(&self.store.records[i]))
-        digests = [_from_u128(self.store.records[i].digest) for i in range(self.store.nrec)]
-        return mesh, steps, digests
+        self.left = self._still_left()  # (read after the table is freed)
+        self.sealed = True
+        store_release_table(&self.store)
+        gx_map_free(&self.start_apex)
+        return mesh, self.step_objects
+
+    cdef int _open(self) except -1:
+        if self.sealed:
+            raise RuntimeError("the kernel has sealed its result: its tables are freed")
+        return 0
+
+    def steps(self):
+        """The recorded steps, as ``Step`` objects."""
+        cdef Py_ssize_t i
+        if self.step_objects is not None:
+            return list(self.step_objects)
+        return [self._step(&self.store.records[i]) for i in range(self.store.nrec)]
+
+    def digests(self):
+        """The digest after each recorded step."""
+        return store_digests(&self.store)
+
+    def digest_at(self, Py_ssize_t i):
+        """The digest after step ``i``."""
+        return store_digest_at(&self.store, i)
+
+    @property
+    def step_count(self):
+        """How many steps were recorded."""
+        return self.store.nrec
 
     cdef object _triangle_attribute_map(self):
         """The triangles' attributes as a persistent map (canonical triangle ->
@@ -2041,6 +2073,7 @@ cdef class Kernel:
         another op, fails a precondition or gives another digest.  Returns the number of
         steps applied with matching digests (the caller replays the step where it stopped
         with the reference, for its message)."""
+        self._open()
         cdef Py_ssize_t i
         cdef int64_t u, v, w, x
         cdef gx_u128 expected
