@@ -25,8 +25,8 @@ from geomexact.mesh2d.snapshot import Mesh2, TableSource
 from geomexact.trace.deferred import DeferredSequence
 from geomexact.trace.step import Step
 
-__all__ = ["AVAILABLE", "CompiledConstrained", "CompiledConstruction", "run_compiled",
-           "run_compiled_constrained"]
+__all__ = ["AVAILABLE", "CompiledConstrained", "CompiledConstruction", "open_builder",
+           "run_compiled", "run_compiled_constrained"]
 
 
 _delaunay_kernel: Any = compiled_kernel("geomexact.mesh2d.delaunay.delaunay_kernel")
@@ -52,24 +52,28 @@ def _deferred_trace(builder: Any) -> tuple[DeferredSequence[Step], DeferredSeque
             DeferredSequence(count, builder.digests, builder.digest_at))
 
 
+def open_builder(points: Sequence[Point2]) -> Any:
+    """The kernel's builder on ``points`` (the ``Point2`` of every vertex id), or None
+    when the kernel is not built.  Its ``vertex_hashes`` give the start mesh's digest
+    (:func:`~geomexact.mesh2d.delaunay.triangulation.vertices_mesh`) before it runs."""
+    return None if _delaunay_kernel is None else _delaunay_kernel.Builder(points)
+
+
 def run_compiled(
-    points: Sequence[Point2],
+    builder: Any,
     start: Mesh2,
     first: tuple[int, int, int],
     rest: Sequence[int],
-) -> CompiledConstruction | None:
-    """The incremental Delaunay construction in the kernel, or None when it is not built.
-
-    ``points``: the ``Point2`` of every vertex id; ``start``: the mesh of isolated vertices
-    (its digest starts the run, the result is ``start`` with the triangles);
+) -> CompiledConstruction:
+    """The incremental Delaunay construction in the kernel's ``builder``
+    (:func:`open_builder` on the points of ``start``): ``start`` is the mesh of isolated
+    vertices (its digest starts the run, the result is ``start`` with the triangles);
     ``first``: the vertices of ``make_triangle``; ``rest``: the vertices inserted after,
     in order."""
-    if _delaunay_kernel is None:
-        return None
-    builder = _delaunay_kernel.Builder(points, start.digest)
+    builder.begin(start.digest)
     builder.run(first[0], first[1], first[2], rest)
     halfedges, hints, triangle_count, digest = builder.finish()
-    mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest,
+    mesh = _built_mesh(start, builder.points, halfedges, hints, triangle_count, digest,
                        start.segments)
     return CompiledConstruction(mesh, *_deferred_trace(builder))
 
@@ -106,7 +110,7 @@ INT64 = range(-(1 << 63), 1 << 63)
 
 
 def run_compiled_constrained(
-    points: Sequence[Point2],
+    builder: Any,
     start: Mesh2,
     first: tuple[int, int, int],
     rest: Sequence[int],
@@ -120,15 +124,16 @@ def run_compiled_constrained(
     triangulation, then each of ``segments`` (``(u, v, marker)``, duplicates remapped)
     recovered in order, the Lawson pass, the exterior carved (when ``carve_exterior`` and
     it is not empty) and each hole carved — what ``triangulate`` runs on a transient,
-    step for step.  None when the kernel is not built or declines: a marker beyond int64,
-    a crossing point to insert (``split_segments``), a :class:`SegmentError` to raise;
-    then the caller runs the reference ops (and raises there)."""
-    if _delaunay_kernel is None or any(marker not in INT64 for _, _, marker in segments):
+    step for step, in the kernel's ``builder`` (:func:`open_builder`).  None when the
+    kernel declines: a marker beyond int64, a crossing point to insert
+    (``split_segments``), a :class:`SegmentError` to raise; then the caller runs the
+    reference ops (and raises there)."""
+    if any(marker not in INT64 for _, _, marker in segments):
         return None
-    builder = _delaunay_kernel.Builder(points, start.digest)
+    builder.begin(start.digest)
     builder.run(first[0], first[1], first[2], rest)
     builder.begin_constrained()
-    if builder.recover(segments, split_segments) != _delaunay_kernel.RECOVERED:
+    if builder.recover(segments, split_segments) != _delaunay_kernel.RECOVERED:  # type: ignore[union-attr]
         return None
     builder.lawson()
     if carve_exterior:
@@ -139,5 +144,6 @@ def run_compiled_constrained(
         if builder.carve(seed, (seed.x, seed.y)) < 0:
             ignored.append(index)
     halfedges, hints, segment_map, triangle_count, digest = builder.finish_constrained()
-    mesh = _built_mesh(start, points, halfedges, hints, triangle_count, digest, segment_map)
+    mesh = _built_mesh(start, builder.points, halfedges, hints, triangle_count, digest,
+                       segment_map)
     return CompiledConstrained(mesh, *_deferred_trace(builder), tuple(ignored))

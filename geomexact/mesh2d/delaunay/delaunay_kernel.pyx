@@ -69,6 +69,7 @@ from geomexact.kernel.ckernel cimport (
     filtered_orient,
     gx_cell_hash,
     gx_edge,
+    gx_grid_vertex_hash,
     gx_map,
     gx_map_alloc,
     gx_map_free,
@@ -129,7 +130,7 @@ cdef class Builder:
     cdef Py_ssize_t cap_visible
     cdef int64_t last_a, last_b
     cdef int F
-    cdef tuple points
+    cdef readonly tuple points
     cdef public int64_t grid_vertices
     # the constrained phase (``begin_constrained``): the store's hints are then
     # Transient2's outgoing hints; the constrained edges (min, max) -> marker, the work
@@ -153,9 +154,10 @@ cdef class Builder:
         free(self.queue.items)
         gx_map_free(&self.segments)
 
-    def __init__(self, points, start_digest):
-        """``points``: the ``Point2`` of every vertex id; ``start_digest``: the digest of the
-        mesh of isolated vertices the construction starts from."""
+    def __init__(self, points):
+        """``points``: the ``Point2`` of every vertex id.  :meth:`begin` gives the digest
+        of the mesh of isolated vertices the construction starts from (its vertex hashes
+        are :attr:`vertex_hashes`)."""
         cdef Py_ssize_t i, count = len(points)
         cdef TriVertex *vertex
         cdef double largest = 0.0, gx, gy
@@ -204,8 +206,29 @@ cdef class Builder:
             vertex.at.gy = <int64_t>gy
             vertex.at.grid = 1
             self.grid_vertices += 1
-        self.store.digest = _to_u128(start_digest)
         self.last_a = self.last_b = -1
+
+    @property
+    def vertex_hashes(self):
+        """The sum mod 2**128 of ``digest.vertex_hash`` over the vertices: made in C for
+        the grid vertices (with 0 <= F <= 62), by the Python function for the others."""
+        cdef Py_ssize_t i
+        cdef gx_u128 total = 0
+        cdef TriVertex *vertex
+        vertex_hash = _digest.vertex_hash
+        for i in range(self.store.nv):
+            vertex = &self.store.vs[i]
+            if vertex.at.grid and 0 <= self.F <= 62:
+                total += gx_grid_vertex_hash(i, vertex.at.gx, vertex.at.gy, self.F)
+            else:
+                point = self.points[i]
+                total += _to_u128(vertex_hash(i, (point[0], point[1])))
+        return _from_u128(total)
+
+    def begin(self, start_digest):
+        """Start from the mesh of isolated vertices whose digest is ``start_digest``."""
+        self._open()
+        self.store.digest = _to_u128(start_digest)
 
     cdef bint _grid_value(self, double value, double *out) noexcept:
         """True (and ``out`` = value * 2**F, an integer of magnitude <= 2**60) when the

@@ -131,16 +131,20 @@ class Construction:
 _COORDINATES = operator.itemgetter(0, 1)
 
 
-def vertices_mesh(pslg: PSLG) -> Mesh2:
+def vertices_mesh(pslg: PSLG, *, vertex_hashes: int | None = None) -> Mesh2:
     """The mesh of the PSLG's vertices (ids = PSLG ids, markers and attributes kept), with
-    no triangles and no segments: the start of every triangulation trace."""
+    no triangles and no segments: the start of every triangulation trace.
+    ``vertex_hashes``: the sum of their ``digest.vertex_hash`` when known already (the
+    compiled builder makes it in C)."""
     # Transient2.add_vertex for each vertex, in bulk: the same tables and digest
     if len(pslg.vertices) > MAX_VERTICES:
         raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
     empty = empty_mesh()
     attribute_hash = _digest.attribute_hash
-    total = empty.digest + sum(map(_digest.vertex_hash, itertools.count(),
-                                   map(_COORDINATES, pslg.vertices)))
+    if vertex_hashes is None:
+        vertex_hashes = sum(map(_digest.vertex_hash, itertools.count(),
+                                map(_COORDINATES, pslg.vertices)))
+    total = empty.digest + vertex_hashes
     markers: dict[int, int] = {}
     attributes: dict[int, tuple[Rational, ...]] = {}
     for index, marker in enumerate(pslg.vertex_markers):
@@ -349,9 +353,11 @@ class _PointsPlan:
     duplicates: tuple[tuple[int, int], ...]
 
 
-def _plan_points(pslg: PSLG, merge_duplicates: bool, seed: int) -> _PointsPlan:
+def _plan_points(pslg: PSLG, merge_duplicates: bool, seed: int,
+                 vertex_hashes: int | None = None) -> _PointsPlan:
     """Steps 1-3 of ``specs/delaunay.md``: duplicates, the insertion order, the first
-    triangle (raises :class:`PreconditionError` as :func:`triangulate_points` does)."""
+    triangle (raises :class:`PreconditionError` as :func:`triangulate_points` does);
+    ``vertex_hashes`` as :func:`vertices_mesh`."""
     vertices = pslg.vertices
     duplicates = duplicate_points(vertices)
     if duplicates and not merge_duplicates:
@@ -377,7 +383,7 @@ def _plan_points(pslg: PSLG, merge_duplicates: bool, seed: int) -> _PointsPlan:
     if third is None:
         raise PreconditionError("triangulate", "all points are collinear: no triangle exists",
                                 collinear=tuple(sorted(order)))
-    start = vertices_mesh(pslg)
+    start = vertices_mesh(pslg, vertex_hashes=vertex_hashes)
     c = order.pop(third)
     return _PointsPlan(start, (a, b, c), order[2:], tuple(duplicates))
 
@@ -417,12 +423,13 @@ def triangulate_points(
     from geomexact._version import __version__
 
     with collector_paused():  # the plan too: its maps are tens of thousands of objects
-        plan = _plan_points(pslg, merge_duplicates, seed)
+        kernel = (compiled_delaunay.open_builder(vertices) if name in ("auto", "compiled")
+                  else None)
+        plan = _plan_points(pslg, merge_duplicates, seed,
+                            None if kernel is None else kernel.vertex_hashes)
         start, (a, b, c) = plan.start, plan.first
-        compiled = (
-            compiled_delaunay.run_compiled(vertices, start, (a, b, c), plan.rest)
-            if name in ("auto", "compiled") else None
-        )
+        compiled = (None if kernel is None else
+                    compiled_delaunay.run_compiled(kernel, start, (a, b, c), plan.rest))
         if compiled is None and name == "compiled":
             raise PreconditionError(
                 "triangulate", "engine 'compiled' cannot run this triangulation: the "
@@ -681,12 +688,13 @@ def _constrained_in_kernel(pslg: PSLG, keep_convex_hull: bool, split_segments: b
     from geomexact._version import __version__
 
     with collector_paused():  # the plan too: its maps are tens of thousands of objects
-        plan = _plan_points(pslg, merge_duplicates, seed)
+        kernel = compiled_delaunay.open_builder(pslg.vertices)
+        plan = _plan_points(pslg, merge_duplicates, seed, kernel.vertex_hashes)
         remap = dict(plan.duplicates)
         segments = [(remap.get(u, u), remap.get(v, v), marker)
                     for u, v, marker in pslg.segments]
         run = compiled_delaunay.run_compiled_constrained(
-            pslg.vertices, plan.start, plan.first, plan.rest, segments,
+            kernel, plan.start, plan.first, plan.rest, segments,
             split_segments=split_segments,
             carve_exterior=bool(pslg.segments) and not keep_convex_hull,
             holes=pslg.holes,

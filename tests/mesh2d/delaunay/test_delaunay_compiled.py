@@ -24,7 +24,7 @@ def test_grid_states() -> None:
     points = [point2(mpq(1, 2), mpq(3, 4)), point2(mpq(2) ** -8, mpq(0)),
               point2(mpq(2) ** -60, mpq(1, 2)), point2(mpq(1, 3), mpq(1, 2)),
               point2(mpq(2) ** -61, mpq(1, 2))]
-    builder = delaunay_kernel.Builder(points, 0)
+    builder = delaunay_kernel.Builder(points)
     assert builder.grid == (60, 3)
     assert builder.vertex_state(0) == (True, 2**59, 3 * 2**58)
     assert builder.vertex_state(1) == (True, 2**52, 0)
@@ -40,3 +40,22 @@ def test_hashes_match_digest() -> None:
         assert delaunay_kernel.cell_hash(*cell) == digest.cell_hash(cell)
 
 
+
+
+@pytest.mark.parametrize("scale", [1, 2**-3, 2**-10, 2**70, 3])
+def test_vertex_hashes_match_the_digest(scale: int) -> None:
+    """The builder's sum of vertex hashes (C for grid vertices with 0 <= F <= 62, Python for
+    the others) is digest.vertex_hash's, whatever the grid (tiny and huge coordinates
+    give F > 62 and F < 0) and with off-grid vertices among them."""
+    import random
+
+    from geomexact.kernel import digest
+    from geomexact.mesh2d.delaunay import delaunay_kernel  # type: ignore[attr-defined]
+
+    rng = random.Random(scale)
+    points = [point2(mpq(rng.random()) * scale, mpq(rng.random()) * scale)
+              for _ in range(50)]
+    points += [point2(mpq(1, 3) * scale, mpq(-2, 7)), point2(mpq(0), mpq(-1, 2) * scale)]
+    expected = sum(digest.vertex_hash(i, (p.x, p.y)) for i, p in enumerate(points))
+    builder = delaunay_kernel.Builder(points)
+    assert builder.vertex_hashes == expected % digest.MODULUS
