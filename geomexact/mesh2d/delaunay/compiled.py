@@ -26,7 +26,7 @@ from geomexact.trace.deferred import DeferredSequence
 from geomexact.trace.step import Step
 
 __all__ = ["AVAILABLE", "CompiledConstrained", "CompiledConstruction", "open_builder",
-           "run_compiled", "run_compiled_constrained"]
+           "run_compiled", "run_compiled_constrained", "shuffled_ids"]
 
 
 _delaunay_kernel: Any = compiled_kernel("geomexact.mesh2d.delaunay.delaunay_kernel")
@@ -57,6 +57,16 @@ def open_builder(points: Sequence[Point2]) -> Any:
     when the kernel is not built.  Its ``vertex_hashes`` give the start mesh's digest
     (:func:`~geomexact.mesh2d.delaunay.triangulation.vertices_mesh`) before it runs."""
     return None if _delaunay_kernel is None else _delaunay_kernel.Builder(points)
+
+
+def shuffled_ids(count: int, seed: int) -> list[int] | None:
+    """``random.Random(seed).shuffle(list(range(count)))`` made by the kernel (the same
+    Mersenne Twister words and swaps, tested equal), or None when it is not built or
+    ``count`` is beyond it."""
+    if _delaunay_kernel is None or count >= 1 << 31:
+        return None
+    ids: list[int] = _delaunay_kernel.shuffled_ids(count, seed)
+    return ids
 
 
 def run_compiled(

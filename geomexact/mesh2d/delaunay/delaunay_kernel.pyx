@@ -912,6 +912,70 @@ cdef class Builder:
         return bool(self.store.vs[i].at.grid), self.store.vs[i].at.gx, self.store.vs[i].at.gy
 
 
+# -- the insertion order's shuffle ------------------------------------------------------
+cdef struct _Twister:
+    uint32_t mt[624]
+    int index
+
+
+cdef uint32_t _next_word(_Twister *state) noexcept nogil:
+    """MT19937's next 32-bit output (Matsumoto & Nishimura), as CPython's random module
+    makes it."""
+    cdef int k
+    cdef uint32_t y
+    cdef uint32_t *mt = state.mt
+    if state.index >= 624:
+        for k in range(624):
+            y = (mt[k] & 0x80000000U) | (mt[(k + 1) % 624] & 0x7fffffffU)
+            mt[k] = mt[(k + 397) % 624] ^ (y >> 1) ^ (0x9908b0dfU if y & 1 else 0U)
+        state.index = 0
+    y = mt[state.index]
+    state.index += 1
+    y ^= y >> 11
+    y ^= (y << 7) & 0x9d2c5680U
+    y ^= (y << 15) & 0xefc60000U
+    y ^= y >> 18
+    return y
+
+
+def shuffled_ids(Py_ssize_t count, seed):
+    """``random.Random(seed).shuffle(list(range(count)))`` made in C: the same Mersenne
+    Twister state (read from ``random.Random(seed).getstate()``), the same Fisher-Yates
+    swaps from the end, the same ``_randbelow`` (the top bits of one 32-bit word,
+    rejected until below the bound); ``count`` below 2**31.  A list of ints."""
+    import random
+
+    cdef _Twister state
+    cdef Py_ssize_t i, j, k
+    cdef uint32_t bound
+    cdef int64_t swap
+    cdef int64_t[::1] view
+    if not 0 <= count < 2**31:
+        raise ValueError(f"count {count} is outside 0..2**31 - 1")
+    version, words, _ = random.Random(seed).getstate()
+    if version != 3 or len(words) != 625:
+        raise ValueError("not CPython's Mersenne Twister state")
+    for k in range(624):
+        state.mt[k] = words[k]
+    state.index = words[624]
+    ids = np.arange(count, dtype=np.int64)
+    view = ids
+    with nogil:
+        for i in range(count - 1, 0, -1):
+            bound = <uint32_t>(i + 1)
+            k = 32
+            while k > 0 and not (bound >> (k - 1)) & 1:  # k = bound.bit_length()
+                k -= 1
+            while True:
+                j = _next_word(&state) >> (32 - k)
+                if j < bound:
+                    break
+            swap = view[i]
+            view[i] = view[j]
+            view[j] = swap
+    return ids.tolist()
+
+
 def cell_hash(int64_t a, int64_t b, int64_t c):
     """``geomexact.kernel.digest.cell_hash((a, b, c))`` computed by the kernel (for tests)."""
     return _from_u128(gx_cell_hash(_digest.vertex_key(a), _digest.vertex_key(b),

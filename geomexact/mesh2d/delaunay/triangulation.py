@@ -210,8 +210,12 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     """
     import numpy as np
 
-    order = list(range(len(points)))
-    random.Random(seed).shuffle(order)
+    from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
+
+    order = compiled_delaunay.shuffled_ids(len(points), seed)  # the shuffle below, in C
+    if order is None:
+        order = list(range(len(points)))
+        random.Random(seed).shuffle(order)
     if not points:
         return order
     shuffled = np.fromiter(order, dtype=np.int64, count=len(order))

@@ -59,3 +59,17 @@ def test_vertex_hashes_match_the_digest(scale: int) -> None:
     expected = sum(digest.vertex_hash(i, (p.x, p.y)) for i, p in enumerate(points))
     builder = delaunay_kernel.Builder(points)
     assert builder.vertex_hashes == expected % digest.MODULUS
+
+
+@pytest.mark.parametrize("seed", [0, 1, -5, 2**70, 12345])
+def test_shuffled_ids_are_random_shuffle(seed: int) -> None:
+    """The kernel's shuffle of the insertion order is ``random.Random(seed).shuffle``'s,
+    element for element, across the Mersenne Twister's regenerations (624 words)."""
+    import random
+
+    from geomexact.mesh2d.delaunay import delaunay_kernel  # type: ignore[attr-defined]
+
+    for count in (0, 1, 2, 3, 100, 700, 5000):
+        expected = list(range(count))
+        random.Random(seed).shuffle(expected)
+        assert delaunay_kernel.shuffled_ids(count, seed) == expected
