@@ -14,7 +14,7 @@ import math
 import operator
 import random
 from collections.abc import Sequence
-from typing import Literal, TypeAlias
+from typing import Any, Literal, TypeAlias
 
 import attrs
 import immutables
@@ -164,15 +164,30 @@ def vertices_mesh(pslg: PSLG, *, vertex_hashes: int | None = None) -> Mesh2:
     )
 
 
-def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
+def point_doubles(points: Sequence[Point2]) -> Any:
+    """The doubles of the points (fields 2 and 3 of each ``Point2``) as an (n x 2) array,
+    read in C."""
+    import numpy as np
+
+    return np.fromiter(itertools.chain.from_iterable(map(_DOUBLES, points)),
+                       dtype=np.float64, count=2 * len(points)).reshape(-1, 2)
+
+
+def duplicate_points(points: Sequence[Point2], doubles: Any = None) -> list[tuple[int, int]]:
     """Pairs (later id, first id) of points with equal exact coordinates, in id order.
     Points are bucketed by their doubles (exact coordinates when a double is not finite)
-    and compared exactly within a bucket.  Expected O(n)."""
-    doubles = [(point.fx, point.fy) for point in points]
-    if len(set(doubles)) == len(doubles) and all(
-        math.isfinite(x) and math.isfinite(y) for x, y in doubles
-    ):
-        return []  # distinct finite doubles: distinct exact points
+    and compared exactly within a bucket.  Expected O(n).  ``doubles``:
+    :func:`point_doubles` of the points, when made already."""
+    import numpy as np
+
+    if doubles is None:
+        doubles = point_doubles(points)
+    if not len(doubles):
+        return []
+    if np.isfinite(doubles).all():
+        ordered = doubles[np.lexsort((doubles[:, 1], doubles[:, 0]))]
+        if not (ordered[1:] == ordered[:-1]).all(axis=1).any():
+            return []  # distinct finite doubles (== as floats): distinct exact points
     buckets: dict[tuple[object, object], list[int]] = {}
     duplicates: list[tuple[int, int]] = []
     for index, point in enumerate(points):
@@ -195,7 +210,8 @@ def duplicate_points(points: Sequence[Point2]) -> list[tuple[int, int]]:
 _DOUBLES = operator.itemgetter(2, 3)
 
 
-def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
+def insertion_order(points: Sequence[Point2], *, seed: int = 0,
+                    doubles: Any = None) -> list[int]:
     """A biased randomized insertion order (Amenta–Choi–Rote): a seeded shuffle cut into
     rounds of doubling size, each round sorted along a snake (boustrophedon) curve over a
     grid of about 2 points per cell.  Deterministic for given points and seed; O(n log n).
@@ -206,7 +222,8 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     int((x - low_x) / span * cells)), with ``cells = max(1, int(sqrt(len(round) / 2)))``
     and ``span`` the larger side of the finite bounding box (1.0 when it is a point).
     The arithmetic is vectorised (numpy, IEEE doubles, the same operations in the same
-    order), so the order is the one this definition gives, bit for bit.
+    order), so the order is the one this definition gives, bit for bit.  ``doubles``:
+    :func:`point_doubles` of the points, when made already.
     """
     import numpy as np
 
@@ -219,9 +236,8 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0) -> list[int]:
     if not points:
         return order
     shuffled = np.fromiter(order, dtype=np.int64, count=len(order))
-    # the doubles (fields 2 and 3 of each Point2), read in C: the same values
-    doubles = np.fromiter(itertools.chain.from_iterable(map(_DOUBLES, points)),
-                          dtype=np.float64, count=2 * len(points)).reshape(-1, 2)
+    if doubles is None:
+        doubles = point_doubles(points)
     halves = doubles[shuffled] * 0.5
     finite = np.isfinite(halves)
     lows, highs = [], []
@@ -363,7 +379,8 @@ def _plan_points(pslg: PSLG, merge_duplicates: bool, seed: int,
     triangle (raises :class:`PreconditionError` as :func:`triangulate_points` does);
     ``vertex_hashes`` as :func:`vertices_mesh`."""
     vertices = pslg.vertices
-    duplicates = duplicate_points(vertices)
+    doubles = point_doubles(vertices)  # read once, for both
+    duplicates = duplicate_points(vertices, doubles)
     if duplicates and not merge_duplicates:
         shown = ", ".join(f"{d} = {k}" for d, k in duplicates[:10])
         more = f" and {len(duplicates) - 10} more" if len(duplicates) > 10 else ""
@@ -374,7 +391,9 @@ def _plan_points(pslg: PSLG, merge_duplicates: bool, seed: int,
             duplicates=tuple(duplicates),
         )
     dropped = {d for d, _ in duplicates}
-    order = [v for v in insertion_order(vertices, seed=seed) if v not in dropped]
+    order = insertion_order(vertices, seed=seed, doubles=doubles)
+    if dropped:
+        order = [v for v in order if v not in dropped]
     if len(order) < 3:
         raise PreconditionError("triangulate", f"{len(order)} distinct points: need at least 3",
                                 distinct=tuple(sorted(order)))
