@@ -59,14 +59,13 @@ def open_builder(points: Sequence[Point2]) -> Any:
     return None if _delaunay_kernel is None else _delaunay_kernel.Builder(points)
 
 
-def shuffled_ids(count: int, seed: int) -> list[int] | None:
+def shuffled_ids(count: int, seed: int) -> Any:
     """``random.Random(seed).shuffle(list(range(count)))`` made by the kernel (the same
-    Mersenne Twister words and swaps, tested equal), or None when it is not built or
-    ``count`` is beyond it."""
+    Mersenne Twister words and swaps, tested equal) as an int64 array, or None when it is
+    not built or ``count`` is beyond it."""
     if _delaunay_kernel is None or count >= 1 << 31:
         return None
-    ids: list[int] = _delaunay_kernel.shuffled_ids(count, seed)
-    return ids
+    return _delaunay_kernel.shuffled_ids(count, seed)
 
 
 def run_compiled(

@@ -831,19 +831,22 @@ cdef class Builder:
                 _from_u128(self.store.digest))
 
     def run(self, int64_t a, int64_t b, int64_t c, rest):
-        """``make_triangle(a, b, c)``, then ``insert`` each vertex of ``rest`` in order."""
+        """``make_triangle(a, b, c)``, then ``insert`` each vertex of ``rest`` (a sequence
+        of ids) in order."""
         self._open()
         cdef int64_t vertex
+        cdef Py_ssize_t count
+        cdef const int64_t[::1] ids = np.ascontiguousarray(rest, dtype=np.int64)
         for vertex in (a, b, c):
             if not 0 <= vertex < self.store.nv:
                 raise IndexError(vertex)
+        for count in range(ids.shape[0]):
+            if not 0 <= ids[count] < self.store.nv:
+                raise IndexError(ids[count])
         self._make_triangle(a, b, c)
-        for count, item in enumerate(rest, 1):
-            vertex = item
-            if not 0 <= vertex < self.store.nv:
-                raise IndexError(vertex)
-            self._insert(vertex)
-            if not count & 4095:
+        for count in range(ids.shape[0]):
+            self._insert(ids[count])
+            if not (count + 1) & 4095:
                 PyErr_CheckSignals()  # Ctrl-C stops a long run (C loops never check it)
 
     def finish(self):
@@ -973,7 +976,7 @@ def shuffled_ids(Py_ssize_t count, seed):
             swap = view[i]
             view[i] = view[j]
             view[j] = swap
-    return ids.tolist()
+    return ids
 
 
 def cell_hash(int64_t a, int64_t b, int64_t c):

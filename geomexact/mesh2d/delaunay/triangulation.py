@@ -229,13 +229,13 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0,
 
     from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
 
-    order = compiled_delaunay.shuffled_ids(len(points), seed)  # the shuffle below, in C
-    if order is None:
+    shuffled = compiled_delaunay.shuffled_ids(len(points), seed)  # the shuffle below, in C
+    if shuffled is None:
         order = list(range(len(points)))
         random.Random(seed).shuffle(order)
+        shuffled = np.array(order, dtype=np.int64)
     if not points:
-        return order
-    shuffled = np.fromiter(order, dtype=np.int64, count=len(order))
+        return []
     if doubles is None:
         doubles = point_doubles(points)
     halves = doubles[shuffled] * 0.5
@@ -250,12 +250,12 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0,
     xs = np.where(finite[:, 0], halves[:, 0], low_x)
     ys = np.where(finite[:, 1], halves[:, 1], low_y)
     bounds = []
-    end = len(order)
+    end = len(shuffled)
     while end > 0:
         begin = end // 2 if end > 64 else 0
         bounds.append((begin, end))
         end = begin
-    result: list[int] = []
+    rounds = []
     for begin, end in reversed(bounds):
         cells = max(1, int(math.sqrt((end - begin) / 2)))
         # (x - low_x) / span * cells is in [0, cells]: truncation is int()
@@ -264,7 +264,8 @@ def insertion_order(points: Sequence[Point2], *, seed: int = 0,
         )
         along = np.where(columns % 2 == 0, ys[begin:end] - low_y, low_y - ys[begin:end])
         vertices = shuffled[begin:end]
-        result.extend(vertices[np.lexsort((vertices, along, columns))].tolist())
+        rounds.append(vertices[np.lexsort((vertices, along, columns))])
+    result: list[int] = np.concatenate(rounds).tolist()
     return result
 
 
