@@ -1944,8 +1944,14 @@ cdef class Kernel:
         )
         self.left = self._still_left()  # (read after the table is freed)
         self.sealed = True
+        # a deferred trace keeps the kernel alive: only the vertices and records stay
         store_release_table(&self.store)
         gx_map_free(&self.start_apex)
+        free(self.heap)
+        free(self.created)
+        self.heap = NULL
+        self.created = NULL
+        self.cap_heap = self.cap_created = 0
         return mesh, self.step_objects
 
     cdef int _open(self) except -1:
