@@ -366,6 +366,7 @@ cdef class Kernel:
     cdef bint vattributed
     cdef object vtable
     cdef bint sealed  # finish sealed the result and freed the half-edge tables
+    cdef dict exact_lengths  # (edge, edge) -> the sign of |e|^2 - |f|^2, decided exactly
 
     def __dealloc__(self):
         # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
@@ -513,6 +514,7 @@ cdef class Kernel:
         self.threshold = threshold
         self.left = {}
         self.tip_grid = {}
+        self.exact_lengths = {}
         if self.min_angle:
             if average:
                 raise ValueError("a minimum angle is rated alone or with one other criterion")
@@ -895,9 +897,20 @@ cdef class Kernel:
                                            &self.store.vs[d].at)
         if result != 2:
             return result
-        points = self.points
-        return int(_comparisons.compare_squared_lengths(points[a], points[b], points[c],
-                                                       points[d]))
+        # undecided: nearly or exactly equal lengths off the grid (isosceles triangles
+        # of decimal inputs), which Lepp searches compare again and again: each pair of
+        # edges is decided exactly once
+        cdef int64_t p0 = min(a, b), p1 = max(a, b), q0 = min(c, d), q1 = max(c, d)
+        cdef int flip = 1
+        if (p0, p1) > (q0, q1):
+            p0, p1, q0, q1, flip = q0, q1, p0, p1, -1
+        key = (p0, p1, q0, q1)
+        found = self.exact_lengths.get(key)
+        if found is None:
+            points = self.points
+            found = self.exact_lengths[key] = int(_comparisons.compare_squared_lengths(
+                points[p0], points[p1], points[q0], points[q1]))
+        return flip * <int>found
 
     cdef int _dot_sign(self, int64_t p, int64_t a, int64_t b) nogil:
         """The sign of (a - p).(b - p), or 2 when the float filter cannot tell."""
