@@ -415,6 +415,7 @@ def command_refine(args: argparse.Namespace) -> int:
     a region; writes the mesh, the trace and optionally every intermediate mesh."""
     from geomexact.mesh2d.refinement.api import refine
     from geomexact.mesh2d.refinement.budget import estimated_triangles
+    from geomexact.mesh2d.refinement.presets import rules
 
     loaded = load(args.input, args.format, args.verbose)
     criterion = _refine_criterion(args, _region_areas(args, loaded.value))
@@ -427,12 +428,13 @@ def command_refine(args: argparse.Namespace) -> int:
     memory_steps = _memory_steps(mesh, estimate)  # the run stops there: exit 3
     show = args.progress if args.progress is not None else sys.stderr.isatty()
     progress = RefineProgress(estimate or None) if show else None
+    chosen = rules(args.preset, centroid=args.centroid, order=args.order,
+                   second_longest_rule=_second_longest_rule(args),
+                   factor_stop=args.factor_stop)
     result = refine(
         mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
-        centroid=args.centroid, second_longest_rule=_second_longest_rule(args),
-        max_steps=args.max_steps, step_cap=memory_steps, on_step=progress,
-        engine=args.engine, preset=args.preset, order=args.order,
-        factor_stop=args.factor_stop,
+        rules=chosen, max_steps=args.max_steps, step_cap=memory_steps, on_step=progress,
+        engine=args.engine,
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0)

@@ -77,9 +77,10 @@ from geomexact.mesh2d.refinement.presets import (
     FactorStop,
     Order,
     Preset,
+    Rules,
     SecondLongestRule,
-    rules,
 )
+from geomexact.mesh2d.refinement.presets import rules as rules_of
 from geomexact.mesh2d.refinement.regions import Region, Whole, as_region
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
 from geomexact.trace.record import Trace
@@ -212,6 +213,7 @@ def refine(
     order: Order | None = None,
     second_longest_rule: SecondLongestRule | None = None,
     factor_stop: FactorStop | None = None,
+    rules: Rules | None = None,
 ) -> Result:
     """Refine the triangles of ``region`` that ``criterion`` rates bad, by Lepp steps.
 
@@ -284,6 +286,12 @@ def refine(
     factor_stop:
         ``"action"`` (default: an average-area factor is checked after every action) or
         ``"target"`` (after each refined target).
+    rules:
+        All of the above at once, as one
+        :class:`~geomexact.mesh2d.refinement.presets.Rules` record (made by
+        :func:`~geomexact.mesh2d.refinement.presets.rules`, which checks them, from a
+        preset and overrides); then none of ``preset``, ``centroid``, ``order``,
+        ``second_longest_rule``, ``factor_stop`` and ``constraint_midpoints`` is given.
 
     Raises :class:`~geomexact.errors.PreconditionError` for an unknown method, centroid or
     engine, engine ``"compiled"`` where the kernel cannot run, a negative ``max_steps``,
@@ -299,9 +307,17 @@ def refine(
     area = as_region(region)
     if method not in METHODS:
         raise PreconditionError("refine", f"unknown method {method!r}; choose from {METHODS}")
-    chosen = rules(preset, centroid=centroid, order=order,
-                   second_longest_rule=second_longest_rule, factor_stop=factor_stop,
-                   constraint_midpoints=constraint_midpoints)
+    if rules is None:
+        chosen = rules_of(preset, centroid=centroid, order=order,
+                          second_longest_rule=second_longest_rule, factor_stop=factor_stop,
+                          constraint_midpoints=constraint_midpoints)
+    elif any(value is not None for value in (preset, centroid, order, second_longest_rule,
+                                              factor_stop, constraint_midpoints)):
+        raise PreconditionError(
+            "refine", "give the rules once: rules=Rules(...) or the preset and the rules "
+            "one by one, not both")
+    else:
+        chosen = rules
     centroid = chosen.centroid
     constraint_midpoints = chosen.second_longest_rule == "bisect-second"
     name = engine_named("refine", engine)
@@ -381,8 +397,8 @@ def refine(
     }
     if status == "budget":  # a run the budget did not stop never depended on it
         parameters["step_budget"] = budget
-    if preset is not None:
-        parameters["preset"] = preset
+    if chosen.preset is not None:
+        parameters["preset"] = chosen.preset
     parameters.update({name: value for name, value in chosen.changed().items()
                        if name != "centroid"})
     trace = Trace(mesh.digest, steps, digests, parameters, __version__)

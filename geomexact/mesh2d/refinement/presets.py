@@ -74,6 +74,9 @@ class Rules:
     order: Order = "worst-first"
     second_longest_rule: SecondLongestRule = "bisect-second"
     factor_stop: FactorStop = "action"
+    preset: Preset | None = attrs.field(default=None, eq=False)
+    """The preset these rules start from (recorded in a trace's parameters), None for
+    geomexact's; not part of the rules' equality."""
 
     def changed(self) -> dict[str, str]:
         """The rules that differ from geomexact's defaults, by name."""
@@ -86,9 +89,9 @@ class Rules:
 
 
 PRESETS: dict[str, Rules] = {
-    "pineda": Rules(second_longest_rule="centroid", factor_stop="target"),
+    "pineda": Rules(second_longest_rule="centroid", factor_stop="target", preset="pineda"),
     "mellado": Rules(centroid="vertices", order="passes",
-                     second_longest_rule="bisect-second"),
+                     second_longest_rule="bisect-second", preset="mellado"),
 }
 """The rules of each paper's program."""
 
@@ -133,4 +136,4 @@ def rules(
         if value is not None:
             _check(name, value, choices)
             changes[name] = value
-    return attrs.evolve(base, **changes)  # type: ignore[arg-type]
+    return attrs.evolve(base, preset=preset, **changes)  # type: ignore[arg-type]

@@ -182,3 +182,20 @@ def test_quasi_with_midpoint_insertion(superior: Mesh2, notch: Mesh2) -> None:
     runs = [refine(notch, MinAngle(25), method="quasi", centroid="midpoint", engine=engine)
             for engine in engines]
     assert all(run.trace.steps == runs[0].trace.steps for run in runs)
+
+
+def test_one_rules_record_runs_as_the_keywords() -> None:
+    """``rules=`` (one record, from a preset and overrides) runs and records exactly what
+    the keywords one by one do, preset name included; giving both is refused."""
+    start = triangulate(read_superior()).mesh
+    chosen = rules("mellado", order="worst-first")
+    assert chosen.preset == "mellado" and chosen == rules(None, centroid="vertices")
+    by_record = refine(start, MinAngle(28), method="quasi", rules=chosen)
+    by_keywords = refine(start, MinAngle(28), method="quasi", preset="mellado",
+                         order="worst-first")
+    assert by_record.trace == by_keywords.trace
+    assert dict(by_record.trace.parameters)["preset"] == "mellado"
+    assert "preset" not in dict(refine(start, MinAngle(28), method="quasi",
+                                       rules=Rules()).trace.parameters)
+    with pytest.raises(PreconditionError, match="give the rules once"):
+        refine(start, MinAngle(28), method="quasi", rules=chosen, centroid="area")
