@@ -297,40 +297,32 @@ class ReferenceDelaunay:
         c = apex(a, b)
         assert c is not None
         if orient2d(point(a), point(b), p) == CW:
-            d = apex(b, a)
-            if d is None:
+            if apex(b, a) is None:
                 return "outside", (a, b, -1)
-            a, b, c = b, a, d
+            a, b, c = self._across(a, b)
         while True:
             pa, pb, pc = point(a), point(b), point(c)
-            o1 = orient2d(pb, pc, p)
-            if o1 == CW:
-                d = apex(c, b)
-                if d is None:
-                    return "outside", (b, c, -1)
-                a, b, c = c, b, d
-                continue
-            o2 = orient2d(pc, pa, p)
-            if o2 == CW:
-                d = apex(a, c)
-                if d is None:
-                    return "outside", (c, a, -1)
-                a, b, c = a, c, d
-                continue
-            o0 = orient2d(pa, pb, p)
-            if o0 == CW:  # only possible in the first triangle
-                d = apex(b, a)
-                if d is None:
-                    return "outside", (a, b, -1)
-                a, b, c = b, a, d
-                continue
-            if o1 == COLLINEAR:
-                return "edge", (b, c, a)
-            if o2 == COLLINEAR:
-                return "edge", (c, a, b)
-            if o0 == COLLINEAR:
-                return "edge", (a, b, c)
-            return "inside", (a, b, c)
+            sides = orient2d(pb, pc, p), orient2d(pc, pa, p), orient2d(pa, pb, p)
+            # the first edge with p strictly beyond it (b, c), (c, a), then (a, b) (only
+            # possible in the first triangle): cross it, or p is outside the hull there
+            for (u, v), side in zip(((b, c), (c, a), (a, b)), sides, strict=True):
+                if side == CW:
+                    if apex(v, u) is None:
+                        return "outside", (u, v, -1)
+                    a, b, c = self._across(u, v)
+                    break
+            else:
+                for (u, v, w), side in zip(((b, c, a), (c, a, b), (a, b, c)), sides,
+                                           strict=True):
+                    if side == COLLINEAR:
+                        return "edge", (u, v, w)
+                return "inside", (a, b, c)
+
+    def _across(self, u: int, v: int) -> tuple[int, int, int]:
+        """The triangle (v, u, apex) beyond the edge (u, v) of the current one."""
+        w = self.t.apex(v, u)
+        assert w is not None
+        return v, u, w
 
     def insert(self, vertex: int) -> None:
         """Attach the isolated ``vertex`` where it lies, then legalize the edges the
