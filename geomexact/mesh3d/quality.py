@@ -32,20 +32,23 @@ def _corners(points: Any, tetrahedra: Any) -> Any:
     return np.asarray(points, dtype=np.float64)[np.asarray(tetrahedra, dtype=np.int64)]
 
 
+def _cross(u: Any, v: Any) -> Any:
+    """The cross product of each row of u and v (n x 3): np.cross's arithmetic written out
+    (the same doubles, without its reshaping and copies)."""
+    return np.stack((u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
+                     u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+                     u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), axis=1)
+
+
 def dihedral_angles(points: Any, tetrahedra: Any) -> Any:
     """The six dihedral angles (degrees) of each tetrahedron (T x 6), from float
     coordinates ``points`` (V x 3)."""
     p = _corners(points, tetrahedra)
-    x, y, z = p[:, :, 0], p[:, :, 1], p[:, :, 2]
     angles = np.empty((len(p), len(_EDGES)))
     for n, (i, j, k, m) in enumerate(_EDGES):
-        # the normals of the faces (i, j, k) and (i, j, m): np.cross's arithmetic written
-        # out on the coordinate columns (the same doubles, without its reshaping)
-        ex, ey, ez = x[:, j] - x[:, i], y[:, j] - y[:, i], z[:, j] - z[:, i]
-        kx, ky, kz = x[:, k] - x[:, i], y[:, k] - y[:, i], z[:, k] - z[:, i]
-        mx, my, mz = x[:, m] - x[:, i], y[:, m] - y[:, i], z[:, m] - z[:, i]
-        first = np.stack((ey * kz - ez * ky, ez * kx - ex * kz, ex * ky - ey * kx), axis=1)
-        second = np.stack((ey * mz - ez * my, ez * mx - ex * mz, ex * my - ey * mx), axis=1)
+        edge = p[:, j] - p[:, i]
+        first = _cross(edge, p[:, k] - p[:, i])  # the normals of faces (i, j, k), (i, j, m)
+        second = _cross(edge, p[:, m] - p[:, i])
         cosine = np.einsum("ij,ij->i", first, second) / (
             np.linalg.norm(first, axis=1) * np.linalg.norm(second, axis=1))
         angles[:, n] = np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
@@ -57,10 +60,11 @@ def radius_edge_ratios(points: Any, tetrahedra: Any) -> Any:
     regular one)."""
     p = _corners(points, tetrahedra)
     b, c, d = (p[:, n] - p[:, 0] for n in (1, 2, 3))
-    numerator = (np.einsum("ij,ij->i", b, b)[:, None] * np.cross(c, d)
-                 + np.einsum("ij,ij->i", c, c)[:, None] * np.cross(d, b)
-                 + np.einsum("ij,ij->i", d, d)[:, None] * np.cross(b, c))
-    denominator = 2.0 * np.einsum("ij,ij->i", b, np.cross(c, d))
+    cd = _cross(c, d)
+    numerator = (np.einsum("ij,ij->i", b, b)[:, None] * cd
+                 + np.einsum("ij,ij->i", c, c)[:, None] * _cross(d, b)
+                 + np.einsum("ij,ij->i", d, d)[:, None] * _cross(b, c))
+    denominator = 2.0 * np.einsum("ij,ij->i", b, cd)
     radius = np.linalg.norm(numerator, axis=1) / np.abs(denominator)
     lengths = [np.linalg.norm(p[:, j] - p[:, i], axis=1) for i, j, _, _ in _EDGES]
     return radius / np.min(np.stack(lengths, axis=1), axis=1)
