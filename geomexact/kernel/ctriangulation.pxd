@@ -126,10 +126,6 @@ cdef inline int store_put(TriangleStore *s, int64_t u, int64_t v, int64_t w) exc
     return 0
 
 
-cdef inline void store_delete(TriangleStore *s, int64_t u, int64_t v) noexcept nogil:
-    gx_map_del(&s.apex, gx_edge(u, v))
-
-
 cdef inline bint store_next_halfedge(const TriangleStore *s, uint64_t *slot, int64_t *u,
                                     int64_t *v, int64_t *w) noexcept nogil:
     """The next live half-edge (u, v) -> w in slot order from ``slot[0]`` (start at 0);

@@ -14,7 +14,7 @@ import threading
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, Generic, TypeVar, overload
 
-__all__ = ["DeferredSequence"]
+__all__ = ["DeferredSequence", "deferred_trace"]
 
 T = TypeVar("T")
 
@@ -97,3 +97,11 @@ class DeferredSequence(Sequence[T], Generic[T]):
 
     def __repr__(self) -> str:
         return repr(self.items())
+
+
+def deferred_trace(kernel: Any) -> tuple[DeferredSequence[Any], DeferredSequence[int]]:
+    """The steps and digests of a compiled kernel that sealed its run, deferred: the
+    kernel offers ``step_count``, ``steps()``, ``digests()`` and ``digest_at(i)``."""
+    count = kernel.step_count
+    return (DeferredSequence(count, kernel.steps),
+            DeferredSequence(count, kernel.digests, kernel.digest_at))

@@ -22,7 +22,7 @@ import attrs
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.engine_names import compiled_kernel
 from geomexact.mesh2d.snapshot import Mesh2, TableSource
-from geomexact.trace.deferred import DeferredSequence
+from geomexact.trace.deferred import deferred_trace
 from geomexact.trace.step import Step
 
 __all__ = ["AVAILABLE", "CompiledConstrained", "CompiledConstruction", "open_builder",
@@ -43,13 +43,6 @@ class CompiledConstruction:
     mesh: Mesh2
     steps: Sequence[Step]
     digests: Sequence[int]
-
-
-def _deferred_trace(builder: Any) -> tuple[DeferredSequence[Step], DeferredSequence[int]]:
-    """The builder's steps and digests, made from its records when first read."""
-    count = builder.step_count
-    return (DeferredSequence(count, builder.steps),
-            DeferredSequence(count, builder.digests, builder.digest_at))
 
 
 def open_builder(points: Sequence[Point2]) -> Any:
@@ -84,7 +77,7 @@ def run_compiled(
     halfedges, hints, triangle_count, digest = builder.finish()
     mesh = _built_mesh(start, builder.points, halfedges, hints, triangle_count, digest,
                        start.segments)
-    return CompiledConstruction(mesh, *_deferred_trace(builder))
+    return CompiledConstruction(mesh, *deferred_trace(builder))
 
 
 def _built_mesh(start: Mesh2, points: Sequence[Point2], halfedges: Any, hints: Any,
@@ -155,4 +148,4 @@ def run_compiled_constrained(
     halfedges, hints, segment_map, triangle_count, digest = builder.finish_constrained()
     mesh = _built_mesh(start, builder.points, halfedges, hints, triangle_count, digest,
                        segment_map)
-    return CompiledConstrained(mesh, *_deferred_trace(builder), tuple(ignored))
+    return CompiledConstrained(mesh, *deferred_trace(builder), tuple(ignored))

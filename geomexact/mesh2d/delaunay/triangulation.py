@@ -302,21 +302,33 @@ class ReferenceDelaunay:
             a, b, c = self._across(a, b)
         while True:
             pa, pb, pc = point(a), point(b), point(c)
-            sides = orient2d(pb, pc, p), orient2d(pc, pa, p), orient2d(pa, pb, p)
-            # the first edge with p strictly beyond it (b, c), (c, a), then (a, b) (only
-            # possible in the first triangle): cross it, or p is outside the hull there
-            for (u, v), side in zip(((b, c), (c, a), (a, b)), sides, strict=True):
-                if side == CW:
-                    if apex(v, u) is None:
-                        return "outside", (u, v, -1)
-                    a, b, c = self._across(u, v)
-                    break
+            # the first edge with p strictly beyond it, (b, c), (c, a), then (a, b) (only
+            # possible in the first triangle), each tested only when needed
+            crossing: tuple[int, int] | None = None
+            o1 = orient2d(pb, pc, p)
+            if o1 == CW:
+                crossing = (b, c)
             else:
-                for (u, v, w), side in zip(((b, c, a), (c, a, b), (a, b, c)), sides,
-                                           strict=True):
-                    if side == COLLINEAR:
-                        return "edge", (u, v, w)
-                return "inside", (a, b, c)
+                o2 = orient2d(pc, pa, p)
+                if o2 == CW:
+                    crossing = (c, a)
+                else:
+                    o0 = orient2d(pa, pb, p)
+                    if o0 == CW:
+                        crossing = (a, b)
+            if crossing is not None:  # cross it, or p is outside the hull there
+                u, v = crossing
+                if apex(v, u) is None:
+                    return "outside", (u, v, -1)
+                a, b, c = self._across(u, v)
+                continue
+            if o1 == COLLINEAR:
+                return "edge", (b, c, a)
+            if o2 == COLLINEAR:
+                return "edge", (c, a, b)
+            if o0 == COLLINEAR:
+                return "edge", (a, b, c)
+            return "inside", (a, b, c)
 
     def _across(self, u: int, v: int) -> tuple[int, int, int]:
         """The triangle (v, u, apex) beyond the edge (u, v) of the current one."""

@@ -57,7 +57,7 @@ from geomexact.mesh2d.refinement.criteria import (
 from geomexact.mesh2d.refinement.driver import LeftReason, Progress, RunOptions
 from geomexact.mesh2d.refinement.regions import Whole
 from geomexact.mesh2d.snapshot import Mesh2, Triangle
-from geomexact.trace.deferred import DeferredSequence
+from geomexact.trace.deferred import deferred_trace
 from geomexact.trace.step import Step
 
 _lepp_kernel: Any = compiled_kernel("geomexact.mesh2d.refinement.engines.lepp_kernel")
@@ -203,12 +203,11 @@ def run_compiled(mesh: Mesh2, max_steps: int | None, run: RunOptions) -> Compile
         region_doubled=_region_doubled(sized)))
     status = kernel.run()
     result, made = kernel.finish(mesh)
-    count = kernel.step_count
+    steps, digests = deferred_trace(kernel)  # made from its records when first read
     return CompiledRun(
         mesh=result,
-        # made from the kernel's records when first read (on_step made them already)
-        steps=made if made is not None else DeferredSequence(count, kernel.steps),
-        digests=DeferredSequence(count, kernel.digests, kernel.digest_at),
+        steps=made if made is not None else steps,  # (on_step made them already)
+        digests=digests,
         status=status,
         left=kernel.left_triangles(),
         targets=kernel.targets,
