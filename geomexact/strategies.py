@@ -201,6 +201,16 @@ def _scales(magnitudes: Sequence[Magnitude]) -> st.SearchStrategy[Rational]:
     return coordinates(magnitudes).filter(lambda value: value != 0)
 
 
+def _similarity(
+    draw: st.DrawFn, magnitudes: Sequence[Magnitude], dimension: int
+) -> Callable[[Sequence[Rational]], list[Rational]]:
+    """Draw a scale (not 0), then an offset, of ``magnitudes``: the similarity
+    x -> scale * x + offset that places a configuration built in the unit frame."""
+    scale = draw(_scales(magnitudes))
+    offset = [draw(coordinates(magnitudes)) for _ in range(dimension)]
+    return lambda unit: [o + scale * x for o, x in zip(offset, unit, strict=True)]
+
+
 def collinear_triples(
     magnitudes: Sequence[Magnitude] = MAGNITUDES,
 ) -> st.SearchStrategy[tuple[Point2, Point2, Point2]]:
@@ -213,13 +223,12 @@ def collinear_triples(
 def _collinear_triples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point2, Point2, Point2]:
-    scale = draw(_scales(magnitudes))
-    ox, oy = draw(coordinates(magnitudes)), draw(coordinates(magnitudes))
+    place = _similarity(draw, magnitudes, 2)
     ax, ay, bx, by = (draw(_UNIT) for _ in range(4))
     t = draw(_PARAMETER)
     raw = [(ax, ay), (bx, by), (ax + t * (bx - ax), ay + t * (by - ay))]
     order = draw(st.permutations(range(3)))
-    a, b, c = (point2(ox + scale * raw[i][0], oy + scale * raw[i][1]) for i in order)
+    a, b, c = (point2(*place(raw[i])) for i in order)
     return a, b, c
 
 
@@ -241,15 +250,14 @@ def cocircular_quadruples(
 def _cocircular_quadruples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point2, Point2, Point2, Point2]:
-    scale = draw(_scales(magnitudes))
-    ox, oy = draw(coordinates(magnitudes)), draw(coordinates(magnitudes))
+    place = _similarity(draw, magnitudes, 2)
     radius = draw(_UNIT.filter(lambda r: r != 0))
     cx, cy = draw(_UNIT), draw(_UNIT)
     parameters = draw(st.lists(_PARAMETER, min_size=4, max_size=4, unique=True))
     points = []
     for s in parameters:
         ux, uy = _circle_point(s)
-        points.append(point2(ox + scale * (cx + radius * ux), oy + scale * (cy + radius * uy)))
+        points.append(point2(*place((cx + radius * ux, cy + radius * uy))))
     a, b, c, d = points
     return a, b, c, d
 
@@ -265,17 +273,14 @@ def coplanar_quadruples(
 def _coplanar_quadruples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point3, Point3, Point3, Point3]:
-    scale = draw(_scales(magnitudes))
-    origin = [draw(coordinates(magnitudes)) for _ in range(3)]
+    place = _similarity(draw, magnitudes, 3)
     base = [draw(_UNIT) for _ in range(3)]
     u = [draw(_UNIT) for _ in range(3)]
     v = [draw(_UNIT) for _ in range(3)]
     points = []
     for _ in range(4):
         s, r = draw(_PARAMETER), draw(_PARAMETER)
-        points.append(
-            point3(*(origin[i] + scale * (base[i] + s * u[i] + r * v[i]) for i in range(3)))
-        )
+        points.append(point3(*place([base[i] + s * u[i] + r * v[i] for i in range(3)])))
     a, b, c, d = points
     return a, b, c, d
 
@@ -298,8 +303,7 @@ def cospherical_quintuples(
 def _cospherical_quintuples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point3, Point3, Point3, Point3, Point3]:
-    scale = draw(_scales(magnitudes))
-    origin = [draw(coordinates(magnitudes)) for _ in range(3)]
+    place = _similarity(draw, magnitudes, 3)
     radius = draw(_UNIT.filter(lambda r: r != 0))
     center = [draw(_UNIT) for _ in range(3)]
     parameters = draw(
@@ -308,9 +312,7 @@ def _cospherical_quintuples(
     points = []
     for s, r in parameters:
         unit = _sphere_point(s, r)
-        points.append(
-            point3(*(origin[i] + scale * (center[i] + radius * unit[i]) for i in range(3)))
-        )
+        points.append(point3(*place([center[i] + radius * unit[i] for i in range(3)])))
     a, b, c, d, e = points
     return a, b, c, d, e
 

@@ -8,6 +8,7 @@ import argparse
 import resource
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -97,6 +98,30 @@ def _estimated_tetrahedra(surfaces: list[Any], level: int, interior_level: int) 
     finest = side / 2 ** level
     near = area / finest ** 2 * 2 * 4
     return int(6 * (near + 8 ** interior_level))
+
+
+def _print_report(args: argparse.Namespace, report: dict[str, Any], title: str,
+                  keys: Sequence[str], *, problems: Sequence[str], written: Sequence[Path],
+                  details: Sequence[str] = ()) -> None:
+    """``report`` as JSON with ``--json``; else ``title`` over the table of its ``keys``,
+    then the lines ``details``, each problem and each file written."""
+    if args.json:
+        print_json(report)
+        return
+    print_table(title, {key: report[key] for key in keys})
+    for line in details:
+        print(line)
+    for problem in problems:
+        print(f"  {problem}")
+    for path in written:
+        print(f"wrote {path}")
+
+
+def _material_line(material: str, row: dict[str, Any]) -> str:
+    """The text report's line of one material of a device: its name, cells and volume."""
+    label = f" ({row['name']})" if row["name"] else ""
+    return (f"  material {material}{label}: {row['cells']} cells, volume "
+            f"{row['volume']}{' (exact)' if row['exact'] else ''}")
 
 
 def command_octree_domain(args: argparse.Namespace) -> int:
@@ -219,18 +244,13 @@ def command_octree_domain(args: argparse.Namespace) -> int:
         "volume_error": abs(float((volume - run.enclosed_volume) / run.enclosed_volume)),
         **run_report(mesh, run.trace, run.seconds, started, written, volumes),
     }
-    if args.json:
-        print_json(report)
-    else:
-        title = f"octree mesh of the domain of {', '.join(args.domain)} in {run.box.describe()}"
-        print_table(title, {key: report[key] for key in (
-            "leaves", "levels", "tetrahedra", "vertices", "surface_vertices", "warped",
-            "min_dihedral", "max_dihedral", "valid", "volume_error", "digest", "seconds",
-            "peak_memory_mb")})
-        for problem in problems:
-            print(f"  {problem}")
-        for path in written:
-            print(f"wrote {path}")
+    _print_report(
+        args, report,
+        f"octree mesh of the domain of {', '.join(args.domain)} in {run.box.describe()}",
+        ("leaves", "levels", "tetrahedra", "vertices", "surface_vertices", "warped",
+         "min_dihedral", "max_dihedral", "valid", "volume_error", "digest", "seconds",
+         "peak_memory_mb"),
+        problems=problems, written=written)
     if problems:
         print("geomexact: the mesh of the domain is not valid (above); nothing was written "
               "(a finer --level resolves parts thinner than the leaves)", file=sys.stderr)
@@ -328,21 +348,12 @@ def command_octree_device(args: argparse.Namespace) -> int:
         "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         "written": [str(path) for path in written],
     }
-    if args.json:
-        print_json(report)
-    else:
-        title = f"octree mesh of the device {args.device} ({bounds.describe()})"
-        print_table(title, {key: report[key] for key in (
-            "grid", "leaves", "cells", "vertices", "min_dihedral", "max_dihedral",
-            "valid", "digest", "seconds")})
-        for material, row in materials.items():
-            label = f" ({row['name']})" if row["name"] else ""
-            print(f"  material {material}{label}: {row['cells']} cells, volume "
-                  f"{row['volume']}{' (exact)' if row['exact'] else ''}")
-        for problem in problems:
-            print(f"  {problem}")
-        for path in written:
-            print(f"wrote {path}")
+    _print_report(
+        args, report, f"octree mesh of the device {args.device} ({bounds.describe()})",
+        ("grid", "leaves", "cells", "vertices", "min_dihedral", "max_dihedral", "valid",
+         "digest", "seconds"),
+        details=[_material_line(material, row) for material, row in materials.items()],
+        problems=problems, written=written)
     if problems:
         print("geomexact: the device mesh is not valid (above); nothing was written",
               file=sys.stderr)

@@ -407,6 +407,21 @@ def insert_centroid_in(t: Transient2, u: int, v: int, *, kind: str = "area") -> 
     raise PreconditionError("insert_centroid", f"unknown centroid kind {kind!r}")
 
 
+def lawson_flip_wanted(t: Transient2, w: int, u: int, v: int, x: int) -> bool:
+    """Whether Lawson's algorithm flips the interior edge uv of the counter-clockwise
+    triangles (w, u, v) and (v, u, x): x strictly inside the circle through w, u, v
+    (cocircular points never flip), the quadrilateral strictly convex (so the flip is
+    valid), and both triangles of the same attributes (a flip never crosses a region's
+    bound).  Whether uv is constrained is the caller's test."""
+    pw, pu, pv, px = t.point(w), t.point(u), t.point(v), t.point(x)
+    return (
+        incircle(pw, pu, pv, px) == CircleLocation.INSIDE
+        and orient2d(px, pw, pu) == CCW
+        and orient2d(pw, px, pv) == CCW
+        and t.triangle_attributes((w, u, v)) == t.triangle_attributes((v, u, x))
+    )
+
+
 def legalization_stack(star: list[Edge]) -> list[Edge]:
     """The edges (a, b) opposite a vertex in its triangles (vertex, a, b), given
     counter-clockwise as ``star``, as the stack legalization pops them: first the one
@@ -436,7 +451,7 @@ def legalize_stack_in(t: Transient2, vertex: int, pending: list[Edge]) -> list[S
     skipped): the order an insertion that knows the edges it made examines them in.
     Returns the flips."""
     flips: list[Step] = []
-    p = t.point(vertex)
+    t.point(vertex)  # a PreconditionError at once when there is no such vertex
     while pending:
         a, b = pending.pop()
         if t.apex(vertex, a) != b:
@@ -444,12 +459,7 @@ def legalize_stack_in(t: Transient2, vertex: int, pending: list[Edge]) -> list[S
         q = t.apex(b, a)
         if q is None or t.segment_marker(a, b) is not None:
             continue
-        pa, pb, pq = t.point(a), t.point(b), t.point(q)
-        if incircle(p, pa, pb, pq) != CircleLocation.INSIDE:
-            continue
-        if orient2d(pq, p, pa) != CCW or orient2d(p, pq, pb) != CCW:
-            continue
-        if t.triangle_attributes((vertex, a, b)) != t.triangle_attributes((b, a, q)):
+        if not lawson_flip_wanted(t, vertex, a, b, q):
             continue
         flip_in(t, a, b)
         flips.append(t.steps[-1])

@@ -31,11 +31,14 @@ __all__ = [
     "OPERATIONS",
     "FaceConfiguration",
     "FaceKind",
+    "FlipTally",
     "apply",
     "apply_in",
     "classify_face",
     "flip",
     "flip_in",
+    "flippable_kinds",
+    "made_tetrahedra",
     "split_tetra",
     "split_tetra_in",
 ]
@@ -190,29 +193,48 @@ def flip_in(t: Transient3, op: str, face: Face) -> FaceConfiguration:
     first, second = (a, b, c, d), (a, c, b, e)
     if wanted == FaceKind.T23:
         _remove(t, [first, second])
-        for u, v in ((a, b), (b, c), (c, a)):
-            t.add_tetrahedron(*_oriented(t, d, e, u, v))
     elif wanted == FaceKind.T32:
         assert configuration.edge is not None
         u, v = configuration.edge
-        w = oriented_third((a, b, c), u, v)
         third = _tetrahedron_with(t, {u, v, d, e}, t.around_edge(u, v))
         _remove(t, [first, second, third])
-        for x in (u, v):
-            t.add_tetrahedron(*_oriented(t, w, d, e, x))
     else:  # T22, T44: the coplanar diagonal uv becomes de
         assert configuration.edge is not None
-        u, v = configuration.edge
-        w = oriented_third((a, b, c), u, v)
-        around = t.around_edge(u, v)
-        _remove(t, around)
-        apexes = [w] if wanted == FaceKind.T22 else [w, configuration.apex_f]
-        for apex in apexes:
-            assert apex is not None
-            for x in (u, v):
-                t.add_tetrahedron(*_oriented(t, d, e, apex, x))
+        _remove(t, t.around_edge(*configuration.edge))
+    for tetrahedron in made_tetrahedra(configuration):
+        t.add_tetrahedron(*_oriented(t, *tetrahedron))
     t.record(Step(op, tuple(sorted(face))))
     return configuration
+
+
+def made_tetrahedra(configuration: FaceConfiguration) -> list[Tetrahedron]:
+    """The tetrahedra a flip of the transformable ``configuration`` makes, each up to
+    orientation, in the order :func:`flip_in` adds them."""
+    a, b, c = configuration.face
+    d, e = configuration.d, configuration.e
+    kind = configuration.kind
+    if kind == FaceKind.T23:
+        return [(d, e, u, v) for u, v in ((a, b), (b, c), (c, a))]
+    assert configuration.edge is not None
+    u, v = configuration.edge
+    w = oriented_third((a, b, c), u, v)
+    if kind == FaceKind.T32:
+        return [(w, d, e, x) for x in (u, v)]
+    if kind == FaceKind.T22:
+        apexes = [w]
+    else:
+        assert configuration.apex_f is not None
+        apexes = [w, configuration.apex_f]
+    return [(d, e, apex, x) for apex in apexes for x in (u, v)]
+
+
+def flippable_kinds(boundary: bool) -> frozenset[FaceKind]:
+    """The configurations an improvement transforms: T23, T32 and T44, and T22 (which
+    re-triangulates two boundary faces) only with ``boundary``."""
+    kinds = {FaceKind.T23, FaceKind.T32, FaceKind.T44}
+    if boundary:
+        kinds.add(FaceKind.T22)
+    return frozenset(kinds)
 
 
 FLIP_OPS: Mapping[str, FaceKind] = MappingProxyType({
@@ -229,6 +251,22 @@ FLIP_NAMES: tuple[str, ...] = tuple(FLIP_OPS)
 FLIP_OF_KIND: Mapping[FaceKind, str] = MappingProxyType(
     {kind: op for op, kind in FLIP_OPS.items()}
 )
+
+
+class FlipTally:
+    """What a report of flips offers: its ``flips`` (an attrs field of the subclass) count
+    the flips of each kind in FLIP_NAMES order."""
+
+    __slots__ = ()
+
+    flips: tuple[int, int, int, int]
+
+    @property
+    def flip_count(self) -> int:
+        return sum(self.flips)
+
+    def flips_of(self, name: str) -> int:
+        return self.flips[FLIP_NAMES.index(name)]
 
 
 def split_tetra_in(t: Transient3, u: int, v: int) -> int:

@@ -41,8 +41,11 @@ from geomexact.mesh3d.ops import (
     FLIP_OF_KIND,
     FaceConfiguration,
     FaceKind,
+    FlipTally,
     classify_face_in,
     flip_in,
+    flippable_kinds,
+    made_tetrahedra,
     oriented_third,
 )
 from geomexact.mesh3d.quality import dihedral_angles
@@ -101,7 +104,7 @@ class QualityCriterion:
 
 
 @attrs.frozen(slots=True)
-class QualityImprovement:
+class QualityImprovement(FlipTally):
     """What :func:`improve_quality` did: the ``mesh`` after it; the ``trace`` of its steps
     from the input (None when not recorded); the flips applied of each kind (FLIP_NAMES
     order); the rounds run; the smallest dihedral angle (degrees) over the whole mesh and
@@ -117,13 +120,6 @@ class QualityImprovement:
     failing_after: int
     edge_removals: int
     seconds: float
-
-    @property
-    def flip_count(self) -> int:
-        return sum(self.flips)
-
-    def flips_of(self, name: str) -> int:
-        return self.flips[FLIP_NAMES.index(name)]
 
 
 def tetrahedron_measures(a: Point3, b: Point3, c: Point3, d: Point3) -> tuple[float, float]:
@@ -202,18 +198,14 @@ def _replaced_and_made(t: Transient3, configuration: FaceConfiguration
     def key(*vertices: int) -> Key:
         return tuple(sorted(vertices))  # type: ignore[return-value]
 
+    made = [key(*tetrahedron) for tetrahedron in made_tetrahedra(configuration)]
     if kind == FaceKind.T23:
-        return ([key(a, b, c, d), key(a, b, c, e)],
-                [key(d, e, u, v) for u, v in ((a, b), (b, c), (c, a))])
+        return [key(a, b, c, d), key(a, b, c, e)], made
     assert configuration.edge is not None
     u, v = configuration.edge
-    w = oriented_third((a, b, c), u, v)
     if kind == FaceKind.T32:
-        return ([key(a, b, c, d), key(a, b, c, e), key(u, v, d, e)],
-                [key(w, d, e, x) for x in (u, v)])
-    removed = _around(t, u, v, w)
-    apexes = [w] if kind == FaceKind.T22 else [w, configuration.apex_f]
-    return removed, [key(d, e, apex, x) for apex in apexes for x in (u, v)]  # type: ignore[arg-type]
+        return [key(a, b, c, d), key(a, b, c, e), key(u, v, d, e)], made
+    return _around(t, u, v, oriented_third((a, b, c), u, v)), made
 
 
 def _exists(t: Transient3, key: Key) -> bool:
@@ -373,10 +365,7 @@ def improve_quality(
     if max_rounds < 0:
         raise PreconditionError("improve_quality", f"max_rounds >= 0, not {max_rounds}")
     began = time.perf_counter()
-    allowed = {FaceKind.T23, FaceKind.T32, FaceKind.T44}
-    if boundary:
-        allowed.add(FaceKind.T22)
-    kinds = frozenset(allowed)
+    kinds = flippable_kinds(boundary)
     t = Transient3(mesh)
     steps: list[Step] = []
     digests: list[int] = []

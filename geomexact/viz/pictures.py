@@ -18,21 +18,21 @@ from typing import Any, Literal, cast
 
 import numpy as np
 
-from geomexact.errors import MissingDependencyError
-
-try:
-    from matplotlib import rc_context
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.collections import LineCollection, PolyCollection
-    from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize
-    from matplotlib.figure import Figure
-except ImportError as error:  # the "pictures" extra
-    raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
-
 from geomexact.io.files import write_bytes_atomic
 from geomexact.mesh2d.quality import areas, min_angles
 from geomexact.mesh2d.snapshot import Edge, Triangle
 from geomexact.trace.record import Trace
+from geomexact.viz.matplotlib_names import (
+    BoundaryNorm,
+    Figure,
+    FigureCanvasAgg,
+    LineCollection,
+    ListedColormap,
+    LogNorm,
+    Normalize,
+    PolyCollection,
+    rc_context,
+)
 from geomexact.viz.scene import (
     Scene,
     Viewable,

@@ -26,21 +26,18 @@ from typing import Any, Literal
 import attrs
 import numpy as np
 
-from geomexact.errors import MissingDependencyError
-
-try:
-    from matplotlib import colormaps
-    from matplotlib.cm import ScalarMappable
-    from matplotlib.collections import PolyCollection
-    from matplotlib.colors import Normalize, to_rgb
-    from matplotlib.figure import Figure
-    from matplotlib.patches import Patch
-except ImportError as error:  # the "pictures" extra
-    raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
-
 from geomexact.mesh3d.mixed.cells import CellKind
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.viz.matplotlib_names import (
+    Figure,
+    Normalize,
+    Patch,
+    PolyCollection,
+    ScalarMappable,
+    colormaps,
+    to_rgb,
+)
 from geomexact.viz.pictures import DEFAULT_DPI, DEFAULT_SIZE, titled_figure, write_figure
 from geomexact.viz.scene3d import (
     KIND_ORDER,

@@ -13,16 +13,9 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
-from geomexact.errors import MissingDependencyError
-
-try:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-except ImportError as error:  # the "pictures" extra
-    raise MissingDependencyError("matplotlib", "pictures", "pictures") from error
-
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh3d.snapshot import Mesh3
+from geomexact.viz.matplotlib_names import Figure, FigureCanvasAgg
 from geomexact.viz.pictures import DEFAULT_DPI, draw, write_figure
 from geomexact.viz.pictures3d import draw_mesh3
 

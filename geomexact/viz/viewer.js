@@ -561,28 +561,29 @@
     const segments = [];
     const holes = [];
     const seeds = [];
-    if (at < rest.length) {
-      const [sline, sh] = rest[at++];
-      const count = checkInt(name, sline, sh[0], "the segment count");
+    // a section: its count line, then that many lines of at least 3 fields, each given to take
+    function section(countWhat, endsInside, tooShort, take) {
+      const [cline, ch] = rest[at++];
+      const count = checkInt(name, cline, ch[0], countWhat);
       for (let i = 0; i < count; i++) {
-        if (at >= rest.length) throw new ParseError(name, null, "file ends inside the segments");
+        if (at >= rest.length) throw new ParseError(name, null, endsInside);
         const [line, t] = rest[at++];
-        if (t.length < 3) throw new ParseError(name, line, "a segment needs a number and 2 endpoints");
+        if (t.length < 3) throw new ParseError(name, line, tooShort);
+        take(line, t);
+      }
+    }
+    if (at < rest.length) {
+      section("the segment count", "file ends inside the segments", "a segment needs a number and 2 endpoints", function (line, t) {
         for (let j = 1; j <= 2; j++) {
           segments.push(checkIndex(name, line, checkInt(name, line, t[j], "an endpoint") - nodes.base, nodes.count, "endpoint"));
         }
-      }
+      });
     }
     for (const target of [holes, seeds]) {
       if (at >= rest.length) break;
-      const [cline, ch] = rest[at++];
-      const count = checkInt(name, cline, ch[0], "a count");
-      for (let i = 0; i < count; i++) {
-        if (at >= rest.length) throw new ParseError(name, null, "file ends early");
-        const [line, t] = rest[at++];
-        if (t.length < 3) throw new ParseError(name, line, "expected a number and a point");
+      section("a count", "file ends early", "expected a number and a point", function (line, t) {
         target.push(checkNumber(name, line, t[1], "a coordinate"), checkNumber(name, line, t[2], "a coordinate"));
-      }
+      });
     }
     if (at < rest.length) throw new ParseError(name, rest[at][0], "unexpected data after the regions");
     return { nodes: nodes, segments: segments, holes: holes, seeds: seeds };

@@ -173,7 +173,8 @@ def _links_html(links: Sequence[tuple[str, str]]) -> str:
 _PLACEHOLDER = re.compile(r"\{\{(\w+)\}\}")
 
 PAGE_HEAD = "page_head.html"
-"""The ``<head>`` the 2D and 3D pages share, put in place of ``{{head}}``."""
+"""The start the 2D and 3D pages share (the doctype, the opening tags and the ``<head>``),
+put in place of ``{{head}}``."""
 
 STEP_CONTROLS = "step_controls.html"
 """The trace panel the 2D and 3D pages share (slider, buttons, go to step, op filter), put

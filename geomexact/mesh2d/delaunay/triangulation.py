@@ -39,6 +39,7 @@ from geomexact.mesh2d.ops import (
     exterior_triangles,
     flip_in,
     insert_in_edge_in,
+    lawson_flip_wanted,
     legalize_stack_in,
     make_triangle_in,
     set_region_in,
@@ -59,7 +60,6 @@ from geomexact.trace.record import Trace, trace_of
 CCW = Orientation.COUNTERCLOCKWISE
 CW = Orientation.CLOCKWISE
 COLLINEAR = Orientation.COLLINEAR
-INSIDE = CircleLocation.INSIDE
 
 DelaunayEngine: TypeAlias = Literal["auto", "compiled", "python", "reference", "fast"]
 ENGINES: tuple[str, ...] = ("auto", "compiled", "python", "reference")
@@ -496,12 +496,7 @@ def make_delaunay_in(t: Transient2) -> int:
         w, x = t.apex(u, v), t.apex(v, u)
         if w is None or x is None or t.segment_marker(u, v) is not None:
             continue
-        pu, pv, pw, px = t.point(u), t.point(v), t.point(w), t.point(x)
-        if incircle(pu, pv, pw, px) != INSIDE:
-            continue
-        if orient2d(px, pw, pu) != CCW or orient2d(pw, px, pv) != CCW:
-            continue
-        if t.triangle_attributes((u, v, w)) != t.triangle_attributes((v, u, x)):
+        if not lawson_flip_wanted(t, w, u, v, x):
             continue
         flip_in(t, u, v)
         flips += 1

@@ -28,10 +28,11 @@ from geomexact.mesh3d.ops import (
     FLIP_NAMES,
     FLIP_OF_KIND,
     FaceConfiguration,
-    FaceKind,
+    FlipTally,
     classify_face_in,
     flip_in,
-    oriented_third,
+    flippable_kinds,
+    made_tetrahedra,
 )
 from geomexact.mesh3d.snapshot import Face, Mesh3
 from geomexact.mesh3d.transient import Transient3
@@ -44,7 +45,7 @@ MAX_FLIPS: Final = 1_000_000
 
 
 @attrs.frozen(slots=True)
-class ImprovementReport:
+class ImprovementReport(FlipTally):
     """What an improvement did: the flips applied of each kind (``flips[name]`` in
     FLIP_NAMES order), the number of rounds (1 when the first queue sufficed) and the
     configuration kinds of the faces that still fail their sphere test, sorted by name
@@ -53,13 +54,6 @@ class ImprovementReport:
     flips: tuple[int, int, int, int]
     rounds: int
     failing_kinds: tuple[str, ...]
-
-    @property
-    def flip_count(self) -> int:
-        return sum(self.flips)
-
-    def flips_of(self, name: str) -> int:
-        return self.flips[FLIP_NAMES.index(name)]
 
 
 def interior_faces_in(t: Transient3) -> list[Face]:
@@ -87,38 +81,17 @@ def failing_faces_in(t: Transient3) -> list[FaceConfiguration]:
     return [classify_face_in(t, face) for face in interior_faces_in(t) if is_failing_in(t, face)]
 
 
-def _new_tetrahedra(configuration: FaceConfiguration) -> list[tuple[int, ...]]:
-    """The vertex sets of the tetrahedra a flip of ``configuration`` makes."""
-    a, b, c = configuration.face
-    d, e = configuration.d, configuration.e
-    kind = configuration.kind
-    if kind == FaceKind.T23:
-        return [(d, e, u, v) for u, v in ((a, b), (b, c), (c, a))]
-    assert configuration.edge is not None
-    u, v = configuration.edge
-    w = oriented_third((a, b, c), u, v)
-    apexes = [w] if kind in (FaceKind.T32, FaceKind.T22) else [w, configuration.apex_f]
-    return [(d, e, apex, x) for apex in apexes for x in (u, v)]  # type: ignore[misc]
-
-
 def _faces_of(tetrahedra: Iterable[tuple[int, ...]]) -> list[Face]:
     found = {tuple(sorted(face)) for tetrahedron in tetrahedra
              for face in combinations(tetrahedron, 3)}
     return sorted(found)  # type: ignore[arg-type]
 
 
-def _flippable(allow_boundary_flips: bool) -> frozenset[FaceKind]:
-    kinds = {FaceKind.T23, FaceKind.T32, FaceKind.T44}
-    if allow_boundary_flips:
-        kinds.add(FaceKind.T22)
-    return frozenset(kinds)
-
-
 def improve_in(t: Transient3, *, allow_boundary_flips: bool = False) -> ImprovementReport:
     """Apply Joe's transformations to ``t`` until no transformable face fails its sphere
     test (T22, which changes the box's boundary, only with ``allow_boundary_flips``);
     every flip is recorded on ``t``.  The order is fixed (module docstring)."""
-    flippable = _flippable(allow_boundary_flips)
+    flippable = flippable_kinds(allow_boundary_flips)
     counts = dict.fromkeys(FLIP_NAMES, 0)
     queue: deque[Face] = deque(interior_faces_in(t))
     pending = set(queue)
@@ -140,7 +113,7 @@ def improve_in(t: Transient3, *, allow_boundary_flips: bool = False) -> Improvem
             counts[op] += 1
             if sum(counts.values()) > MAX_FLIPS:  # pragma: no cover - a guard
                 raise PreconditionError("improve", f"more than {MAX_FLIPS} flips")
-            for new in _faces_of(_new_tetrahedra(configuration)):
+            for new in _faces_of(made_tetrahedra(configuration)):
                 if new not in pending:
                     pending.add(new)
                     queue.append(new)
