@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import importlib
+import operator
 import sys
 import tempfile
 from collections.abc import Iterator, Sequence
@@ -60,6 +61,7 @@ from geomexact.io.registry import (
 )
 from geomexact.io.tetrahedron_orientation import orient_tetrahedra
 from geomexact.io.vtk_polyhedra import legacy_vtk_text, polyhedra_readable, vtu_text
+from geomexact.io.vtu_grid import TETRAHEDRON, binary_vtu
 from geomexact.kernel.numbers import Rational, to_float, to_rational
 from geomexact.kernel.points import Point2, Point3, point2, point3
 from geomexact.mesh2d.snapshot import Mesh2
@@ -547,41 +549,37 @@ def tetrahedral_of_meshio(name: str, data: Any, notes: list[str]) -> Mesh3:
         raise FormatError(name, None, str(error)) from error
 
 
-def _doubles3(path: Path, points: list[Point3]) -> tuple[list[tuple[float, float, float]], int]:
-    """3D ``points`` as doubles and how many coordinates that rounds."""
-    rows: list[tuple[float, float, float]] = []
-    rounded = 0
-    for index, point in enumerate(points):
-        try:
-            x, y, z = to_float(point.x), to_float(point.y), to_float(point.z)
-        except OverflowError:
-            raise FormatError(
-                str(path), None,
-                f"vertex {index} has a coordinate beyond the range of a double, which these "
-                "formats store; write an exact text format (.ele) instead",
-            ) from None
-        # (gmpy2 compares an mpq with a float exactly)
-        rounded += (x != point.x) + (y != point.y) + (z != point.z)
-        rows.append((x, y, z))
-    return rows, rounded
-
-
-def _doubles(path: Path, mesh: Mesh2) -> tuple[list[tuple[float, float, float]], int]:
-    """The vertices as doubles (z = 0) and how many coordinates that rounds; a
+def _doubles3(path: Path, points: Sequence[Point3]) -> tuple[Any, int]:
+    """3D ``points`` as doubles (V x 3 array) and how many coordinates that rounds; a
     FormatError naming the first vertex beyond the range of a double."""
-    rows: list[tuple[float, float, float]] = []
-    rounded = 0
-    for index, point in enumerate(mesh.point_list()):
-        try:
-            x, y = to_float(point.x), to_float(point.y)
-        except OverflowError:
-            raise FormatError(
-                str(path), None,
-                f"vertex {index} has a coordinate beyond the range of a double, which these "
-                "formats store; write an exact text format (.off, .ele, .pslg) instead",
-            ) from None
-        rounded += (gmpy2.mpq(x) != point.x) + (gmpy2.mpq(y) != point.y)
-        rows.append((x, y, 0.0))
+    return _double_rows(path, points, 3, ".ele")
+
+
+def _doubles(path: Path, mesh: Mesh2) -> tuple[Any, int]:
+    """The vertices as doubles (V x 3 array, z = 0) and how many coordinates that rounds;
+    a FormatError naming the first vertex beyond the range of a double."""
+    return _double_rows(path, mesh.point_list(), 2, ".off, .ele, .pslg")
+
+
+def _double_rows(path: Path, points: Sequence[Point2] | Sequence[Point3], dimension: int,
+                 exact_formats: str) -> tuple[Any, int]:
+    import numpy
+
+    count = len(points)
+    rows = numpy.zeros((count, 3))
+    for axis in range(dimension):  # the points' own nearest doubles (NaN beyond the range)
+        rows[:, axis] = numpy.fromiter((p[dimension + axis] for p in points),
+                                       dtype=numpy.float64, count=count)
+    beyond = numpy.isnan(rows).any(axis=1)
+    if beyond.any():
+        raise FormatError(
+            str(path), None,
+            f"vertex {int(beyond.argmax())} has a coordinate beyond the range of a double, "
+            f"which these formats store; write an exact text format ({exact_formats}) "
+            "instead")
+    # (gmpy2 compares an mpq with a float exactly)
+    exact = (value for point in points for value in point[:dimension])
+    rounded = sum(map(operator.ne, exact, rows[:, :dimension].ravel().tolist()))
     return rows, rounded
 
 
@@ -598,7 +596,7 @@ def write_meshio(
     the extension); every coordinate that is not a double is rounded and counted,
     markers, attributes and segments are dropped and reported; numbers ``"exact"`` is
     refused (FormatError).  A mixed mesh (:func:`_write_mixed`) goes to .vtu, .vtk or
-    .msh only."""
+    .msh only; a Mesh3's .vtu is written by geomexact (:func:`_write_mesh3`)."""
     if not isinstance(value, (Mesh2, Mesh3, MixedMesh3, MixedMeshData)):
         raise UnsupportedValueError(
             f"the meshio format writes a Mesh2, Mesh3 or MixedMesh3, not a "
@@ -612,6 +610,8 @@ def write_meshio(
         )
     if isinstance(value, (MixedMesh3, MixedMeshData)):
         return _write_mixed(path, value, overwrite=overwrite)
+    if isinstance(value, Mesh3):
+        return _write_mesh3(path, value, overwrite=overwrite)
     meshio = meshio_module()
     import numpy
 
@@ -619,26 +619,6 @@ def write_meshio(
         raise OverwriteError(str(path))
     # 32-bit indices where they fit: some writers (PLY) warn on 64-bit ones
     index_type = numpy.int32 if value.vertex_count < 2**31 else numpy.int64
-    if isinstance(value, Mesh3):
-        rows, rounded = _doubles3(path, value.point_list())
-        cells = ("tetra", numpy.array(value.tetrahedra(), dtype=index_type).reshape(-1, 4))
-        points = numpy.array(rows, dtype=float).reshape(-1, 3)
-        cell_data: dict[str, list[Any]] = {}
-        if path.suffix.lower() in KEEPS_EVERYTHING and len(cells[1]):
-            from geomexact.mesh3d.quality import dihedral_angles
-
-            smallest = dihedral_angles(points, cells[1]).min(axis=1)
-            # Python floats: meshio's Gmsh text writer prints each value's repr
-            cell_data[QUALITY_3D] = [numpy.array(smallest.tolist(), dtype=object)
-                                     if path.suffix.lower() == ".msh" else smallest]
-            if path.suffix.lower() == ".msh":
-                cell_data["gmsh:physical"] = [numpy.zeros(len(cells[1]), dtype=numpy.int32)]
-                cell_data["gmsh:geometrical"] = [numpy.zeros(len(cells[1]),
-                                                             dtype=numpy.int32)]
-        _write_through_meshio(path, meshio.Mesh(points, [cells], cell_data=cell_data),
-                              overwrite=overwrite,
-                              file_format="gmsh22" if path.suffix.lower() == ".msh" else None)
-        return WriteReport((path,), rounded, ())
     rows, rounded = _doubles(path, value)
     suffix = path.suffix.lower()
     if suffix not in KEEPS_EVERYTHING:
@@ -651,6 +631,48 @@ def write_meshio(
     _write_through_meshio(path, converted, overwrite=overwrite,
                           file_format="gmsh22" if suffix == ".msh" else None)
     return WriteReport((path,), rounded + more, dropped)
+
+
+def _write_mesh3(path: Path, mesh: Mesh3, *, overwrite: bool) -> WriteReport:
+    """:func:`write_meshio` of a tetrahedral mesh: .vtu by geomexact's binary writer
+    (:func:`~geomexact.io.vtu_grid.binary_vtu`), the other formats by meshio; the files
+    that keep everything get each tetrahedron's smallest dihedral angle."""
+    import numpy
+
+    if path.exists() and not overwrite:
+        raise OverwriteError(str(path))
+    suffix = path.suffix.lower()
+    rows, rounded = _doubles3(path, mesh.point_list())
+    # 32-bit indices where they fit: some writers (PLY) warn on 64-bit ones
+    index_type = numpy.int32 if mesh.vertex_count < 2**31 else numpy.int64
+    tetrahedra = mesh.tetrahedron_array().astype(index_type)
+    points = numpy.array(rows, dtype=float).reshape(-1, 3)
+    cell_data: dict[str, Any] = {}
+    if suffix in KEEPS_EVERYTHING and len(tetrahedra):
+        from geomexact.mesh3d.quality import dihedral_angles
+
+        cell_data[QUALITY_3D] = dihedral_angles(points, tetrahedra).min(axis=1)
+    if suffix == ".vtu":
+        count = len(tetrahedra)
+        write_bytes_atomic(path, binary_vtu(
+            points, numpy.full(count, TETRAHEDRON, dtype=numpy.uint8), tetrahedra.ravel(),
+            numpy.arange(4, 4 * count + 1, 4, dtype=numpy.int64), cell_data),
+            overwrite=overwrite)
+        return WriteReport((path,), rounded, ())
+    meshio_data = {name: [values] for name, values in cell_data.items()}
+    if suffix == ".msh":
+        # Python floats: meshio's Gmsh text writer prints each value's repr
+        meshio_data = {name: [numpy.array(values.tolist(), dtype=object)]
+                       for name, values in cell_data.items()}
+        if len(tetrahedra):
+            meshio_data["gmsh:physical"] = [numpy.zeros(len(tetrahedra), dtype=numpy.int32)]
+            meshio_data["gmsh:geometrical"] = [numpy.zeros(len(tetrahedra),
+                                                           dtype=numpy.int32)]
+    _write_through_meshio(path, meshio_module().Mesh(points, [("tetra", tetrahedra)],
+                                                     cell_data=meshio_data),
+                          overwrite=overwrite,
+                          file_format="gmsh22" if suffix == ".msh" else None)
+    return WriteReport((path,), rounded, ())
 
 
 KEEPS_EVERYTHING = (".vtu", ".vtk", ".msh", ".xdmf", ".xmf")
@@ -811,8 +833,9 @@ def _write_through_meshio(path: Path, mesh: Any, *, overwrite: bool,
 
 def _write_mixed(path: Path, value: MixedMesh3 | MixedMeshData, *,
                  overwrite: bool) -> WriteReport:
-    """A mixed-cell mesh as .vtu, .vtk (meshio's writers; with polyhedra, geomexact's VTK
-    text, :mod:`geomexact.io.vtk_polyhedra`) or Gmsh 2.2 text .msh (standard kinds only;
+    """A mixed-cell mesh as .vtu (geomexact's binary writer; with polyhedra its VTU
+    text), .vtk (meshio's writer; with polyhedra geomexact's VTK text,
+    :mod:`geomexact.io.vtk_polyhedra`) or Gmsh 2.2 text .msh (standard kinds only;
     Gmsh 4.1 through meshio takes one cell type per file).  Cells in ``cell_list()``
     order, cell data ``kind`` (VTK type) and the caller's arrays; points as doubles,
     rounding counted.  Everything is refused before anything is written."""
@@ -841,11 +864,21 @@ def _write_mixed(path: Path, value: MixedMesh3 | MixedMeshData, *,
     if polyhedra:
         types, entries = cell_entries(mesh)
         writer = vtu_text if suffix == ".vtu" else legacy_vtk_text
-        text = writer(rows, types, entries, arrays)
+        text = writer(rows.tolist(), types, entries, arrays)
         write_bytes_atomic(path, text.encode("utf-8"), overwrite=overwrite)
         return WriteReport((path,), rounded, ())
-    meshio = meshio_module()
     import numpy
+
+    if suffix == ".vtu":
+        types, entries = cell_entries(mesh)
+        write_bytes_atomic(path, binary_vtu(
+            rows, numpy.array(types, dtype=numpy.uint8),
+            numpy.array([v for entry in entries for v in entry], dtype=numpy.int64),
+            numpy.cumsum([len(entry) for entry in entries], dtype=numpy.int64),
+            {name: numpy.array(values, dtype=numpy.int64) for name, values in arrays.items()}),
+            overwrite=overwrite)
+        return WriteReport((path,), rounded, ())
+    meshio = meshio_module()
 
     blocks = meshio_blocks(mesh)
     index_type = numpy.int32 if mesh.vertex_count < 2**31 else numpy.int64

@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from geomexact.io.vtu_grid import ascii_data_array, number_lines, vtu_document
+
 __all__ = ["POLYHEDRON", "legacy_vtk_text", "polyhedra_readable", "vtu_text"]
 
 POLYHEDRON = 42
@@ -37,19 +39,6 @@ def face_stream(faces: Sequence[Sequence[int]]) -> list[int]:
     for face in faces:
         stream += [len(face), *face]
     return stream
-
-
-def _numbers(values: Sequence[object], per_line: int) -> str:
-    lines = [" ".join(map(str, values[i:i + per_line]))
-             for i in range(0, len(values), per_line)]
-    return "\n".join(lines)
-
-
-def _data_array(name: str, vtu_type: str, values: Sequence[object], components: int = 1,
-                per_line: int = 12) -> str:
-    components_text = f' NumberOfComponents="{components}"' if components != 1 else ""
-    return (f'<DataArray type="{vtu_type}" Name="{name}"{components_text} format="ascii">\n'
-            f"{_numbers(values, per_line)}\n</DataArray>\n")
 
 
 def vtu_text(points: Sequence[tuple[float, float, float]], types: Sequence[int],
@@ -76,29 +65,17 @@ def vtu_text(points: Sequence[tuple[float, float, float]], types: Sequence[int],
             faceoffsets.append(-1)
         offsets.append(len(connectivity))
     coordinates = [repr(value) for point in points for value in point]
-    parts = [
-        '<?xml version="1.0"?>\n',
-        '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
-        'header_type="UInt64">\n',
-        "<!-- written by geomexact -->\n<UnstructuredGrid>\n",
-        f'<Piece NumberOfPoints="{len(points)}" NumberOfCells="{len(types)}">\n',
-        "<Points>\n", _data_array("Points", "Float64", coordinates, 3, 3), "</Points>\n",
-        "<Cells>\n",
-        _data_array("connectivity", "Int64", connectivity),
-        _data_array("offsets", "Int64", offsets),
-        _data_array("types", "UInt8", list(types)),
-    ]
+    cells = [ascii_data_array("connectivity", "Int64", connectivity),
+             ascii_data_array("offsets", "Int64", offsets),
+             ascii_data_array("types", "UInt8", list(types))]
     if faces:
-        parts += [_data_array("faces", "Int64", faces),
-                  _data_array("faceoffsets", "Int64", faceoffsets)]
-    parts.append("</Cells>\n")
-    if cell_data:
-        parts.append("<CellData>\n")
-        parts += [_data_array(name, "Int64", list(values)) for name, values in
-                  cell_data.items()]
-        parts.append("</CellData>\n")
-    parts.append("</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
-    return "".join(parts)
+        cells += [ascii_data_array("faces", "Int64", faces),
+                  ascii_data_array("faceoffsets", "Int64", faceoffsets)]
+    data = [ascii_data_array(name, "Int64", list(values)) for name, values in
+            cell_data.items()]
+    return vtu_document(len(points), len(types),
+                        ascii_data_array("Points", "Float64", coordinates, 3, 3),
+                        "".join(cells), "".join(data), compressed=False)
 
 
 def legacy_vtk_text(points: Sequence[tuple[float, float, float]], types: Sequence[int],
@@ -118,7 +95,7 @@ def legacy_vtk_text(points: Sequence[tuple[float, float, float]], types: Sequenc
         parts.append(f"CELL_DATA {len(types)}\n")
         for name, values in cell_data.items():
             parts.append(f"SCALARS {name} long 1\nLOOKUP_TABLE default\n")
-            parts.append(_numbers(list(values), 12) + "\n")
+            parts.append(number_lines(list(values), 12) + "\n")
     return "".join(parts)
 
 

@@ -275,17 +275,17 @@ static inline uint64_t gx_rotr64(uint64_t x, int n) { return (x >> n) | (x << (6
     v[a] = v[a] + v[b] + (y); v[d] = gx_rotr64(v[d] ^ v[a], 16); \
     v[c] = v[c] + v[d];       v[b] = gx_rotr64(v[b] ^ v[c], 63); } while (0)
 
-/* BLAKE2b-128 (no key) of len <= 128 bytes with the personalisation whose first 8 bytes
-   are `personal` read little-endian (0: none): the digest read as a little-endian
-   128-bit integer */
-static inline gx_u128 gx_blake2b_128(const uint8_t *message, unsigned len,
-                                     uint64_t personal) {
+/* BLAKE2b (no key) with a digest of `digest_bytes` (8 or 16) of len <= 128 bytes with the
+   personalisation whose first 8 bytes are `personal` read little-endian (0: none): the
+   digest read as a little-endian integer */
+static inline gx_u128 gx_blake2b(const uint8_t *message, unsigned len, uint64_t personal,
+                                 unsigned digest_bytes) {
     uint64_t h[8], v[16], m[16];
     uint8_t block[128];
     int i, r;
     const uint8_t *s;
     for (i = 0; i < 8; i++) h[i] = gx_blake2b_iv[i];
-    h[0] ^= 0x01010000ULL | 16;                    /* depth 1, fanout 1, no key, 16 bytes */
+    h[0] ^= 0x01010000ULL | digest_bytes;          /* depth 1, fanout 1, no key */
     h[6] ^= personal;
     memset(block, 0, sizeof block);
     memcpy(block, message, len);
@@ -317,10 +317,26 @@ static inline gx_u128 gx_blake2b_128(const uint8_t *message, unsigned len,
         GX_B2B_G(3, 4, 9, 14, m[s[14]], m[s[15]]);
     }
     h[0] ^= v[0] ^ v[8];
+    if (digest_bytes == 8) return h[0];
     h[1] ^= v[1] ^ v[9];
     return ((gx_u128)h[1] << 64) | h[0];
 }
 #undef GX_B2B_G
+
+/* BLAKE2b-128 of len <= 128 bytes with the personalisation `personal` (as gx_blake2b) */
+static inline gx_u128 gx_blake2b_128(const uint8_t *message, unsigned len,
+                                     uint64_t personal) {
+    return gx_blake2b(message, len, personal, 16);
+}
+
+/* geomexact.kernel.digest.vertex_key: the first 8 bytes (little-endian) of BLAKE2b-64,
+   personalisation "vkey", of the id as a little-endian u64 */
+static inline uint64_t gx_vertex_key(uint64_t vertex) {
+    uint8_t message[8];
+    int k;
+    for (k = 0; k < 8; k++) message[k] = (uint8_t)(vertex >> (8 * k));
+    return (uint64_t)gx_blake2b(message, 8, 0x0000000079656b76ULL, 8);  /* "vkey" */
+}
 
 /* BLAKE2b-128, personalisation "vertex", of len <= 128 bytes */
 static inline gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) {

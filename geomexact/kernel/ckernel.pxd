@@ -35,6 +35,8 @@ cdef extern from "ckernel.h":
     gx_u128 gx_cell_hash(uint64_t ka, uint64_t kb, uint64_t kc) nogil
     gx_u128 gx_grid_vertex_hash(int64_t vertex, int64_t gx, int64_t gy, int F) nogil
     gx_u128 gx_blake2b_128(const uint8_t *message, unsigned len, uint64_t personal) nogil
+    gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) nogil
+    uint64_t gx_vertex_key(uint64_t vertex) nogil
     int gx_grid_lengths(int64_t, int64_t, int64_t, int64_t,
                         int64_t, int64_t, int64_t, int64_t) nogil
     int gx_grid_orient(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil

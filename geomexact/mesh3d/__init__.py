@@ -24,15 +24,15 @@ def _insert_cuboid(t: _Transient3, step: _Step) -> None:
     apply_insert_cuboid(t, step)
 
 
-def _tetrahedra_hash_sum(rows: Any) -> int | None:
-    """The cuboid kernel's sum of tetrahedron hashes (None where it is not built)."""
-    from geomexact.mesh3d.cuboid.compiled import tetrahedra_hash_sum
+def _bulk_digest(points: Any, rows: Any) -> int | None:
+    """The cuboid kernel's digest of a mesh given in bulk (None where it is not built)."""
+    from geomexact.mesh3d.cuboid.compiled import bulk_digest
 
-    return tetrahedra_hash_sum(rows)
+    return bulk_digest(points, rows)
 
 
 # The tetrahedral mesh kind, bound here, above the modules it joins: the snapshot reaches
 # its transient, the step table (with insert_cuboid, which builds on ops) and the compiled
-# hash sum through it; none of them imports a module built on it (tests/architecture).
+# bulk digest through it; none of them imports a module built on it (tests/architecture).
 _bind_kind(_Mesh3, _MeshKind(_Transient3, {**_OPERATIONS, "insert_cuboid": _insert_cuboid},
-                             cell_hash_sum=_tetrahedra_hash_sum))
+                             bulk_digest=_bulk_digest))

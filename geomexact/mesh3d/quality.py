@@ -32,6 +32,28 @@ def _corners(points: Any, tetrahedra: Any) -> Any:
     return np.asarray(points, dtype=np.float64)[np.asarray(tetrahedra, dtype=np.int64)]
 
 
+def _shapes(points: Any, tetrahedra: Any) -> tuple[Any, Any]:
+    """The distinct shapes of the tetrahedra, as corners (S x 4 x 3) with the first at
+    the origin, and each tetrahedron's shape (T,): the measures below are taken once a
+    shape.  An octree's 234,208 tetrahedra have 1,407 shapes; a mesh whose shapes are all
+    different pays one sort of its T rows of nine doubles.
+
+    Translated corners: the edges are ``(c_j - c_0) - (c_i - c_0)`` instead of ``c_j -
+    c_i``, the same doubles wherever the differences are exact (lattice points, as in
+    an octree's mesh), within an ulp of them elsewhere: the measures are for display."""
+    p = _corners(points, tetrahedra)
+    rows = np.ascontiguousarray((p[:, 1:] - p[:, :1]).reshape(-1, 9))
+    keys = rows.view(np.dtype((np.void, rows.itemsize * 9))).ravel()
+    _, first, shape = np.unique(keys, return_index=True, return_inverse=True)
+    distinct = rows[first]
+    # each shape scaled by a power of two to a largest coordinate in [1/2, 1): exact, so
+    # the same measures, without the overflow or underflow of a 1e300 or 1e-300 mesh
+    _, exponent = np.frexp(np.abs(distinct).max(axis=1))
+    corners = np.zeros((len(first), 4, 3))
+    corners[:, 1:] = np.ldexp(distinct, -exponent[:, None]).reshape(-1, 3, 3)
+    return corners, shape.ravel()
+
+
 def _cross(u: Any, v: Any) -> Any:
     """The cross product of each row of u and v (n x 3): np.cross's arithmetic written out
     (the same doubles, without its reshaping and copies)."""
@@ -40,10 +62,7 @@ def _cross(u: Any, v: Any) -> Any:
                      u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]), axis=1)
 
 
-def dihedral_angles(points: Any, tetrahedra: Any) -> Any:
-    """The six dihedral angles (degrees) of each tetrahedron (T x 6), from float
-    coordinates ``points`` (V x 3)."""
-    p = _corners(points, tetrahedra)
+def _dihedral_angles(p: Any) -> Any:
     angles = np.empty((len(p), len(_EDGES)))
     for n, (i, j, k, m) in enumerate(_EDGES):
         edge = p[:, j] - p[:, i]
@@ -55,10 +74,7 @@ def dihedral_angles(points: Any, tetrahedra: Any) -> Any:
     return angles
 
 
-def radius_edge_ratios(points: Any, tetrahedra: Any) -> Any:
-    """Circumradius / shortest edge of each tetrahedron (sqrt(6)/4 ~ 0.612 for the
-    regular one)."""
-    p = _corners(points, tetrahedra)
+def _radius_edge_ratios(p: Any) -> Any:
     b, c, d = (p[:, n] - p[:, 0] for n in (1, 2, 3))
     cd = _cross(c, d)
     numerator = (np.einsum("ij,ij->i", b, b)[:, None] * cd
@@ -68,6 +84,24 @@ def radius_edge_ratios(points: Any, tetrahedra: Any) -> Any:
     radius = np.linalg.norm(numerator, axis=1) / np.abs(denominator)
     lengths = [np.linalg.norm(p[:, j] - p[:, i], axis=1) for i, j, _, _ in _EDGES]
     return radius / np.min(np.stack(lengths, axis=1), axis=1)
+
+
+def dihedral_angles(points: Any, tetrahedra: Any) -> Any:
+    """The six dihedral angles (degrees) of each tetrahedron (T x 6), from float
+    coordinates ``points`` (V x 3), measured once a shape (:func:`_shapes`)."""
+    if len(tetrahedra) == 0:
+        return np.empty((0, len(_EDGES)))
+    corners, shape = _shapes(points, tetrahedra)
+    return _dihedral_angles(corners)[shape]
+
+
+def radius_edge_ratios(points: Any, tetrahedra: Any) -> Any:
+    """Circumradius / shortest edge of each tetrahedron (sqrt(6)/4 ~ 0.612 for the
+    regular one), measured once a shape."""
+    if len(tetrahedra) == 0:
+        return np.empty(0)
+    corners, shape = _shapes(points, tetrahedra)
+    return _radius_edge_ratios(corners)[shape]
 
 
 @attrs.frozen(slots=True)
@@ -83,8 +117,9 @@ def quality_summary(points: Any, tetrahedra: Any) -> QualitySummary:
     """The smallest and largest dihedral angle and the largest radius-edge ratio."""
     if len(tetrahedra) == 0:
         return QualitySummary(None, None, None)
-    angles = dihedral_angles(points, tetrahedra)
-    ratios = radius_edge_ratios(points, tetrahedra)
+    corners, _ = _shapes(points, tetrahedra)
+    angles = _dihedral_angles(corners)
+    ratios = _radius_edge_ratios(corners)
     return QualitySummary(float(angles.min()), float(angles.max()), float(ratios.max()))
 
 

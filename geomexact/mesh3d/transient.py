@@ -274,11 +274,8 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
     if len(faces) > 1 and _repeats_a_row(faces, count):
         raise PreconditionError("mesh3_from_positive_arrays",
                                 "two tetrahedra are on the same side of a face")
-    total = 0
-    for vertex, point in enumerate(points):
-        total = _digest.combine(total, _digest.vertex_hash(vertex, point[:3]))
     canonical = _canonical_rows(array)
-    total = _digest.combine(total, _cells_hash_sum(canonical))
+    total = _bulk_digest(points, canonical)
     canonical = canonical[np.lexsort(canonical.T[::-1])]
     for derived in (faces, apexes, canonical):
         derived.setflags(write=False)
@@ -293,20 +290,26 @@ def _from_positive_arrays(points: Sequence[Point3], tetrahedra: Any) -> Mesh3:
     )
 
 
-def _cells_hash_sum(rows: Any) -> int:
-    """The sum mod 2**128 of the cell hashes of the canonical tetrahedra ``rows``: by the
-    kind's acceleration where it is built (the cuboid kernel: the same arithmetic in
-    unsigned __int128, tested equal), else by :func:`~geomexact.kernel.digest.cell_hash`."""
-    if not len(rows):
-        return 0
-    _digest.vertex_key(int(rows.max()))  # the keys of every id, cached
-    accelerated = kind_of(Mesh3).cell_hash_sum
-    value = None if accelerated is None else accelerated(rows)
-    if value is not None:
-        return value
-    total, cell_hash = 0, _digest.cell_hash
-    for tetrahedron in rows.tolist():
-        total += cell_hash(tetrahedron)
+def _bulk_digest(points: Sequence[Point3], rows: Any) -> int:
+    """The digest of the mesh of ``points`` and the canonical tetrahedra ``rows``: by the
+    kind's acceleration where it is built (the cuboid kernel: the same hashes in C, tested
+    equal), else by :func:`~geomexact.kernel.digest.vertex_hash` and
+    :func:`~geomexact.kernel.digest.cell_hash`."""
+    accelerated = kind_of(Mesh3).bulk_digest
+    value = None if accelerated is None else accelerated(points, rows)
+    return reference_bulk_digest(points, rows) if value is None else value
+
+
+def reference_bulk_digest(points: Sequence[Point3], rows: Any) -> int:
+    """:func:`_bulk_digest` by the definition (the Python hashes)."""
+    total = 0
+    for vertex, point in enumerate(points):
+        total += _digest.vertex_hash(vertex, point[:3])
+    if len(rows):
+        _digest.vertex_key(int(rows.max()))  # the keys of every id, cached
+        cell_hash = _digest.cell_hash
+        for tetrahedron in rows.tolist():
+            total += cell_hash(tetrahedron)
     return total & (_digest.MODULUS - 1)
 
 

@@ -72,15 +72,15 @@ class MeshKind:
     """What a snapshot type reaches only through the modules built on it: the transient
     that opens on it (``transient(snapshot, batch=...)``), the whole step table, and the
     accelerations beside the reference (a compiled replay of long traces: the mesh after
-    the steps with every digest checked, or None; a compiled sum of the cell hashes of
-    canonical cell rows).  The package of a mesh kind binds it (:func:`bind_kind`) at
-    import, from above the snapshot, transient and ops modules, so that none of them
-    imports a module built on it."""
+    the steps with every digest checked, or None; a compiled digest of a mesh given in
+    bulk, its vertices by id and its canonical cell rows, or None).  The package of a
+    mesh kind binds it (:func:`bind_kind`) at import, from above the snapshot, transient
+    and ops modules, so that none of them imports a module built on it."""
 
     transient: Callable[..., Any]
     operations: OperationTable[Any]
     replay_engine: Callable[[Any, Sequence[Step], Sequence[int]], Any] | None = None
-    cell_hash_sum: Callable[[Any], int | None] | None = None
+    bulk_digest: Callable[[Sequence[Any], Any], int | None] | None = None
 
 
 _KINDS: dict[type, MeshKind] = {}

@@ -9,6 +9,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
 
 from geomexact.cli import main
@@ -200,6 +201,12 @@ def test_extreme_boxes_have_the_unit_boxs_figures(tmp_path: Path,
     for key in ("min_dihedral", "max_dihedral", "max_radius_edge"):
         assert isinstance(report[key], float) and math.isfinite(report[key])
         assert report[key] == unit[key], key
+    if out.suffix == ".vtu":  # the file's angles too: no NaN from underflowing doubles
+        import meshio
+
+        angles = meshio.read(out).cell_data["min_dihedral"][0]
+        assert np.isfinite(angles).all()
+        assert angles.min() == pytest.approx(report["min_dihedral"], rel=1e-12)
     assert main(["octree", "--box", "0", "0", "0", side, side, side, "--level", "1",
                  "--no-progress"]) == 0
     assert "nan" not in capsys.readouterr().out

@@ -440,18 +440,33 @@ def test_quality_of_the_regular_tetrahedron() -> None:
     assert quality_summary(points, []).min_dihedral is None
 
 
-def test_bulk_digest_of_tetrahedra_equals_the_cell_hash_sum() -> None:
+def test_bulk_digest_equals_the_sum_of_the_element_hashes() -> None:
     import random
 
     from geomexact.kernel import digest as _digest
-    from geomexact.mesh3d.transient import _canonical_rows, _cells_hash_sum
+    from geomexact.kernel.points import point3
+    from geomexact.mesh3d.cuboid.compiled import AVAILABLE, bulk_digest
+    from geomexact.mesh3d.transient import _bulk_digest, _canonical_rows, reference_bulk_digest
 
     chooser = random.Random(7)
     rows = _canonical_rows(np.array([chooser.sample(range(3000), 4) for _ in range(5000)],
                                     dtype=np.int64))
-    expected = sum(_digest.cell_hash(row) for row in rows.tolist()) % _digest.MODULUS
-    assert _cells_hash_sum(rows) == expected
-    assert _cells_hash_sum(rows[:0]) == 0
+    values = [0, 1, -1, "1/3", "-7/64", "123456789/1024", "1e-30", 2**70, mpq(-2**80, 3)]
+    points = [point3(*chooser.choices(values, k=3)) for _ in range(3000)]
+    expected = (sum(_digest.vertex_hash(v, p[:3]) for v, p in enumerate(points))
+                + sum(_digest.cell_hash(row) for row in rows.tolist())) % _digest.MODULUS
+    assert reference_bulk_digest(points, rows) == expected
+    assert _bulk_digest(points, rows) == expected
+    assert _bulk_digest(points[:0], rows[:0]) == 0
+    assert _bulk_digest(points, rows[:0]) == sum(
+        _digest.vertex_hash(v, p[:3]) for v, p in enumerate(points)) % _digest.MODULUS
+    if AVAILABLE:  # the kernel itself, not the fallback
+        assert bulk_digest(points, rows) == expected
+        # a coordinate whose binary is beyond the kernel's 40 bytes: the reference's turn
+        assert bulk_digest([point3(2**400, 0, 0)], rows[:0]) is None
+        keys = __import__("geomexact.mesh3d.cuboid.cuboid_kernel",
+                          fromlist=["vertex_keys"]).vertex_keys(0, 5000)
+        assert keys == [_digest.vertex_key(v) for v in range(5000)]
 
 
 def test_a_balanced_octree_is_not_balanced_again() -> None:

@@ -43,11 +43,19 @@ def test_a_cube_of_any_side_has_the_unit_cubes_figures(side: str) -> None:
     assert lattice_quality(CUBE, [mpq(side)] * 3, FIVE) == unit  # bit for bit
 
 
-def test_the_doubles_alone_fail_at_1e300() -> None:
-    """What :func:`lattice_quality` avoids: the plain doubles overflow (NaN)."""
-    with np.errstate(all="ignore"):
-        summary = quality_summary(np.array(CUBE, dtype=float) * 1e300, FIVE)
-    assert summary.min_dihedral is not None and math.isnan(summary.min_dihedral)
+@pytest.mark.parametrize("scale", [1e300, 1e-300, 2.0**1000, 3.0])
+def test_the_doubles_are_scaled_per_shape(scale: float) -> None:
+    """Each shape is measured at a power-of-two scale near 1: a cube of 1e300 or 1e-300
+    has the unit cube's figures (its doubles would overflow or underflow to NaN), exactly
+    so for a power-of-two scale, within rounding of the scaled corners otherwise."""
+    unit = quality_summary(np.array(CUBE, dtype=float), FIVE)
+    with np.errstate(all="raise"):
+        scaled = quality_summary(np.array(CUBE, dtype=float) * scale, FIVE)
+    for ours, theirs in ((scaled.min_dihedral, unit.min_dihedral),
+                         (scaled.max_dihedral, unit.max_dihedral),
+                         (scaled.max_radius_edge, unit.max_radius_edge)):
+        assert ours is not None and theirs is not None
+        assert ours == (theirs if scale == 2.0**1000 else pytest.approx(theirs, rel=1e-12))
 
 
 @pytest.mark.parametrize("thin", ["1e-40", "1e-200", "1e-400"])
@@ -102,3 +110,24 @@ def test_exact_measures_agree_with_the_doubles(corners: list[tuple[int, int, int
         assert summary.min_dihedral == pytest.approx(min(angles), abs=1e-6)
         assert summary.max_dihedral == pytest.approx(max(angles), abs=1e-6)
         assert summary.max_radius_edge == pytest.approx(ratio, rel=1e-9)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(FIVE), st.tuples(*[st.integers(-3, 3)] * 3),
+                          st.sampled_from([1.0, 0.5, 4.0])), min_size=1, max_size=30))
+def test_each_tetrahedron_gets_its_own_shapes_measures(
+        pieces: list[tuple[list[int], tuple[int, int, int], float]]) -> None:
+    """Measured once a shape, then handed to every tetrahedron of that shape: the same
+    doubles as measuring each tetrahedron alone (translated and scaled copies of the
+    cube's five tetrahedra, repeated and in any order)."""
+    points, tetrahedra = [], []
+    for tetrahedron, shift, scale in pieces:
+        tetrahedra.append([len(points) + k for k in range(4)])
+        points += [tuple(scale * (c + s) for c, s in zip(CUBE[v], shift, strict=True))
+                   for v in tetrahedron]
+    angles = dihedral_angles(points, tetrahedra)
+    ratios = radius_edge_ratios(points, tetrahedra)
+    for row, tetrahedron in enumerate(tetrahedra):
+        alone = np.array([points[v] for v in tetrahedron])
+        assert (angles[row] == dihedral_angles(alone, [[0, 1, 2, 3]])[0]).all()
+        assert ratios[row] == radius_edge_ratios(alone, [[0, 1, 2, 3]])[0]

@@ -23,9 +23,11 @@ from functools import lru_cache
 from typing import Any, Final
 
 import attrs
+import gmpy2
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel import digest as _digest
+from geomexact.kernel.points import Point3
 from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.cuboid.census import CensusRow
 from geomexact.mesh3d.cuboid.numbering import CORNER_POSITIONS, check_pattern
@@ -34,8 +36,8 @@ from geomexact.mesh3d.cuboid.templates import TEMPLATE_TETRAHEDRA, check_templat
 from geomexact.mesh3d.snapshot import Tetrahedron, canonical_tetrahedron
 from geomexact.trace.step import Step
 
-__all__ = ["AVAILABLE", "MAX_COORDINATE", "CompiledRun", "compiled_rows", "kernel_corners",
-           "row_of", "run_compiled", "unsupported"]
+__all__ = ["AVAILABLE", "MAX_COORDINATE", "CompiledRun", "bulk_digest", "compiled_rows",
+           "kernel_corners", "row_of", "run_compiled", "unsupported"]
 
 
 def _load() -> Any:
@@ -50,23 +52,42 @@ _cuboid_kernel: Any = _load()
 AVAILABLE: bool = _cuboid_kernel is not None
 """True when the extension is built and importable."""
 MAX_COORDINATE: Final = 1 << 20
+MAX_BINARY_BYTES: Final = 40
+"""The longest ``gmpy2.to_binary`` of a coordinate the kernel's vertex hash takes (the id
+and three of them fit BLAKE2b's one 128-byte block)."""
+_MPQ: Final = type(gmpy2.mpq())
 ROW_WIDTH: Final = 12
 _OPS: Final = ("split_tetra", "flip23", "flip32", "flip22", "flip44")
 
 
-def tetrahedra_hash_sum(rows: Any) -> int | None:
-    """The sum mod 2**128 of the cell hashes of the canonical tetrahedra ``rows`` (an
-    integer array whose ids' keys are cached), in the kernel; None when it is not built
-    (the acceleration of ``Mesh3``'s bulk digest, bound by ``geomexact.mesh3d``)."""
+def bulk_digest(points: Sequence[Point3], rows: Any) -> int | None:
+    """The digest of the mesh of ``points`` (by id) and the canonical tetrahedra ``rows``
+    (an integer array): the sum mod 2**128 of ``digest.vertex_hash`` over the vertices and
+    ``digest.cell_hash`` over the tetrahedra, in the kernel (each distinct coordinate's
+    ``gmpy2.to_binary`` made once); None when the kernel is not built, a coordinate is
+    not an ``mpq`` or its binary is longer than the kernel's 40 bytes (the acceleration
+    of ``Mesh3``'s bulk digest, bound by ``geomexact.mesh3d``)."""
     if _cuboid_kernel is None:
         return None
     import numpy as np
 
-    keys = np.array(_digest.VERTEX_KEYS[: int(rows.max()) + 1], dtype=np.uint64)
-    value: int = _cuboid_kernel.tetrahedra_hash_sum(
-        keys, np.ascontiguousarray(rows, dtype=np.int64), _digest._POSITION_MULTIPLIERS,
-        _digest.FINAL_MULTIPLIER)
-    return value
+    numbers: dict[Any, int] = {}
+    number = numbers.setdefault
+    codes = [number(c, len(numbers)) for point in points for c in point[:3]]
+    if any(type(value) is not _MPQ for value in numbers):
+        return None
+    binaries = [gmpy2.to_binary(value) for value in numbers]
+    if any(len(binary) > MAX_BINARY_BYTES for binary in binaries):
+        return None
+    starts = np.cumsum([0, *map(len, binaries)], dtype=np.int64)
+    total = _cuboid_kernel.vertex_hash_sum(
+        np.frombuffer(b"".join(binaries) or b"\0", dtype=np.uint8), starts,
+        np.array(codes, dtype=np.int64).reshape(-1, 3))
+    if len(rows):
+        total += _cuboid_kernel.tetrahedra_hash_sum(
+            np.ascontiguousarray(rows, dtype=np.int64), _digest._POSITION_MULTIPLIERS,
+            _digest.FINAL_MULTIPLIER)
+    return int(total) & (_digest.MODULUS - 1)
 
 
 def kernel_corners(box: Box) -> tuple[tuple[int, int, int], ...] | None:

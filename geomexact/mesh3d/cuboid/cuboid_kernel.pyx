@@ -25,11 +25,18 @@ indexed by the oriented face (rotated to start at its smallest id) ``a*676 + b*2
 holding the apex or -1; tetrahedra live in slots reused through a free list.
 """
 
-from libc.stdint cimport int64_t, uint64_t
-from libc.string cimport memset
+from libc.stdint cimport int64_t, uint8_t, uint64_t
+from libc.string cimport memcpy, memset
 from libc.stdlib cimport malloc, free, qsort
 
-from geomexact.kernel.ckernel cimport _to_u128, gx_u128, gx_u128_hi, gx_u128_lo
+from geomexact.kernel.ckernel cimport (
+    _to_u128,
+    gx_blake2b_vertex_message,
+    gx_u128,
+    gx_u128_hi,
+    gx_u128_lo,
+    gx_vertex_key,
+)
 
 MAX_COORDINATE = 1 << 20
 
@@ -739,21 +746,63 @@ cdef class Setup:
             free(out)
 
 
-def tetrahedra_hash_sum(const uint64_t[::1] keys, const int64_t[:, ::1] tetrahedra,
-                        multipliers, final_multiplier):
+def tetrahedra_hash_sum(const int64_t[:, ::1] tetrahedra, multipliers, final_multiplier):
     """Sum mod 2**128 of the cell hashes (``geomexact.kernel.digest.cell_hash``) of the
-    canonical ``tetrahedra`` (T x 4 vertex ids), given the vertex keys ``keys[id]``, the
-    four position ``multipliers`` and the ``final_multiplier``: the tetrahedra's part of a
+    canonical ``tetrahedra`` (T x 4 vertex ids >= 0), given the four position
+    ``multipliers`` and the ``final_multiplier``, the vertex keys made in C
+    (``digest.vertex_key``): the tetrahedra's part of a
     :class:`~geomexact.mesh3d.snapshot.Mesh3` digest, built in bulk (an octree's mesh)."""
     cdef gx_u128 m0 = _to_u128(multipliers[0]), m1 = _to_u128(multipliers[1])
     cdef gx_u128 m2 = _to_u128(multipliers[2]), m3 = _to_u128(multipliers[3])
     cdef gx_u128 mf = _to_u128(final_multiplier)
     cdef gx_u128 total = 0, x
-    cdef Py_ssize_t i, n = tetrahedra.shape[0]
+    cdef Py_ssize_t i, k, n = tetrahedra.shape[0], count = 0
+    cdef uint64_t *keys
+    for i in range(n):
+        for k in range(4):
+            if tetrahedra[i, k] >= count:
+                count = tetrahedra[i, k] + 1
+    keys = <uint64_t *> malloc(max(count, 1) * sizeof(uint64_t))
+    if keys == NULL:
+        raise MemoryError()
     with nogil:
+        for i in range(count):
+            keys[i] = gx_vertex_key(<uint64_t> i)
         for i in range(n):
             x = (<gx_u128> keys[tetrahedra[i, 0]] * m0 + <gx_u128> keys[tetrahedra[i, 1]] * m1
                  + <gx_u128> keys[tetrahedra[i, 2]] * m2 + <gx_u128> keys[tetrahedra[i, 3]] * m3)
             x ^= x >> 61
             total += x * mf
+    free(keys)
+    return (int(gx_u128_hi(total)) << 64) | int(gx_u128_lo(total))
+
+
+def vertex_keys(Py_ssize_t start, Py_ssize_t stop):
+    """``digest.vertex_key(v)`` for v in ``start .. stop - 1``, made in C (a list)."""
+    return [gx_vertex_key(<uint64_t> v) for v in range(start, stop)]
+
+
+def vertex_hash_sum(const uint8_t[::1] table, const int64_t[::1] starts,
+                    const int64_t[:, ::1] codes):
+    """Sum mod 2**128 of ``digest.vertex_hash(v, point)`` over the vertices v = 0 .. V - 1
+    whose coordinate ``a`` is the value ``codes[v, a]`` (V x 3): value k's
+    ``gmpy2.to_binary`` bytes are ``table[starts[k]:starts[k + 1]]``, each at most 40
+    bytes long (the message, id and three values, fits BLAKE2b's one block)."""
+    cdef uint8_t message[128]
+    cdef gx_u128 total = 0
+    cdef Py_ssize_t v, a, k, length, at, n = codes.shape[0]
+    for k in range(starts.shape[0] - 1):
+        if not 0 < starts[k + 1] - starts[k] <= 40:
+            raise ValueError("a coordinate's binary is empty or longer than 40 bytes")
+    with nogil:
+        for v in range(n):
+            for k in range(8):
+                message[k] = <uint8_t> ((<uint64_t> v) >> (8 * k))
+            at = 8
+            for a in range(3):
+                k = codes[v, a]
+                length = starts[k + 1] - starts[k]
+                memcpy(message + at, &table[starts[k]], length)
+                at += length
+            total += gx_blake2b_vertex_message(message, <unsigned> at)
     return (int(gx_u128_hi(total)) << 64) | int(gx_u128_lo(total))
