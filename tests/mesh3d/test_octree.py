@@ -192,7 +192,7 @@ def _balanced_by_rounds(grid: tuple[int, int, int],
         for level, i, j, k in leaves:
             for x, y, z in offsets:
                 a, b, c = i + x, j + y, k + z
-                if not all(0 <= v < n << level for v, n in zip((a, b, c), grid)):
+                if not all(0 <= v < n << level for v, n in zip((a, b, c), grid, strict=True)):
                     continue
                 target = (level - 1, a >> 1, b >> 1, c >> 1)
                 if level >= 2 and target not in leaves:
