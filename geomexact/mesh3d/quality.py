@@ -43,8 +43,10 @@ def _shapes(points: Any, tetrahedra: Any) -> tuple[Any, Any]:
     an octree's mesh), within an ulp of them elsewhere: the measures are for display."""
     p = _corners(points, tetrahedra)
     rows = np.ascontiguousarray((p[:, 1:] - p[:, :1]).reshape(-1, 9))
-    keys = rows.view(np.dtype((np.void, rows.itemsize * 9))).ravel()
-    _, first, shape = np.unique(keys, return_index=True, return_inverse=True)
+    _, first, shape = np.unique(_row_hashes(rows), return_index=True, return_inverse=True)
+    if not (rows[first][shape.ravel()] == rows).all():  # two shapes share a hash
+        keys = rows.view(np.dtype((np.void, rows.itemsize * 9))).ravel()
+        _, first, shape = np.unique(keys, return_index=True, return_inverse=True)
     distinct = rows[first]
     # each shape scaled by a power of two to a largest coordinate in [1/2, 1): exact, so
     # the same measures, without the overflow or underflow of a 1e300 or 1e-300 mesh
@@ -52,6 +54,24 @@ def _shapes(points: Any, tetrahedra: Any) -> tuple[Any, Any]:
     corners = np.zeros((len(first), 4, 3))
     corners[:, 1:] = np.ldexp(distinct, -exponent[:, None]).reshape(-1, 3, 3)
     return corners, shape.ravel()
+
+
+_COLUMN_MULTIPLIERS = np.array(
+    [0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9, 0xD6E8FEB86659FD93,
+     0xA0761D6478BD642F, 0xE7037ED1A0B428DB, 0x8EBC6AF09C88C6E3, 0x589965CC75374CC3,
+     0x1D8E4E27C47D124F], dtype=np.uint64)
+
+
+def _row_hashes(rows: Any) -> Any:
+    """A 64-bit hash of each row of nine doubles, of their bits (a 1-D sort of these is
+    about 3x faster than one of the rows; the caller checks that equal hashes are equal
+    rows).  The bits are folded down before the multiply: a small integer's double has
+    its information in its high bits, which a multiply alone never carries down."""
+    bits = rows.view(np.uint64)
+    mixed = bits ^ (bits >> np.uint64(32))
+    mixed = (mixed ^ (mixed >> np.uint64(16))) * _COLUMN_MULTIPLIERS
+    mixed ^= mixed >> np.uint64(31)
+    return mixed.sum(axis=1, dtype=np.uint64)
 
 
 def _cross(u: Any, v: Any) -> Any:

@@ -131,3 +131,15 @@ def test_each_tetrahedron_gets_its_own_shapes_measures(
         alone = np.array([points[v] for v in tetrahedron])
         assert (angles[row] == dihedral_angles(alone, [[0, 1, 2, 3]])[0]).all()
         assert ratios[row] == radius_edge_ratios(alone, [[0, 1, 2, 3]])[0]
+
+
+def test_shapes_that_share_a_hash_are_still_told_apart(monkeypatch: pytest.MonkeyPatch
+                                                        ) -> None:
+    """Every shape hashed alike (a collision everywhere): the rows themselves decide."""
+    points = [tuple(2 * c + s for c in corner) for s in (0, 1) for corner in CUBE]
+    tetrahedra = [*FIVE, *([v + 8 for v in t] for t in FIVE)]
+    expected = dihedral_angles(points, tetrahedra), radius_edge_ratios(points, tetrahedra)
+    monkeypatch.setattr(quality, "_row_hashes",
+                        lambda rows: np.zeros(len(rows), dtype=np.uint64))
+    assert (dihedral_angles(points, tetrahedra) == expected[0]).all()
+    assert (radius_edge_ratios(points, tetrahedra) == expected[1]).all()
