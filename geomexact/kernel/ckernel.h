@@ -338,6 +338,23 @@ static inline uint64_t gx_vertex_key(uint64_t vertex) {
     return (uint64_t)gx_blake2b(message, 8, 0x0000000079656b76ULL, 8);  /* "vkey" */
 }
 
+/* gx_vertex_key(vertex), from this module's cache of the keys of 0, 1, ... (grown to
+   twice its size or to `vertex`, whichever is more; as digest.vertex_key caches them);
+   0 and no cache when out of memory (the caller then computes the key) */
+GX_UNUSED static uint64_t *gx_key_cache = NULL;
+GX_UNUSED static uint64_t gx_key_cached = 0;
+GX_UNUSED static uint64_t gx_cached_vertex_key(uint64_t vertex) {
+    if (vertex >= gx_key_cached) {
+        uint64_t count = 2 * gx_key_cached > vertex + 1 ? 2 * gx_key_cached : vertex + 1;
+        uint64_t *grown = (uint64_t *)realloc(gx_key_cache, count * sizeof(uint64_t));
+        if (!grown) return gx_vertex_key(vertex);
+        for (uint64_t i = gx_key_cached; i < count; i++) grown[i] = gx_vertex_key(i);
+        gx_key_cache = grown;
+        gx_key_cached = count;
+    }
+    return gx_key_cache[vertex];
+}
+
 /* BLAKE2b-128, personalisation "vertex", of len <= 128 bytes */
 static inline gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) {
     return gx_blake2b_128(message, len, 0x0000786574726576ULL);  /* "vertex" */

@@ -37,6 +37,7 @@ cdef extern from "ckernel.h":
     gx_u128 gx_blake2b_128(const uint8_t *message, unsigned len, uint64_t personal) nogil
     gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) nogil
     uint64_t gx_vertex_key(uint64_t vertex) nogil
+    uint64_t gx_cached_vertex_key(uint64_t vertex)
     int gx_grid_lengths(int64_t, int64_t, int64_t, int64_t,
                         int64_t, int64_t, int64_t, int64_t) nogil
     int gx_grid_orient(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil

@@ -8,7 +8,11 @@ from the algorithms:
 
 * the vertices (their doubles and exact grid coordinates for the predicates, their digest
   key, their ``outgoing`` hint and a region-membership cache);
-* the half-edge table ``(u, v) -> apex`` keyed by ``u << 32 | v``;
+* the half-edge table ``(u, v) -> apex`` keyed by ``u << 32 | v``, open addressing with
+  linear probing, a half-edge's home slot near its origin's: each vertex gets a rank
+  when it first becomes an origin and its half-edges live from slot ``16 * rank`` on, so
+  vertices inserted one after another (a biased randomized order walks the plane along
+  a curve) share cache lines instead of scattering over the whole table;
 * the incremental digest (the sum mod 2**128 of the cell hashes and whatever else the
   caller adds);
 * the step records (an op code, up to four ids, the digest after the step);
@@ -36,10 +40,7 @@ from geomexact.kernel.ckernel cimport (
     gx_edge,
     gx_map,
     gx_map_alloc,
-    gx_map_del,
     gx_map_free,
-    gx_map_get,
-    gx_map_set,
     gx_map_next,
     gx_u128,
     incircle_sign,
@@ -51,6 +52,7 @@ cdef struct TriVertex:
     GridPoint at       # the doubles; gx, gy: the exact coordinates times 2**F, when grid
     uint64_t key       # geomexact.kernel.digest.vertex_key
     int64_t hint       # the outgoing hint, -1 for none
+    int64_t rank       # where its half-edges live in the table (above), -1 for none yet
     int8_t inside      # region membership, -1 not known yet (refinement only)
 
 
@@ -66,19 +68,26 @@ cdef struct StepRecord:
 cdef struct TriangleStore:
     TriVertex *vs
     Py_ssize_t nv, cap_v
-    gx_map apex        # (u, v) -> apex
+    gx_map apex        # (u, v) -> apex (store_put, store_apex, store_delete: not gx_map_*)
+    int64_t ranks      # the ranks given so far
     gx_u128 digest
     StepRecord *records
     Py_ssize_t nrec, cap_rec
     PairStack pending  # the half-edges to legalize
 
 
+cdef enum:
+    SPREAD_BITS = 4  # 16 slots a rank: about 6 half-edges each, a local load of 3/8
+
+
 cdef inline int store_init(TriangleStore *s, Py_ssize_t vertices, Py_ssize_t vertex_room,
                            uint64_t slots, Py_ssize_t record_room) except -1:
     """Allocate a store of ``vertices`` vertices (room for ``vertex_room``; their fields
-    are the caller's to fill), a half-edge table of ``slots`` slots (a power of two) and
-    room for ``record_room`` records.  A store starts zeroed (a Cython object's C fields
-    are): :func:`store_free` releases what this reached."""
+    but ``rank`` are the caller's to fill), a half-edge table of at least ``slots`` slots
+    (a power of two; at least 16 a vertex) and room for ``record_room`` records.  A store
+    starts zeroed (a Cython object's C fields are): :func:`store_free` releases what this
+    reached."""
+    cdef Py_ssize_t i
     s.nv = vertices
     s.cap_v = max(1, vertex_room)
     s.vs = <TriVertex *>malloc(s.cap_v * sizeof(TriVertex))
@@ -89,8 +98,13 @@ cdef inline int store_init(TriangleStore *s, Py_ssize_t vertices, Py_ssize_t ver
     s.pending.items = <Pair *>malloc(s.pending.capacity * sizeof(Pair))
     if not s.vs or not s.records or not s.pending.items:
         raise MemoryError
+    while slots < (<uint64_t>vertices << SPREAD_BITS) + 64:
+        slots *= 2
     if gx_map_alloc(&s.apex, slots) < 0:
         raise MemoryError
+    for i in range(vertices):
+        s.vs[i].rank = -1
+    s.ranks = 0
     s.nrec = 0
     s.digest = 0
     return 0
@@ -107,23 +121,97 @@ cdef inline void store_free(TriangleStore *s) noexcept:
 
 
 cdef inline int store_vertex_room(TriangleStore *s) except -1:
-    """Room for one more vertex (``s.vs`` may move)."""
+    """Room for one more vertex (``s.vs`` may move), ``s.vs[s.nv]``, with no rank yet."""
     if s.nv == s.cap_v:
         grow_array(<void **>&s.vs, &s.cap_v, sizeof(TriVertex))
+    s.vs[s.nv].rank = -1
     return 0
 
 
 # -- the half-edge table ----------------------------------------------------------------
+cdef inline uint64_t store_home(const TriangleStore *s, uint64_t key) noexcept nogil:
+    """The home slot of the half-edge ``key`` (its origin has a rank): 16 slots from the
+    origin's ``16 * rank``, the destination picking one of them."""
+    return ((<uint64_t>s.vs[key >> 32].rank << SPREAD_BITS)
+            + ((<uint64_t><uint32_t>key * <uint64_t>0x9E3779B97F4A7C15) >> (64 - SPREAD_BITS))
+            ) & s.apex.mask
+
+
+cdef inline uint64_t store_slot(const TriangleStore *s, uint64_t key) noexcept nogil:
+    """The slot of ``key``, or the empty slot where its probe ends."""
+    cdef uint64_t i = store_home(s, key)
+    while s.apex.keys[i] != GX_EMPTY and s.apex.keys[i] != key:
+        i = (i + 1) & s.apex.mask
+    return i
+
+
 cdef inline int64_t store_apex(const TriangleStore *s, int64_t u, int64_t v) noexcept nogil:
     """apex(u, v), or -1."""
-    return gx_map_get(&s.apex, gx_edge(u, v), -1)
+    cdef uint64_t key, i
+    if s.vs[u].rank < 0:
+        return -1
+    key = gx_edge(u, v)
+    i = store_slot(s, key)
+    return s.apex.values[i] if s.apex.keys[i] == key else -1
+
+
+cdef inline int store_grow(TriangleStore *s) except -1:
+    """Double the table (every half-edge moved to its new home)."""
+    cdef gx_map old = s.apex
+    cdef uint64_t i, j
+    if gx_map_alloc(&s.apex, 2 * (old.mask + 1)) < 0:
+        s.apex = old
+        raise MemoryError
+    for i in range(old.mask + 1):
+        if old.keys[i] != GX_EMPTY:
+            j = store_slot(s, old.keys[i])
+            s.apex.keys[j] = old.keys[i]
+            s.apex.values[j] = old.values[i]
+            s.apex.count += 1
+    gx_map_free(&old)
+    return 0
 
 
 cdef inline int store_put(TriangleStore *s, int64_t u, int64_t v, int64_t w) except -1:
-    """apex[(u, v)] = w."""
-    if gx_map_set(&s.apex, gx_edge(u, v), w) < 0:
-        raise MemoryError
+    """apex[(u, v)] = w (u gets the next rank if it has none)."""
+    cdef uint64_t key = gx_edge(u, v), i
+    if s.vs[u].rank < 0:
+        s.vs[u].rank = s.ranks
+        s.ranks += 1
+    while (2 * (s.apex.count + 1) > s.apex.mask + 1
+           or (<uint64_t>s.ranks << SPREAD_BITS) > s.apex.mask + 1):
+        store_grow(s)
+    i = store_slot(s, key)
+    if s.apex.keys[i] != key:
+        s.apex.keys[i] = key
+        s.apex.count += 1
+    s.apex.values[i] = w
     return 0
+
+
+cdef inline void store_delete(TriangleStore *s, int64_t u, int64_t v) noexcept nogil:
+    """Remove the half-edge (u, v) if present (backward-shift deletion: every later
+    half-edge of the probe run whose home allows it moves into the hole)."""
+    cdef uint64_t key, i, j, home, mask = s.apex.mask
+    if s.vs[u].rank < 0:
+        return
+    key = gx_edge(u, v)
+    i = store_slot(s, key)
+    if s.apex.keys[i] != key:
+        return
+    j = i
+    while True:
+        j = (j + 1) & mask
+        if s.apex.keys[j] == GX_EMPTY:
+            break
+        home = store_home(s, s.apex.keys[j])
+        # the entry at j may fill the hole at i unless its home lies in (i, j]
+        if ((j - home) & mask) >= ((j - i) & mask):
+            s.apex.keys[i] = s.apex.keys[j]
+            s.apex.values[i] = s.apex.values[j]
+            i = j
+    s.apex.keys[i] = GX_EMPTY
+    s.apex.count -= 1
 
 
 cdef inline bint store_next_halfedge(const TriangleStore *s, uint64_t *slot, int64_t *u,
@@ -205,9 +293,9 @@ cdef inline int store_add(TriangleStore *s, int64_t a, int64_t b, int64_t c) exc
 cdef inline void store_remove(TriangleStore *s, int64_t a, int64_t b, int64_t c) noexcept:
     """The ops' ``remove_triangle``: its three half-edges and its cell hash (the hints
     stay; a broken one is repaired when the result is sealed)."""
-    gx_map_del(&s.apex, gx_edge(a, b))
-    gx_map_del(&s.apex, gx_edge(b, c))
-    gx_map_del(&s.apex, gx_edge(c, a))
+    store_delete(s, a, b)
+    store_delete(s, b, c)
+    store_delete(s, c, a)
     s.digest -= store_hash(s, a, b, c)
 
 
@@ -216,8 +304,8 @@ cdef inline void store_remove_edge(TriangleStore *s, int64_t u, int64_t v, int64
     """Remove the triangles (u, v, w) and (v, u, x) of the interior edge (u, v): their
     cell hashes and the edge's two half-edges (the caller puts the other four again, with
     new apexes, in place)."""
-    gx_map_del(&s.apex, gx_edge(u, v))
-    gx_map_del(&s.apex, gx_edge(v, u))
+    store_delete(s, u, v)
+    store_delete(s, v, u)
     s.digest -= store_hash(s, u, v, w) + store_hash(s, v, u, x)
 
 
@@ -236,7 +324,7 @@ cdef inline int store_split_side(TriangleStore *s, int64_t p, int64_t q, int64_t
     """The triangle (p, q, r) split at the new vertex n on its edge (p, q):
     (p, n, r), (n, q, r), as ``ops.bisect_in`` does each side (the half-edges (q, r) and
     (r, p) keep their places with new apexes)."""
-    gx_map_del(&s.apex, gx_edge(p, q))
+    store_delete(s, p, q)
     s.digest -= store_hash(s, p, q, r)
     store_add(s, p, n, r)
     store_add(s, n, q, r)

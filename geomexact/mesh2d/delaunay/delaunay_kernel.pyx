@@ -70,6 +70,7 @@ from geomexact.kernel.ckernel cimport (
     gx_cell_hash,
     gx_edge,
     gx_grid_vertex_hash,
+    gx_cached_vertex_key,
     gx_map,
     gx_map_alloc,
     gx_map_free,
@@ -172,15 +173,12 @@ cdef class Builder:
         self.visible = <Pair *>malloc(self.cap_visible * sizeof(Pair))
         if not self.visible:
             raise MemoryError
-        if count:
-            _digest.vertex_key(count - 1)  # extend the cached keys once
-        keys = _digest._VERTEX_KEYS
         for i in range(count):
             point = self.points[i]
             vertex = &self.store.vs[i]
             vertex.at.fx = point[2]
             vertex.at.fy = point[3]
-            vertex.key = keys[i]
+            vertex.key = gx_cached_vertex_key(<uint64_t>i)  # digest.vertex_key, in C
             vertex.hint = -1
             vertex.inside = -1
             vertex.at.grid = 0

@@ -32,6 +32,7 @@ from libc.stdlib cimport malloc, free, qsort
 from geomexact.kernel.ckernel cimport (
     _to_u128,
     gx_blake2b_vertex_message,
+    gx_cached_vertex_key,
     gx_u128,
     gx_u128_hi,
     gx_u128_lo,
@@ -765,9 +766,9 @@ def tetrahedra_hash_sum(const int64_t[:, ::1] tetrahedra, multipliers, final_mul
     keys = <uint64_t *> malloc(max(count, 1) * sizeof(uint64_t))
     if keys == NULL:
         raise MemoryError()
+    for i in range(count):
+        keys[i] = gx_cached_vertex_key(<uint64_t> i)
     with nogil:
-        for i in range(count):
-            keys[i] = gx_vertex_key(<uint64_t> i)
         for i in range(n):
             x = (<gx_u128> keys[tetrahedra[i, 0]] * m0 + <gx_u128> keys[tetrahedra[i, 1]] * m1
                  + <gx_u128> keys[tetrahedra[i, 2]] * m2 + <gx_u128> keys[tetrahedra[i, 3]] * m3)
@@ -778,8 +779,10 @@ def tetrahedra_hash_sum(const int64_t[:, ::1] tetrahedra, multipliers, final_mul
 
 
 def vertex_keys(Py_ssize_t start, Py_ssize_t stop):
-    """``digest.vertex_key(v)`` for v in ``start .. stop - 1``, made in C (a list)."""
-    return [gx_vertex_key(<uint64_t> v) for v in range(start, stop)]
+    """``digest.vertex_key(v)`` for v in ``start .. stop - 1``, made in C (a list; the
+    cached keys, then the computed ones)."""
+    return [gx_cached_vertex_key(<uint64_t> v) if v % 2 else gx_vertex_key(<uint64_t> v)
+            for v in range(start, stop)]
 
 
 def vertex_hash_sum(const uint8_t[::1] table, const int64_t[::1] starts,

@@ -93,6 +93,7 @@ from geomexact.kernel.ckernel cimport (
     gx_blake2b_128,
     gx_cell_hash,
     gx_grid_vertex_hash,
+    gx_cached_vertex_key,
     gx_edge,
     gx_grid_area2,
     gx_grid_orient,
@@ -430,9 +431,6 @@ cdef class Kernel:
         self.scale = mpq(2) ** (2 * self.F)
         self.unit = 2 ** int(self.F)
         self.inv_unit = mpq(1, self.unit)
-        if count:
-            _digest.vertex_key(count - 1)  # the cached keys reach the last vertex
-        keys = _digest._VERTEX_KEYS
         for i in range(count):
             fields = <tuple>self.points[i]  # a Point2 is a tuple: indexed as one
             vertex = &self.store.vs[i]
@@ -440,7 +438,7 @@ cdef class Kernel:
             vertex.at.fy = fields[3]
             vertex.at.grid = self._on_grid(fields[0], vertex.at.fx, &vertex.at.gx) and (
                 self._on_grid(fields[1], vertex.at.fy, &vertex.at.gy))
-            vertex.key = keys[i]
+            vertex.key = gx_cached_vertex_key(<uint64_t>i)  # digest.vertex_key, in C
             vertex.inside = -1
         self._read_start_tables(start)
         self.triangles = start.triangle_count
@@ -680,10 +678,7 @@ cdef class Kernel:
             if grid:
                 vertex.at.gx = gx
                 vertex.at.gy = gy
-        keys = _digest._VERTEX_KEYS
-        if n >= len(keys):
-            _digest.vertex_key(n + 1023)  # extend the cached keys a block at a time
-        vertex.key = keys[n]
+        vertex.key = gx_cached_vertex_key(<uint64_t>n)  # digest.vertex_key, in C
         vertex.hint = -1
         vertex.inside = -1
         self.store.nv = n + 1
