@@ -158,6 +158,20 @@ class ConvexDecompositionError(GeomexactError, RuntimeError):
         self.polygons = tuple(polygons)
 
 
+class GeomexactDeprecationWarning(DeprecationWarning):
+    """An old name or argument still accepted, to be removed in a later release: the
+    message names what replaces it."""
+
+
+def warn_deprecated(old: str, new: str, *, stacklevel: int) -> None:
+    """Warn (:class:`GeomexactDeprecationWarning`) that ``old`` is deprecated in favour of
+    ``new``; ``stacklevel`` as :func:`warnings.warn`'s, counted from the caller."""
+    import warnings
+
+    warnings.warn(f"{old} is deprecated and will be removed in a later release: use {new}",
+                  GeomexactDeprecationWarning, stacklevel=stacklevel + 1)
+
+
 class MissingDependencyError(GeomexactError, ImportError):
     """An optional package that a feature needs is not installed; names the package and
     the extra that installs it (``pip install 'geomexact[extra]'``)."""

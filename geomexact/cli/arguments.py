@@ -1,6 +1,8 @@
 """The parts of the argument parser the commands share: adding a command (as
 :mod:`~geomexact.cli.command_table` describes it), the common options (``--json``, ``-v``,
-``--format``, ``--to``) and the argument types."""
+``--format``, ``--to``), the arguments and options several commands declare with their own
+help text (``INPUT``, ``TRACE``, ``-o``, ``--trace``, ``--check``, ``--picture``,
+``--engine``) and the argument types."""
 
 from __future__ import annotations
 
@@ -107,19 +109,67 @@ def format_names() -> list[str]:
     return sorted(io.FORMATS)
 
 
-def add_format_option(sub: argparse.ArgumentParser) -> None:
-    """``--format F``: the format of the input file (default: by its extension)."""
+def add_format_option(sub: argparse.ArgumentParser, help: str | None = None) -> None:
+    """``--format F``: the format of the input file (default: by its extension); ``help``,
+    when given, replaces the text that says so."""
     names = format_names()
-    sub.add_argument(
-        "--format", choices=names, metavar="F",
-        help=f"file format, one of {', '.join(names)} (default: from the extension)",
-    )
+    if help is None:
+        help = f"file format, one of {', '.join(names)} (default: from the extension)"
+    sub.add_argument("--format", choices=names, metavar="F", help=help)
 
 
-def add_to_option(sub: argparse.ArgumentParser) -> None:
+def add_to_option(sub: argparse.ArgumentParser,
+                  help: str = "format of OUT (default: by its extension)") -> None:
     """``--to F``: the format of the output file OUT (default: by its extension)."""
-    sub.add_argument("--to", choices=format_names(), metavar="F",
-                     help="format of OUT (default: by its extension)")
+    sub.add_argument("--to", choices=format_names(), metavar="F", help=help)
+
+
+MESH_OR_PSLG = "triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)"
+"""The INPUT of a command that takes a triangle mesh and triangulates a PSLG first."""
+
+
+def add_input_argument(sub: argparse.ArgumentParser, help: str, *,
+                       optional: bool = False) -> None:
+    """``INPUT`` (``args.input``): the file the command reads, as ``help`` says; with
+    ``optional`` it may be left out (then None)."""
+    sub.add_argument("input", metavar="INPUT", nargs="?" if optional else None, help=help)
+
+
+def add_trace_argument(sub: argparse.ArgumentParser,
+                       help: str = "trace file (JSON Lines, or .gz)") -> None:
+    """``TRACE`` (``args.trace``): the trace file the command reads."""
+    sub.add_argument("trace", metavar="TRACE", help=help)
+
+
+def add_output_option(sub: argparse.ArgumentParser, help: str = "mesh file to write", *,
+                      metavar: str = "OUT", required: bool = False) -> None:
+    """``-o``/``--output`` (``args.output``): the file, or folder, the command writes,
+    named ``metavar`` in ``--help``; with ``required`` the command needs it."""
+    sub.add_argument("-o", "--output", metavar=metavar, required=required, help=help)
+
+
+def add_trace_output(sub: argparse.ArgumentParser, help: str) -> None:
+    """``--trace FILE`` (``args.trace``): write the run's trace to FILE."""
+    sub.add_argument("--trace", metavar="FILE", help=help)
+
+
+def add_check_flag(sub: argparse.ArgumentParser, help: str) -> None:
+    """``--check`` (``args.check``): validate the result; ``help`` says what is checked
+    and the exit code."""
+    sub.add_argument("--check", action="store_true", help=help)
+
+
+def add_picture_option(sub: argparse.ArgumentParser, help: str, *, metavar: str) -> None:
+    """``--picture`` (``args.picture``): draw a picture (.png, .svg or .pdf) to the file
+    named ``metavar`` in ``--help``."""
+    sub.add_argument("--picture", metavar=metavar, help=help)
+
+
+def add_engine_option(sub: argparse.ArgumentParser, choices: Sequence[str],
+                      help: str) -> None:
+    """``--engine`` (``args.engine``): one of ``choices`` (in the order ``--help`` lists
+    them), default ``"auto"``."""
+    sub.add_argument("--engine", choices=choices, default="auto", help=help)
 
 
 def add_reading_options(sub: argparse.ArgumentParser, *, force: str | None = None) -> None:
@@ -181,10 +231,10 @@ def add_run_outputs(sub: argparse.ArgumentParser, *, output: str, start: str,
     """The outputs of a command that makes a mesh by recorded steps: ``-o OUT`` (with
     ``--to``), ``--start FILE`` (the trace's input), ``--trace FILE``, ``--exact`` /
     ``--float``, ``--force`` and ``--json``; the texts say what each writes."""
-    sub.add_argument("-o", "--output", metavar="OUT", help=output)
+    add_output_option(sub, output)
     add_to_option(sub)
     sub.add_argument("--start", metavar="FILE", help=start)
-    sub.add_argument("--trace", metavar="FILE", help=trace)
+    add_trace_output(sub, trace)
     add_number_flags(sub)
     add_force_flag(sub, "existing output files")
     add_json_flag(sub)

@@ -16,8 +16,10 @@ from typing import Any
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_engine_option,
     add_force_flag,
     add_json_flag,
+    add_output_option,
     positive_int,
 )
 from geomexact.cli.cuboid import add_cuboid_options, shape_box
@@ -224,14 +226,12 @@ def add_parser(commands: Subcommands) -> None:
     census.add_argument("--dask", metavar="ADDRESS",
                         help="run on the Dask cluster at ADDRESS (tcp://host:port; needs "
                         "the 'cluster' extra)")
-    census.add_argument("--engine", choices=("auto", "compiled", "reference"),
-                        default="auto", help="compiled kernel or exact reference (auto: "
-                        "the kernel where it applies)")
+    add_engine_option(census, ("auto", "compiled", "reference"),
+                      "compiled kernel or exact reference (auto: the kernel where it applies)")
     census.add_argument("--chunk-size", type=positive_int, metavar="N",
                         help="patterns per task (default: a few tasks per worker)")
-    census.add_argument("-o", "--output", metavar="OUT.csv",
-                        help="write one CSV row per pattern (and OUT.parquet when pyarrow "
-                        "is installed)")
+    add_output_option(census, "write one CSV row per pattern (and OUT.parquet when pyarrow "
+                      "is installed)", metavar="OUT.csv")
     census.add_argument("--cells", action="store_true",
                         help="count the polyhedral Delaunay cells instead (co-spherical "
                         "tetrahedra of each pattern's Delaunay tessellation grouped, "

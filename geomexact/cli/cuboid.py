@@ -27,6 +27,9 @@ from geomexact.mesh3d.cuboid.partition import point_label
 from geomexact.mesh3d.cuboid.split_order import ORDERS
 from geomexact.mesh3d.snapshot import Mesh3
 
+CELL_FINALS = ("mixed", "polyhedral")
+"""The ``--final`` choices that make cells other than tetrahedra (cuboid and octree)."""
+
 
 def pattern_argument(text: str) -> int:
     """A pattern: an integer 0 .. 2**18 - 1 (decimal, or 0x… / 0b…)."""
@@ -71,6 +74,13 @@ def add_cuboid_options(sub: argparse.ArgumentParser) -> None:
                      help="improve the partition toward Delaunay by Joe's flips")
     sub.add_argument("--allow-boundary-flips", action="store_true",
                      help="let the improvement flip T22 (changes the box's boundary)")
+
+
+def add_final_option(sub: argparse.ArgumentParser, help: str) -> None:
+    """``--final`` (``args.final``): what the cuboids become, ``patterns`` (the default),
+    ``delaunay`` or one of :data:`CELL_FINALS`; ``help`` says it for the command."""
+    sub.add_argument("--final", choices=("patterns", "delaunay", *CELL_FINALS),
+                     default="patterns", help=help)
 
 
 def _configurations(mesh: Mesh3) -> dict[str, dict[str, int]]:
@@ -154,9 +164,6 @@ def command_cuboid(args: argparse.Namespace) -> int:
         for violation in violations:
             print(f"  {violation}")
     return EXIT_FAILED if violations else EXIT_OK
-
-
-CELL_FINALS = ("mixed", "polyhedral")
 
 
 def _cuboid_cells(args: argparse.Namespace) -> int:
@@ -292,11 +299,9 @@ def add_parser(commands: Subcommands) -> None:
                         help="0 .. 262143: bit i marks a Steiner point on cube edge i "
                         "(0-11) or face i (12-17); see docs/cuboid.md")
     add_cuboid_options(cuboid)
-    cuboid.add_argument("--final", choices=("patterns", "delaunay", *CELL_FINALS),
-                        default="patterns",
-                        help="the pattern's tetrahedra (default), improved by Joe's flips "
-                        "(delaunay: --improve), its mixed template (a hexahedron when bare; "
-                        "wedges, pyramids, tetrahedra) or its polyhedral Delaunay cells")
+    add_final_option(cuboid, "the pattern's tetrahedra (default), improved by Joe's flips "
+                     "(delaunay: --improve), its mixed template (a hexahedron when bare; "
+                     "wedges, pyramids, tetrahedra) or its polyhedral Delaunay cells")
     add_run_outputs(
         cuboid,
         output="write the final mesh (TetGen OUT.ele with OUT.node and OUT.face, or .vtu, …)",

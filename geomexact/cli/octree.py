@@ -19,7 +19,7 @@ from geomexact.cli.arguments import (
     non_negative,
     positive_int,
 )
-from geomexact.cli.cuboid import rational_argument
+from geomexact.cli.cuboid import CELL_FINALS, add_final_option, rational_argument
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_OK
 from geomexact.cli.memory import BYTES_PER_TETRAHEDRON, active_budget
@@ -39,7 +39,6 @@ from geomexact.kernel.numbers import format_rational, parse_rational
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.snapshot import Mesh3
 
-CELL_FINALS = ("mixed", "polyhedral")
 STAGES = ("initial", "refinement", "improvement", "final", "conformity", "write")
 
 
@@ -338,12 +337,10 @@ def add_parser(commands: Subcommands) -> None:
     octree.add_argument("--refine-box", nargs=6, type=_exact, action="append",
                         metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
                         help="refine where this box meets a leaf (repeatable)")
-    octree.add_argument("--final", choices=("patterns", "delaunay", *CELL_FINALS),
-                        default="patterns",
-                        help="each leaf's tetrahedra by its pattern (default), those improved "
-                        "by Joe's flips inside the leaf (delaunay), hexahedra with wedges, "
-                        "pyramids and tetrahedra at transitions (mixed), or the exact "
-                        "Delaunay cells with co-spherical groups kept whole (polyhedral)")
+    add_final_option(octree, "each leaf's tetrahedra by its pattern (default), those "
+                     "improved by Joe's flips inside the leaf (delaunay), hexahedra with "
+                     "wedges, pyramids and tetrahedra at transitions (mixed), or the exact "
+                     "Delaunay cells with co-spherical groups kept whole (polyhedral)")
     add_run_outputs(
         octree,
         output="write the mesh (TetGen OUT.ele/.node/.face, .vtu, .vtk, Geomview .off)",

@@ -8,8 +8,13 @@ import time
 from pathlib import Path
 
 from geomexact.cli.arguments import (
+    MESH_OR_PSLG,
     Subcommands,
+    add_check_flag,
     add_command,
+    add_input_argument,
+    add_output_option,
+    add_picture_option,
     add_writing_options,
 )
 from geomexact.cli.errors import UsageProblem
@@ -109,10 +114,8 @@ def command_polylla(args: argparse.Namespace) -> int:
 def add_parser(commands: Subcommands) -> None:
     """Add the ``polylla`` command."""
     polylla_ = add_command(commands, "polylla", command_polylla)
-    polylla_.add_argument("input", metavar="INPUT",
-                          help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
-    polylla_.add_argument("-o", "--output", metavar="OUT",
-                          help="polygon mesh file to write (e.g. OUT.off)")
+    add_input_argument(polylla_, MESH_OR_PSLG)
+    add_output_option(polylla_, "polygon mesh file to write (e.g. OUT.off)")
     polylla_.add_argument("--convex", action="store_true",
                           help="split every polygon into convex ones by edges of the "
                                "triangulation")
@@ -131,10 +134,8 @@ def add_parser(commands: Subcommands) -> None:
                           help="--convex: criterion 1 takes the edge closest to the "
                                "bisector in a first pass (default) or the first edge found, "
                                "corner by corner (Pineda, Alg. 11)")
-    polylla_.add_argument("--picture", metavar="PNG",
-                          help="draw the result (.png, .svg or .pdf; inserted edges in "
-                               "orange, non-convex polygons filled)")
-    polylla_.add_argument("--check", action="store_true",
-                          help="validate the polygons against the triangulation (exit 1 if "
-                               "invalid)")
+    add_picture_option(polylla_, "draw the result (.png, .svg or .pdf; inserted edges in "
+                       "orange, non-convex polygons filled)", metavar="PNG")
+    add_check_flag(polylla_, "validate the polygons against the triangulation (exit 1 if "
+                   "invalid)")
     add_writing_options(polylla_)

@@ -8,13 +8,19 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 import attrs
 
 from geomexact.cli.arguments import (
+    MESH_OR_PSLG,
     Subcommands,
+    add_check_flag,
     add_command,
+    add_engine_option,
+    add_input_argument,
+    add_output_option,
+    add_trace_output,
     add_writing_options,
     non_negative,
 )
@@ -39,6 +45,7 @@ from geomexact.mesh2d.validation import validate
 from geomexact.trace.record import Trace
 
 if TYPE_CHECKING:
+    from geomexact.mesh2d.engine_names import Engine
     from geomexact.mesh2d.refinement.driver import Method
 
 _TRIANGULATION_ENGINE: dict[str, DelaunayEngine] = {
@@ -434,7 +441,8 @@ def command_refine(args: argparse.Namespace) -> int:
     result = refine(
         mesh, criterion, region=region, method=method, delaunay=not args.no_delaunay,
         rules=chosen, max_steps=args.max_steps, step_cap=memory_steps, on_step=progress,
-        engine=args.engine,
+        engine=cast("Engine", OLD_NAMES.get(args.engine, args.engine)),  # (the API warns
+        # on an old name: the command takes them as they are)
     )
     if progress is not None:
         progress.show(result.stats.steps, result.mesh.triangle_count, 0)
@@ -562,9 +570,8 @@ def _memory_steps(mesh: Mesh2, estimate: int) -> int:
 def add_parser(commands: Subcommands) -> None:
     """Add the ``refine`` command."""
     refine_ = add_command(commands, "refine", command_refine)
-    refine_.add_argument("input", metavar="INPUT",
-                         help="triangle mesh (.ele, OFF, …) or a PSLG (triangulated first)")
-    refine_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
+    add_input_argument(refine_, MESH_OR_PSLG)
+    add_output_option(refine_)
     goal = refine_.add_argument_group(
         "goal", "one or more of --min-angle, --max-area, --max-edge, --region-areas (a "
         "triangle is refined while it fails any, like Triangle's -q30a0.01), or --factor "
@@ -623,20 +630,18 @@ def add_parser(commands: Subcommands) -> None:
                          help="do not bisect a constraint second-longest edge of a terminal "
                               "triangle; always insert the centroid (= --second-longest-rule "
                               "centroid)")
-    refine_.add_argument("--engine", choices=(*ENGINES, *OLD_NAMES), default="auto",
-                         help="auto (default: compiled where it applies, else the pure "
-                              "Python engine), "
-                              "compiled (the kernel; an error where it does not apply), "
-                              "python or reference (the pure ops); all "
-                              "record the same trace; fast and transient are old names of "
-                              "auto and reference")
+    add_engine_option(
+        refine_, (*ENGINES, *OLD_NAMES),
+        "auto (default: compiled where it applies, else the pure Python engine), compiled "
+        "(the kernel; an error where it does not apply), python or reference (the pure "
+        "ops); all record the same trace; fast and transient are old names of auto and "
+        "reference")
     refine_.add_argument("--max-steps", type=step_limit, metavar="N", default="auto",
                          help="stop after N steps (status 'step-limit'); default: a budget "
                               "of 100 x (input triangles + the criterion's estimate) + "
                               "10000 steps (status 'budget', exit code 3), also "
                               "'auto'; 'none': no limit")
-    refine_.add_argument("--trace", metavar="FILE",
-                         help="write the trace (JSON Lines; from a PSLG: from its vertices)")
+    add_trace_output(refine_, "write the trace (JSON Lines; from a PSLG: from its vertices)")
     refine_.add_argument("--polylla", metavar="OFF", nargs="?", const="",
                          help="also write the Polylla polygon mesh of the result (OFF); "
                               "with -o DIR and no file name: DIR/NAME_polylla.off, its "
@@ -652,8 +657,7 @@ def add_parser(commands: Subcommands) -> None:
     refine_.add_argument("--print-iter", metavar="DIR",
                          help="write the mesh before and after every step to "
                               "DIR/step-NNNNNN.off (exact)")
-    refine_.add_argument("--check", action="store_true",
-                         help="validate the result (exit 1 on violations)")
+    add_check_flag(refine_, "validate the result (exit 1 on violations)")
     refine_.add_argument("--check-delaunay", action="store_true",
                          help="check (exactly) that the result is (constrained) Delaunay, "
                               "exit 1 when it is not; without it the check is skipped "

@@ -13,6 +13,11 @@ from typing import Any
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_format_option,
+    add_input_argument,
+    add_output_option,
+    add_to_option,
+    add_trace_argument,
     add_writing_options,
     format_names,
     non_negative,
@@ -242,23 +247,17 @@ def wrong_input(
 
 def add_parser(commands: Subcommands) -> None:
     """Add the ``replay`` command."""
-    formats = format_names()
-    names = ", ".join(formats)
+    names = ", ".join(format_names())
     replay_ = add_command(commands, "replay", command_replay)
-    replay_.add_argument(
-        "input", metavar="INPUT", nargs="?",
-        help="the mesh the trace was recorded on (2D or tetrahedral); may be left out for "
-        "a cuboid trace, whose start is rebuilt from the trace's parameters",
-    )
-    replay_.add_argument("trace", metavar="TRACE", help="trace file (JSON Lines)")
+    add_input_argument(
+        replay_, "the mesh the trace was recorded on (2D or tetrahedral); may be left out "
+        "for a cuboid trace, whose start is rebuilt from the trace's parameters",
+        optional=True)
+    add_trace_argument(replay_, "trace file (JSON Lines)")
     replay_.add_argument(
         "--until", type=non_negative, metavar="K", help="replay only the first K steps"
     )
-    replay_.add_argument("-o", "--output", required=True, metavar="OUT", help="result file")
-    replay_.add_argument(
-        "--format", choices=formats, metavar="F", help=f"format of INPUT, one of {names}"
-    )
-    replay_.add_argument(
-        "--to", choices=formats, metavar="F", help=f"format of OUT, one of {names}"
-    )
+    add_output_option(replay_, "result file", required=True)
+    add_format_option(replay_, f"format of INPUT, one of {names}")
+    add_to_option(replay_, f"format of OUT, one of {names}")
     add_writing_options(replay_, formats=False)

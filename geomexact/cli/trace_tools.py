@@ -25,9 +25,14 @@ from typing import Any
 
 from geomexact.cli.arguments import (
     Subcommands,
+    add_check_flag,
     add_command,
     add_command_parser,
+    add_input_argument,
+    add_output_option,
+    add_picture_option,
     add_reading_options,
+    add_trace_argument,
     positive_int,
 )
 from geomexact.cli.errors import UsageProblem, cli_wording
@@ -545,7 +550,7 @@ def add_parser(commands: Subcommands) -> None:
                                                required=True)
 
     show = add_command(tools, "trace show", command_show)
-    show.add_argument("trace", metavar="TRACE", help="trace file (JSON Lines, or .gz)")
+    add_trace_argument(show)
     show.add_argument("--input", metavar="INPUT",
                       help="the mesh the trace was recorded on (for the cells each step "
                       "removed and added; default: a cuboid trace's rebuilt start, else "
@@ -554,28 +559,26 @@ def add_parser(commands: Subcommands) -> None:
     chosen.add_argument("--step", type=positive_int, metavar="K", help="show step K (1-based)")
     chosen.add_argument("--steps", type=step_range, metavar="A-B",
                         help="show steps A to B (1-based, inclusive)")
-    show.add_argument("--check", action="store_true",
-                      help="replay every step on the trace's input, checking its digest "
-                      "(exit 1 at the first that differs); otherwise only the steps up to "
-                      "the last one shown are replayed")
+    add_check_flag(show, "replay every step on the trace's input, checking its digest (exit "
+                   "1 at the first that differs); otherwise only the steps up to the last "
+                   "one shown are replayed")
     add_reading_options(show)
 
     diff = add_command(tools, "trace diff", command_diff)
-    diff.add_argument("input", metavar="INPUT", help="the mesh both traces start from")
+    add_input_argument(diff, "the mesh both traces start from")
     diff.add_argument("a", metavar="A", help="first trace file")
     diff.add_argument("b", metavar="B", help="second trace file")
-    diff.add_argument("--picture", metavar="OUT",
-                      help="draw both meshes after the differing step (.png, .svg, .pdf)")
+    add_picture_option(diff, "draw both meshes after the differing step (.png, .svg, .pdf)",
+                       metavar="OUT")
     add_reading_options(diff, force="existing files")
 
     bisect = add_command(tools, "trace bisect", command_bisect)
-    bisect.add_argument("input", metavar="INPUT", nargs="?",
-                        help="the mesh the trace was recorded on; may be left out for a "
-                        "cuboid trace")
-    bisect.add_argument("trace", metavar="TRACE", help="trace file (JSON Lines, or .gz)")
+    add_input_argument(bisect, "the mesh the trace was recorded on; may be left out for a "
+                       "cuboid trace", optional=True)
+    add_trace_argument(bisect)
     bisect.add_argument("--fails", required=True, metavar="CHECK",
                         help=f"the property that fails: {CHECKS_HELP}")
-    bisect.add_argument("-o", "--output", metavar="DIR",
-                        help="write the meshes before and after the failing step "
-                        "(before-step-K.ele, after-step-K.ele) and a picture (step-K.png)")
+    add_output_option(bisect, "write the meshes before and after the failing step "
+                      "(before-step-K.ele, after-step-K.ele) and a picture (step-K.png)",
+                      metavar="DIR")
     add_reading_options(bisect, force="existing files")

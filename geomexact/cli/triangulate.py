@@ -9,7 +9,12 @@ from pathlib import Path
 
 from geomexact.cli.arguments import (
     Subcommands,
+    add_check_flag,
     add_command,
+    add_engine_option,
+    add_input_argument,
+    add_output_option,
+    add_trace_output,
     add_writing_options,
 )
 from geomexact.cli.exit_codes import EXIT_FAILED, EXIT_OK
@@ -20,6 +25,7 @@ from geomexact.cli.reporting import print_json, print_table
 from geomexact.cli.writing import distinct_outputs, refuse_existing, write_output
 from geomexact.io.trace_file import write_trace
 from geomexact.mesh2d.delaunay.triangulation import make_delaunay
+from geomexact.mesh2d.engine_names import OLD_NAMES
 from geomexact.mesh2d.pslg import PSLG
 from geomexact.mesh2d.snapshot import Mesh2
 from geomexact.mesh2d.summary import mesh_summary
@@ -45,7 +51,7 @@ def command_triangulate(args: argparse.Namespace) -> int:
             keep_convex_hull=args.keep_convex_hull,
             split_segments=args.split_segments,
             merge_duplicates=args.merge_duplicates,
-            engine=args.engine,
+            engine=OLD_NAMES.get(args.engine, args.engine),  # the API warns on old names
         )
         warnings = seed_warnings(loaded, construction)
         mesh, trace = construction.mesh, construction.trace
@@ -92,9 +98,8 @@ def command_triangulate(args: argparse.Namespace) -> int:
 def add_parser(commands: Subcommands) -> None:
     """Add the ``triangulate`` command."""
     triangulate_ = add_command(commands, "triangulate", command_triangulate)
-    triangulate_.add_argument("input", metavar="INPUT",
-                              help=".node, .poly, PSLG text or a triangle mesh (OFF, .ele…)")
-    triangulate_.add_argument("-o", "--output", metavar="OUT", help="mesh file to write")
+    add_input_argument(triangulate_, ".node, .poly, PSLG text or a triangle mesh (OFF, .ele…)")
+    add_output_option(triangulate_)
     triangulate_.add_argument("--keep-convex-hull", action="store_true",
                               help="keep the triangles between the segments and the convex hull")
     triangulate_.add_argument("--split-segments", action="store_true",
@@ -102,16 +107,12 @@ def add_parser(commands: Subcommands) -> None:
                                    "(default: such input is an error)")
     triangulate_.add_argument("--merge-duplicates", action="store_true",
                               help="keep the first of duplicate points (default: an error)")
-    triangulate_.add_argument("--check", action="store_true",
-                              help="validate the result and check Delaunay-ness (exit 1 if not)")
-    triangulate_.add_argument("--trace", metavar="FILE", help="write the trace (JSON Lines)")
-    triangulate_.add_argument("--engine",
-                              choices=("auto", "compiled", "reference", "python", "fast",
-                                       "transient"),
-                              default="auto",
-                              help="auto (default: compiled when built, else reference), "
-                                   "compiled (the kernel; an error when not built) or "
-                                   "reference (the ops on a transient; python names it "
-                                   "too); all record the same trace; fast and transient "
-                                   "are the old names of auto and reference")
+    add_check_flag(triangulate_, "validate the result and check Delaunay-ness (exit 1 if not)")
+    add_trace_output(triangulate_, "write the trace (JSON Lines)")
+    add_engine_option(
+        triangulate_, ("auto", "compiled", "reference", "python", "fast", "transient"),
+        "auto (default: compiled when built, else reference), compiled (the kernel; an "
+        "error when not built) or reference (the ops on a transient; python names it too); "
+        "all record the same trace; fast and transient are the old names of auto and "
+        "reference")
     add_writing_options(triangulate_)

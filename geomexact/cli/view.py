@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING
 from geomexact.cli.arguments import (
     Subcommands,
     add_command,
+    add_input_argument,
+    add_output_option,
     add_reading_options,
     non_negative,
 )
@@ -179,10 +181,9 @@ def _view_mesh3(args: argparse.Namespace, mesh: Mesh3 | MixedMesh3, trace: Trace
 def add_parser(commands: Subcommands) -> None:
     """Add the ``view`` command."""
     view = add_command(commands, "view", command_view)
-    view.add_argument("input", metavar="INPUT",
-                      help="mesh, PSLG or polygon mesh (with --trace: the trace's input)")
-    view.add_argument("-o", "--output", required=True, metavar="OUT",
-                      help="OUT.html: the viewer; OUT.png, .svg or .pdf: a picture")
+    add_input_argument(view, "mesh, PSLG or polygon mesh (with --trace: the trace's input)")
+    add_output_option(view, "OUT.html: the viewer; OUT.png, .svg or .pdf: a picture",
+                      required=True)
     view.add_argument("--trace", metavar="TRACE",
                       help="a trace recorded on INPUT: the viewer gets a step slider")
     view.add_argument("--step", type=non_negative, metavar="K",

@@ -10,7 +10,8 @@
   engines in between).
 
 All record the same trace; the engine is never a parameter of it.  ``"fast"`` and
-``"transient"`` are the old names of ``"auto"`` and ``"reference"``, still accepted.
+``"transient"`` are the old names of ``"auto"`` and ``"reference"``, still accepted with a
+:class:`~geomexact.errors.GeomexactDeprecationWarning`.
 :func:`compiled_kernel` says whether a ``"compiled"`` engine is there.
 """
 
@@ -21,7 +22,7 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any, Literal, TypeAlias
 
-from geomexact.errors import PreconditionError
+from geomexact.errors import PreconditionError, warn_deprecated
 
 Engine: TypeAlias = Literal["auto", "compiled", "python", "reference", "fast", "transient"]
 
@@ -32,10 +33,15 @@ OLD_NAMES: Mapping[str, str] = MappingProxyType({"fast": "auto", "transient": "r
 """Old engine name -> its name now."""
 
 
-def engine_named(op: str, engine: str, engines: tuple[str, ...] = ENGINES) -> str:
-    """The engine ``engine`` names (an old name gives the new one), which must be one of
-    ``engines`` (those of the algorithm ``op``); else :class:`PreconditionError`."""
+def engine_named(op: str, engine: str, engines: tuple[str, ...] = ENGINES, *,
+                 stacklevel: int = 3) -> str:
+    """The engine ``engine`` names (an old name gives the new one, with a deprecation
+    warning pointing ``stacklevel`` frames up: the caller of ``op`` by default), which
+    must be one of ``engines`` (those of the algorithm ``op``); else
+    :class:`PreconditionError`."""
     name = OLD_NAMES.get(engine, engine)
+    if name != engine and name in engines:
+        warn_deprecated(f"engine {engine!r}", f"engine {name!r}", stacklevel=stacklevel)
     if name not in engines:
         choices = ", ".join(repr(e) for e in engines)
         old = ", ".join(f"{o!r} for {n!r}" for o, n in OLD_NAMES.items() if n in engines)

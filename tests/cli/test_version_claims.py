@@ -46,7 +46,8 @@ def test_the_lepp_claim_is_what_the_kernel_runs() -> None:
         (True, False), (True, False), (Whole(), Circle(0, 0, 1)), meshes,
     ):
         run = RunOptions(CRITERIA[name], region, method, delaunay,  # type: ignore[arg-type]
-                         rules(None, centroid=centroid, constraint_midpoints=midpoints))
+                         rules(None, centroid=centroid, second_longest_rule=(
+                             "bisect-second" if midpoints else "centroid")))
         runs = compiled_engine.unsupported(meshes[kind], run) is None
         claimed = True  # every method, centroid and attribute case (issue 25)
         assert runs == claimed, (method, centroid, name, delaunay, midpoints, kind)

@@ -25,6 +25,7 @@ import importlib.resources
 import math
 import random
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, ClassVar
@@ -35,7 +36,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from geomexact import Mesh2, io, mesh_from_triangles, mpq, total_area
-from geomexact.errors import PreconditionError
+from geomexact.errors import GeomexactDeprecationWarning, PreconditionError
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.delaunay import compiled as compiled_delaunay
@@ -267,8 +268,7 @@ def refinement_options(criterion: Criterion, options: dict[str, Any]) -> RunOpti
     chosen = rules(options.get("preset"), centroid=options.get("centroid"),
                    order=options.get("order"),
                    second_longest_rule=options.get("second_longest_rule"),
-                   factor_stop=options.get("factor_stop"),
-                   constraint_midpoints=options.get("constraint_midpoints"))
+                   factor_stop=options.get("factor_stop"))
     return RunOptions(criterion, as_region(options.get("region")),
                       options.get("method", "bisection"), options.get("delaunay", True),
                       chosen, options.get("on_step"))
@@ -438,7 +438,7 @@ class RefinementSuite:
     def test_methods_square(self, method: str, area: str, delaunay: bool,
                             midpoints: bool) -> None:
         result = self.same(square(), MaxArea(area), method=method, delaunay=delaunay,
-                           constraint_midpoints=midpoints)
+                           second_longest_rule="bisect-second" if midpoints else "centroid")
         assert result.status == "complete"
         check(result.mesh)
         ops = {step.op for step in result.trace.steps}
@@ -479,7 +479,7 @@ class RefinementSuite:
         self.same(square(), CallableCriterion(
             lambda a, b, c: doubled_area(a, b, c) > mpq(1, 500),
             priority=lambda a, b, c: (a.x + a.y, -doubled_area(a, b, c))),
-            method=method, constraint_midpoints=False)
+            method=method, second_longest_rule="centroid")
         for factor in ("1/2", "1/300", "7/12345"):
             self.same(square(), AverageAreaFactor(factor), method=method)
         self.same(square(), AverageAreaFactor("1/2000"), method=method, max_steps=150)
@@ -487,7 +487,7 @@ class RefinementSuite:
             self.same(off_grid(), MaxArea("2e-3"), method=method, delaunay=delaunay)
             self.same(off_grid(), AverageAreaFactor("1/50"), method=method, delaunay=delaunay)
         self.same(off_grid(), MaxArea("2e-3"), region=Circle(mpq(1, 2), 0, mpq(1, 3)),
-                  max_steps=150, method=method, constraint_midpoints=False)
+                  max_steps=150, method=method, second_longest_rule="centroid")
         self.same(box(BIG), MaxArea(BIG * BIG / 100), method=method)
         self.same(box(TINY), MaxArea(TINY * TINY / 50), method=method)
 
@@ -510,7 +510,7 @@ class RefinementSuite:
         assert result.status == "complete"
         assert "insert_in_quadrilateral" in {step.op for step in result.trace.steps}
         self.same(superior(), MaxArea(area / 500), method=method, delaunay=False)
-        self.same(superior(), MaxArea(area / 500), method=method, constraint_midpoints=False)
+        self.same(superior(), MaxArea(area / 500), method=method, second_longest_rule="centroid")
         self.same(superior(), MaxEdgeLength(mpq(1, 20)), max_steps=300, method=method)
         self.same(superior(), AverageAreaFactor("1/4"), method=method)
         self.same(superior(), AverageAreaFactor("1/2"), region=Circle(-88, 47, 1),
@@ -530,7 +530,7 @@ class RefinementSuite:
     def test_min_angle_superior_options(self, method: str) -> None:
         """Regions, no constraint midpoints, fractional and exact (45°) thresholds, and
         step limits inside the run."""
-        self.same(superior(), MinAngle(30), method=method, constraint_midpoints=False)
+        self.same(superior(), MinAngle(30), method=method, second_longest_rule="centroid")
         self.same(superior(), MinAngle(28), method=method, region=Circle(-88, 47, 1))
         self.same(superior(), MinAngle("32.5"), method=method,
                   region=Rectangle(-90, 46, 3, 2))
@@ -573,7 +573,7 @@ class RefinementSuite:
         for degrees in (20, 30, 34):
             result = self.same(wedge(height), MinAngle(degrees), method=method)
             assert result.status == "complete"
-        self.same(wedge(height), MinAngle(30), method=method, constraint_midpoints=False)
+        self.same(wedge(height), MinAngle(30), method=method, second_longest_rule="centroid")
 
     def test_min_angle_protected_tips(self) -> None:
         """Runs whose targets are left as "protected-tip" (terminal edges and constraint
@@ -675,7 +675,8 @@ class RefinementSuite:
             # insertion: 25 or 40 steps can take hours (a CI run hung here), 8 do not
             limit = 8 if limit is None else min(limit, 8)
         self.same(start, criterion, method=method, delaunay=delaunay, centroid=centroid,
-                  constraint_midpoints=midpoints, region=region, max_steps=limit)
+                  second_longest_rule="bisect-second" if midpoints else "centroid",
+                  region=region, max_steps=limit)
 
     @every_engine
     @given(
@@ -750,7 +751,7 @@ class RefinementSuite:
             else AverageAreaFactor("1/7")
         )
         self.same(start, criterion, max_steps=limit, delaunay=delaunay, region=region,
-                  method=method, constraint_midpoints=midpoints)
+                  method=method, second_longest_rule="bisect-second" if midpoints else "centroid")
 
     @every_engine
     @given(meshes_with_traces(max_steps=10), st.sampled_from(["bisection", "centroid",
@@ -792,7 +793,7 @@ class RefinementSuite:
                                          midpoints: bool, limit: int | None) -> None:
         start = triangulate(pslg).mesh
         self.same(start, MaxArea(total_area(start) / 60), max_steps=limit, delaunay=delaunay,
-                  method=method, constraint_midpoints=midpoints)
+                  method=method, second_longest_rule="bisect-second" if midpoints else "centroid")
 
     @every_engine
     @given(pslgs(max_boundary=9, max_points=8), st.booleans(), st.sampled_from([None, 40]),
@@ -1193,14 +1194,20 @@ def test_constrained_runs_in_the_kernel() -> None:
 
 # --- the engine names ------------------------------------------------------------------------
 def test_old_names_are_the_new_ones() -> None:
-    """``fast`` is ``auto`` and ``transient`` is ``reference``: the same runs."""
+    """``fast`` is ``auto`` and ``transient`` is ``reference``: the same runs, with a
+    deprecation warning that points at the caller's line and names the new name."""
     start, criterion = square(), MinAngle(30)
     auto = refine(start, criterion, method="centroid", engine="auto").trace
-    for engine in ("fast", "reference", "transient"):
-        assert refine(start, criterion, method="centroid", engine=engine).trace == auto
+    assert refine(start, criterion, method="centroid", engine="reference").trace == auto
+    for old, new in (("fast", "auto"), ("transient", "reference")):
+        with pytest.warns(GeomexactDeprecationWarning, match=f"use engine '{new}'") as caught:
+            assert refine(start, criterion, method="centroid", engine=old).trace == auto
+        assert caught[0].filename == __file__
     points = random_doubles(100, 1)
-    assert triangulate_points(points, engine="fast").trace == triangulate_points(
-        points, engine="auto").trace
+    with pytest.warns(GeomexactDeprecationWarning, match="engine 'fast'") as caught:
+        assert triangulate_points(points, engine="fast").trace == triangulate_points(
+            points, engine="auto").trace
+    assert caught[0].filename == __file__
 
 
 def test_auto_runs_the_kernel_only_where_it_applies(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -1216,8 +1223,10 @@ def test_auto_runs_the_kernel_only_where_it_applies(monkeypatch: pytest.MonkeyPa
 
     monkeypatch.setattr(module, "run_compiled", spy)
     start = square()
-    for engine in ("python", "reference", "transient"):
+    for engine in ("python", "reference"):
         refine(start, MaxArea("1/64"), engine=engine)
+    with pytest.warns(GeomexactDeprecationWarning):
+        refine(start, MaxArea("1/64"), engine="transient")
     assert calls == []
     refine(start, MaxArea("1/64"), engine="auto")
     assert calls == ["kernel"]
@@ -1286,7 +1295,9 @@ def test_delaunay_reference_engine_names() -> None:
     points = random_doubles(60, 3)
     compiled = triangulate_points(points, engine="compiled")
     for engine in ("reference", "python", "transient"):
-        result = triangulate_points(points, engine=engine)  # type: ignore[arg-type]
+        with warnings.catch_warnings():  # (transient: deprecated, tested above)
+            warnings.simplefilter("ignore", GeomexactDeprecationWarning)
+            result = triangulate_points(points, engine=engine)  # type: ignore[arg-type]
         assert result.trace == compiled.trace
         assert result.mesh == compiled.mesh
         assert dict(result.mesh.outgoing.items()) == dict(compiled.mesh.outgoing.items())

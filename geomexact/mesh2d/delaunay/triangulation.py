@@ -363,7 +363,7 @@ class ReferenceDelaunay:
 def _delaunay_engine(engine: str) -> str:
     """The Delaunay engine ``engine`` names (:mod:`geomexact.mesh2d.engine_names`):
     ``"python"`` and ``"reference"`` both name :class:`ReferenceDelaunay`."""
-    name = engine_named("triangulate", engine, ENGINES)
+    name = engine_named("triangulate", engine, ENGINES, stacklevel=4)
     return "reference" if name == "python" else name
 
 

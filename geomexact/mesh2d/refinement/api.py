@@ -247,7 +247,8 @@ def refine(
         bisected, Mellado's ``centroid=false`` variant; with ``method="quasi"`` it is
         Lepp-bisection with quasi-Delaunay flips).
     constraint_midpoints:
-        The older name of ``second_longest_rule``: True is ``"bisect-second"`` (when a
+        Deprecated (a :class:`~geomexact.errors.GeomexactDeprecationWarning`): the older
+        name of ``second_longest_rule``: True is ``"bisect-second"`` (when a
         terminal triangle's second-longest edge is a constraint edge, insert that edge's
         midpoint instead of the centroid: Rivara & Rodríguez's rule for convergence near
         constraints), False ``"centroid"`` (always the centroid, as QLepp2D does).
@@ -271,7 +272,8 @@ def refine(
         ``"compiled"`` (the kernel, or :class:`~geomexact.errors.PreconditionError` when it
         is not built or does not implement this run) or ``"reference"`` (the ops on a
         transient, pure Python; ``"python"`` names it too).  All record the same trace.
-        ``"fast"`` and ``"transient"`` are old names of ``"auto"`` and ``"reference"``.
+        ``"fast"`` and ``"transient"`` are old names of ``"auto"`` and ``"reference"``
+        (deprecated).
     preset:
         ``"pineda"`` or ``"mellado"``: the rules of that paper's program
         (:mod:`geomexact.mesh2d.refinement.presets`, ``specs/refine.md``), each of which
@@ -307,10 +309,10 @@ def refine(
     area = as_region(region)
     if method not in METHODS:
         raise PreconditionError("refine", f"unknown method {method!r}; choose from {METHODS}")
-    if rules is None:
+    if rules is None:  # (a deprecated constraint_midpoints warns at the caller's line)
         chosen = rules_of(preset, centroid=centroid, order=order,
                           second_longest_rule=second_longest_rule, factor_stop=factor_stop,
-                          constraint_midpoints=constraint_midpoints)
+                          constraint_midpoints=constraint_midpoints, stacklevel=3)
     elif any(value is not None for value in (preset, centroid, order, second_longest_rule,
                                               factor_stop, constraint_midpoints)):
         raise PreconditionError(

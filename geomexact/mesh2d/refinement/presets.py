@@ -42,7 +42,7 @@ from typing import Literal, TypeAlias
 
 import attrs
 
-from geomexact.errors import PreconditionError
+from geomexact.errors import PreconditionError, warn_deprecated
 
 __all__ = [
     "CENTROIDS",
@@ -101,6 +101,11 @@ def _check(name: str, value: str, choices: tuple[str, ...]) -> None:
         raise PreconditionError("refine", f"unknown {name} {value!r}; choose from {choices}")
 
 
+CONSTRAINT_MIDPOINTS_NOW = ("second_longest_rule='bisect-second' (for True) or 'centroid' "
+                            "(for False)")
+"""What replaces the deprecated ``constraint_midpoints`` argument."""
+
+
 def rules(
     preset: str | None,
     *,
@@ -109,10 +114,16 @@ def rules(
     second_longest_rule: str | None = None,
     factor_stop: str | None = None,
     constraint_midpoints: bool | None = None,
+    stacklevel: int = 2,
 ) -> Rules:
     """The rules of ``preset`` (None: geomexact's), with each rule given overriding it.
     ``constraint_midpoints`` is the older name of ``second_longest_rule`` ``"bisect-second"``
-    (True) or ``"centroid"`` (False); giving both differently is refused."""
+    (True) or ``"centroid"`` (False), deprecated (the warning points ``stacklevel`` frames
+    up, as :func:`warnings.warn`'s: this function's caller by default); giving both
+    differently is refused."""
+    if constraint_midpoints is not None:
+        warn_deprecated("constraint_midpoints", CONSTRAINT_MIDPOINTS_NOW,
+                        stacklevel=stacklevel)
     if preset is not None and preset not in PRESETS:
         raise PreconditionError(
             "refine", f"unknown preset {preset!r}; choose from {tuple(PRESETS)}"

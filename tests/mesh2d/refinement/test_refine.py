@@ -173,7 +173,7 @@ def test_centroid_method_inserts_the_rounded_area_centroid() -> None:
     the boundary): its centroid (5, 0) is inserted with the step insert_in_quadrilateral,
     exactly (it lies on the rounding grid)."""
     result = refine(skinny_pair(), MinAngle(20), method="centroid", max_steps=1,
-                    constraint_midpoints=False)
+                    second_longest_rule="centroid")
     (step,) = result.trace.steps
     assert step.op == "insert_in_quadrilateral"
     assert step.args == (1, 0, mpq(5), mpq(0)) or step.args == (0, 1, mpq(5), mpq(0))
@@ -246,7 +246,7 @@ def test_constraint_midpoints_rule_versus_plain_centroids() -> None:
     with_rule = refine(start, MinAngle(50), method="centroid", max_steps=1)
     assert with_rule.trace.steps[0].op == "bisect"
     plain = refine(start, MinAngle(50), method="centroid", max_steps=1,
-                   constraint_midpoints=False)
+                   second_longest_rule="centroid")
     assert plain.trace.steps[0].op == "insert_in_quadrilateral"
     assert plain.mesh.point(4) == point2("0.5", "0.5")
 
@@ -444,7 +444,7 @@ def test_qlepp2d_example_a_gives_b(shared_data: Path) -> None:
     assert isinstance(start, Mesh2) and isinstance(expected, Mesh2)
     for method in ("centroid", "quasi"):
         result = refine(start, MinAngle(50), method=method,  # type: ignore[arg-type]
-                        constraint_midpoints=False, max_steps=1)
+                        second_longest_rule="centroid", max_steps=1)
 
         def shape(mesh: Mesh2) -> set[frozenset[tuple[Any, Any]]]:
             return {frozenset((mesh.point(v).x, mesh.point(v).y) for v in t)

@@ -55,7 +55,7 @@ def test_a_run_that_does_not_end_stops_at_the_budget(counterexample: Mesh2) -> N
     """The 3-triangle counterexample of quasi + four-vertex mean + plain centroids at 34°
     stops at exactly the default budget with status "budget", listing what it left."""
     result = refine(counterexample, MinAngle(34), method="quasi", centroid="vertices",
-                    constraint_midpoints=False)
+                    second_longest_rule="centroid")
     budget = default_budget(counterexample, MinAngle(34))
     assert result.status == "budget"
     assert result.stats.steps == budget == 10_300
@@ -80,7 +80,7 @@ def test_the_counterexample_ends_with_constraint_midpoints(
 def test_an_explicit_limit_keeps_status_step_limit(counterexample: Mesh2) -> None:
     """max_steps=N stops with "step-limit" and records no budget."""
     result = refine(counterexample, MinAngle(34), method="quasi", centroid="vertices",
-                    constraint_midpoints=False, max_steps=50)
+                    second_longest_rule="centroid", max_steps=50)
     assert result.status == "step-limit" and result.stats.steps == 50
     assert result.trace.parameter("step_budget") is None
     assert result.trace.parameter("max_steps") == 50

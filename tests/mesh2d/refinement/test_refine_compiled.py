@@ -27,8 +27,8 @@ from geomexact.mesh2d.refinement.criteria import (
 )
 from geomexact.mesh2d.refinement.driver import RunOptions
 from geomexact.mesh2d.refinement.engines import compiled as compiled_engine
-from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
 from geomexact.mesh2d.refinement.engines.compiled import KernelRun, run_compiled, unsupported
+from geomexact.mesh2d.refinement.engines.reference import ReferenceRefinement
 from geomexact.mesh2d.refinement.presets import rules
 from geomexact.mesh2d.refinement.regions import Circle, Rectangle, Region, as_region
 
@@ -46,8 +46,8 @@ def options(criterion: Criterion, region: Region | None = None, delaunay: bool =
             constraint_midpoints: bool = True) -> RunOptions:
     """The run ``refine()`` gives the engines."""
     return RunOptions(criterion, as_region(region), method,  # type: ignore[arg-type]
-                      delaunay, rules(None, centroid=centroid,
-                                      constraint_midpoints=constraint_midpoints), on_step)
+                      delaunay, rules(None, centroid=centroid, second_longest_rule=(
+                          "bisect-second" if constraint_midpoints else "centroid")), on_step)
 
 
 @pytest.mark.parametrize("method", ["bisection", "centroid", "quasi"])

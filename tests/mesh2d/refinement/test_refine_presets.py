@@ -6,6 +6,7 @@ flags, and the published-figure runs on Lake Superior."""
 from __future__ import annotations
 
 import json
+import warnings
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -14,7 +15,7 @@ import pytest
 from helpers.paths import read_superior
 
 from geomexact.cli import main
-from geomexact.errors import PreconditionError
+from geomexact.errors import GeomexactDeprecationWarning, PreconditionError
 from geomexact.kernel.numbers import mpq
 from geomexact.kernel.points import point2
 from geomexact.mesh2d.delaunay.triangulation import triangulate
@@ -53,8 +54,26 @@ def test_presets_resolve_and_each_rule_overrides_alone() -> None:
     mellado = rules("mellado", order="worst-first")
     assert (mellado.centroid, mellado.order) == ("vertices", "worst-first")
     assert mellado.second_longest_rule == PRESETS["mellado"].second_longest_rule
-    assert rules("pineda", constraint_midpoints=True).second_longest_rule == "bisect-second"
     assert rules(None, factor_stop="target").changed() == {"factor_stop": "target"}
+
+
+def test_constraint_midpoints_is_a_deprecated_name_of_the_second_longest_rule() -> None:
+    """``constraint_midpoints`` still works, with a warning at the caller's line naming
+    ``second_longest_rule``, in ``rules`` and in ``refine``."""
+    from geomexact.mesh2d.refinement.api import refine
+    from geomexact.mesh2d.refinement.criteria import MaxArea
+    from geomexact.mesh2d.transient import mesh_from_triangles
+
+    for value, rule in ((True, "bisect-second"), (False, "centroid")):
+        with pytest.warns(GeomexactDeprecationWarning, match="second_longest_rule") as caught:
+            assert rules("pineda", constraint_midpoints=value).second_longest_rule == rule
+        assert caught[0].filename == __file__
+    square = mesh_from_triangles([(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1, 2), (0, 2, 3)])
+    with pytest.warns(GeomexactDeprecationWarning, match="second_longest_rule") as caught:
+        old = refine(square, MaxArea("1/16"), method="centroid", constraint_midpoints=False)
+    assert caught[0].filename == __file__
+    assert old.trace == refine(square, MaxArea("1/16"), method="centroid",
+                               second_longest_rule="centroid").trace
 
 
 @pytest.mark.parametrize("options", [
@@ -65,7 +84,8 @@ def test_presets_resolve_and_each_rule_overrides_alone() -> None:
 def test_unknown_or_contradicting_rules_are_refused(options: dict[str, Any]) -> None:
     """An unknown value or a contradiction is a PreconditionError naming it."""
     preset = options.pop("preset", None)
-    with pytest.raises(PreconditionError):
+    with pytest.raises(PreconditionError), warnings.catch_warnings():
+        warnings.simplefilter("ignore", GeomexactDeprecationWarning)
         rules(preset, **options)
 
 
