@@ -340,7 +340,7 @@ static inline uint64_t gx_vertex_key(uint64_t vertex) {
 
 /* gx_vertex_key(vertex), from this module's cache of the keys of 0, 1, ... (grown to
    twice its size or to `vertex`, whichever is more; as digest.vertex_key caches them);
-   0 and no cache when out of memory (the caller then computes the key) */
+   computed without the cache when it cannot grow (out of memory) */
 GX_UNUSED static uint64_t *gx_key_cache = NULL;
 GX_UNUSED static uint64_t gx_key_cached = 0;
 GX_UNUSED static uint64_t gx_cached_vertex_key(uint64_t vertex) {
@@ -367,16 +367,41 @@ static inline unsigned gx_le_bytes(uint64_t x, uint8_t *out) {
     return n;
 }
 
-/* gmpy2.to_binary(mpq(g, 2**F)) written at out (at most 22 bytes); its length */
+/* the trailing and leading zero bits of x != 0 */
+static inline int gx_ctz64(uint64_t x) {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctzll(x);
+#else
+    int n = 0;
+    while (!(x & 1)) { x >>= 1; n++; }
+    return n;
+#endif
+}
+static inline int gx_clz64(uint64_t x) {
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_clzll(x);
+#else
+    int n = 0;
+    while (!(x >> 63)) { x <<= 1; n++; }
+    return n;
+#endif
+}
+
+/* gmpy2.to_binary(mpq(g, 2**F)) written at out (at most 22 bytes), the fraction reduced
+   by g's trailing zero bits: 0x03, the sign (0 zero, 1 positive, 2 negative), the
+   numerator's byte count (u32, little-endian), the numerator's and the denominator's
+   bytes; its length */
 static inline unsigned gx_grid_to_binary(int64_t g, int F, uint8_t *out) {
     uint64_t magnitude, denominator;
     unsigned n;
-    int t = 0;
+    int t;
     out[0] = 0x03;
     if (g == 0) { out[1] = 0; return 2; }
     out[1] = g > 0 ? 1 : 2;
     magnitude = g > 0 ? (uint64_t)g : (uint64_t)0 - (uint64_t)g;
-    while (t < F && !(magnitude & 1)) { magnitude >>= 1; t++; }
+    t = gx_ctz64(magnitude);
+    if (t > F) t = F;
+    magnitude >>= t;
     denominator = (uint64_t)1 << (F - t);
     n = gx_le_bytes(magnitude, out + 6);
     out[2] = (uint8_t)n; out[3] = out[4] = out[5] = 0;

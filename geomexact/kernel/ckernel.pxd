@@ -38,6 +38,8 @@ cdef extern from "ckernel.h":
     gx_u128 gx_blake2b_vertex_message(const uint8_t *message, unsigned len) nogil
     uint64_t gx_vertex_key(uint64_t vertex) nogil
     uint64_t gx_cached_vertex_key(uint64_t vertex)
+    int gx_ctz64(uint64_t x) nogil
+    int gx_clz64(uint64_t x) nogil
     int gx_grid_lengths(int64_t, int64_t, int64_t, int64_t,
                         int64_t, int64_t, int64_t, int64_t) nogil
     int gx_grid_orient(int64_t, int64_t, int64_t, int64_t, int64_t, int64_t) nogil
@@ -124,6 +126,19 @@ cdef inline StepLayout step_layout(object step_class):
     return layout
 
 
+cdef inline object allocated(object cls, Py_ssize_t items):
+    """A new instance of the type ``cls`` from its ``tp_alloc`` (``items`` items for a
+    tuple subtype), every field still empty: the caller fills them, as the type's own
+    ``__new__`` would."""
+    cdef PyObject *raw = (<_AllocatingType *><PyObject *>cls).tp_alloc(
+        <PyTypeObject *><PyObject *>cls, items)
+    if raw == NULL:
+        raise MemoryError
+    instance = <object>raw
+    Py_DECREF(instance)  # <object> took a second reference
+    return instance
+
+
 cdef inline object make_step(object step_class, StepLayout *layout, str op, tuple args):
     """``Step(op, args)`` without the attrs ``__init__`` (``args`` is a tuple already):
     allocated by its type and its two slots written in place (``layout``), as attrs'
@@ -133,12 +148,8 @@ cdef inline object make_step(object step_class, StepLayout *layout, str op, tupl
     cdef PyObject *raw
     cdef PyObject **slot
     if layout.direct:
-        raw = (<_AllocatingType *><PyObject *>step_class).tp_alloc(
-            <PyTypeObject *><PyObject *>step_class, 0)
-        if raw == NULL:
-            raise MemoryError
-        step = <object>raw
-        Py_DECREF(step)  # <object> took a second reference
+        step = allocated(step_class, 0)
+        raw = <PyObject *>step
         Py_INCREF(op)
         slot = <PyObject **>((<char *>raw) + layout.op_offset)
         slot[0] = <PyObject *>op

@@ -420,19 +420,24 @@ cdef inline int store_repair_hints(TriangleStore *s) except -1:
 
 cdef inline object store_halfedge_rows(const TriangleStore *s):
     """The half-edge table as a read-only (H x 3) int64 array of rows (u, v, apex), in
-    slot order."""
+    slot order; the loop without a branch a slot (the table is mostly empty, at random):
+    each slot's row is written at the next row, which only a live slot's advances, until
+    the H rows are filled."""
     import numpy
-    cdef uint64_t slot = 0
-    cdef Py_ssize_t row = 0
-    cdef int64_t u, v, w
+    cdef uint64_t slot = 0, key
+    cdef Py_ssize_t row = 0, count = s.apex.count
+    cdef const uint64_t *keys = s.apex.keys
+    cdef const int64_t *values = s.apex.values
     cdef int64_t[:, ::1] view
-    rows = numpy.empty((s.apex.count, 3), dtype=numpy.int64)
+    rows = numpy.empty((count, 3), dtype=numpy.int64)
     view = rows
-    while store_next_halfedge(s, &slot, &u, &v, &w):
-        view[row, 0] = u
-        view[row, 1] = v
-        view[row, 2] = w
-        row += 1
+    while row < count:
+        key = keys[slot]
+        view[row, 0] = <int64_t>(key >> 32)
+        view[row, 1] = <int64_t><uint32_t>key
+        view[row, 2] = values[slot]
+        row += key != GX_EMPTY
+        slot += 1
     rows.setflags(write=False)
     return rows
 

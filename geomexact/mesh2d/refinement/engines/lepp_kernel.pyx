@@ -39,12 +39,14 @@ otherwise by the certified float filters of ``geomexact.kernel.predicates2d`` an
 Python predicate on the ``Point2`` objects.
 """
 
+cimport cython
 from libc.stdint cimport int64_t, uint64_t, int8_t, uint8_t, uint32_t
-from libc.stdlib cimport malloc, free
+from libc.stdlib cimport calloc, malloc, free
 from libc.string cimport memcpy
 from libc.math cimport fabs, floor, frexp, isfinite, ldexp
 from cpython.exc cimport PyErr_CheckSignals
-from cpython.ref cimport PyObject, Py_DECREF
+from cpython.ref cimport PyObject, Py_DECREF, Py_INCREF
+from cpython.tuple cimport PyTuple_SET_ITEM
 
 import hashlib
 import math
@@ -77,6 +79,7 @@ from geomexact.trace.step import Step
 # the triangulation store: its types and store_* steps (names prefixed, see the .pxd)
 from geomexact.kernel.ctriangulation cimport *
 from geomexact.kernel.ckernel cimport (
+    allocated,
     StepLayout,
     make_step,
     step_layout,
@@ -92,6 +95,8 @@ from geomexact.kernel.ckernel cimport (
     _to_u128,
     gx_blake2b_128,
     gx_cell_hash,
+    gx_blake2b_vertex_message,
+    gx_clz64,
     gx_grid_vertex_hash,
     gx_cached_vertex_key,
     gx_edge,
@@ -100,13 +105,14 @@ from geomexact.kernel.ckernel cimport (
     gx_i128,
     gx_map,
     gx_map_alloc,
-    gx_map_copy,
     gx_map_del,
     gx_map_free,
     gx_map_get,
     gx_map_next,
     gx_map_set,
     gx_u128,
+    gx_u128_hi,
+    gx_u128_lo,
     grow_array,
     incircle_sign,
     orient_sign,
@@ -130,6 +136,26 @@ cdef extern from "grid_rational.h":
     const char *gx_gmpy2_built_version()
     PyObject *gx_grid_mpq(int64_t g, int F)
 
+cdef extern from *:
+    """
+    /* 1 when `value` is an mpq whose denominator is no power of two or is at least 2^64
+       (read off its limbs through gmpy2's C API), so it is off every grid 2^-F, F <= 62;
+       0 when that is not known (no C API, not an mpq, or a small power of two) */
+    static int gx_lk_off_grid_denominator(PyObject *value) {
+    #ifdef GX_WITH_GMPY2
+        mpz_srcptr denominator;
+        if (!gx_gmpy2_ready || !MPQ_Check(value)) return 0;
+        denominator = mpq_denref(MPQ(value));
+        if (denominator->_mp_size != 1) return 1;
+        return (denominator->_mp_d[0] & (denominator->_mp_d[0] - 1)) != 0;
+    #else
+        (void)value;
+        return 0;
+    #endif
+    }
+    """
+    bint gx_lk_off_grid_denominator(object value)
+
 cdef bytes _GMPY2_VERSION = gmpy2.version().encode()
 # the compiled module: gmpy2.gmpy2 in a package, gmpy2 itself in a single-file install
 cdef bytes _GMPY2_MODULE = os.fsencode(
@@ -150,6 +176,31 @@ cdef inline object _grid_mpq(object inverse_unit, int64_t g, int F):
     result = <object>raw
     Py_DECREF(result)  # <object> took a second reference
     return result
+
+
+# a Point2 is a tuple subclass adding no fields (a NamedTuple): made as tuple.__new__ makes
+# one (tuple_subtype_new: the type's tp_alloc, then the items), without the call through
+# the method and the temporary tuple
+cdef bint _POINT2_DIRECT = (issubclass(Point2, tuple)
+                            and Point2.__basicsize__ == tuple.__basicsize__
+                            and Point2.__itemsize__ == tuple.__itemsize__)
+
+
+cdef inline object _new_point2(object x, object y, object fx, object fy):
+    """``tuple.__new__(Point2, (x, y, fx, fy))``."""
+    if not _POINT2_DIRECT:
+        return tuple.__new__(Point2, (x, y, fx, fy))
+    point = allocated(Point2, 4)
+    # (PyTuple_SET_ITEM steals a reference)
+    Py_INCREF(x)
+    PyTuple_SET_ITEM(point, 0, x)
+    Py_INCREF(y)
+    PyTuple_SET_ITEM(point, 1, y)
+    Py_INCREF(fx)
+    PyTuple_SET_ITEM(point, 2, fx)
+    Py_INCREF(fy)
+    PyTuple_SET_ITEM(point, 3, fy)
+    return point
 
 
 def grid_rational(int64_t g, int F):
@@ -182,6 +233,11 @@ cdef struct Entry:
 
 
 cdef object GRID_LIMIT = 1 << 60
+cdef object _HALF = mpq(1, 2)
+# the imported constants as C values (compared with C integers without making Python ones)
+cdef int64_t _MAX_VERTICES = MAX_VERTICES
+cdef int64_t _CENTROID_BITS = CENTROID_BITS
+cdef int _TIP_DEPTH = TIP_DEPTH
 
 # the constants of compare_angle's float filter (geomexact.kernel.angles)
 cdef double DOT_C = _bounds.DOT_C
@@ -216,16 +272,21 @@ cdef object _to_binary = gmpy2.to_binary
 cdef object _vertex_hasher = hashlib.blake2b(digest_size=16, person=b"vertex")
 
 
-cdef object _vertex_hash(int64_t vertex, x, y):
-    """geomexact.kernel.digest.vertex_hash(vertex, (x, y)), inlined (checked by the tests)."""
+cdef gx_u128 _vertex_hash(int64_t vertex, x, y) except *:
+    """geomexact.kernel.digest.vertex_hash(vertex, (x, y)), inlined (checked by the tests):
+    BLAKE2b in C when its message fits one block."""
+    cdef bytes message = _pack_id(vertex) + _to_binary(x) + _to_binary(y)
+    if len(message) <= 128:
+        return gx_blake2b_vertex_message(<const uint8_t *><const char *>message,
+                                         <unsigned>len(message))
     hasher = _vertex_hasher.copy()
-    hasher.update(_pack_id(vertex) + _to_binary(x) + _to_binary(y))
-    return int.from_bytes(hasher.digest(), "little")
+    hasher.update(message)
+    return _to_u128(int.from_bytes(hasher.digest(), "little"))
 
 
 def vertex_hash(int64_t vertex, x, y):
     """The kernel's vertex hash (for tests)."""
-    return _vertex_hash(vertex, x, y)
+    return _from_u128(_vertex_hash(vertex, x, y))
 
 
 def grid_vertex_hash(int64_t vertex, int64_t gx, int64_t gy, int F):
@@ -263,6 +324,39 @@ cdef object _coordinate_bound(list points):
     return bound
 
 
+cdef inline bint _length_interval(GridPoint *a, GridPoint *b, double *low,
+                                  double *high) noexcept nogil:
+    """Doubles ``low`` <= |ab|² <= ``high`` from the points' doubles (each the nearest
+    double of its coordinate): each difference is within E = 6 u m of the exact one (u =
+    2^-53, m the largest |coordinate|), so the squared length within E (2 s + 2 E) of the
+    float one (s = |dx| + |dy|), plus its own three roundings (3 u s²); False when out of
+    range or not bounded away from 0."""
+    cdef double m = max(fabs(a.fx), fabs(a.fy), fabs(b.fx), fabs(b.fy))
+    cdef double dx = b.fx - a.fx, dy = b.fy - a.fy
+    cdef double s = fabs(dx) + fabs(dy), e, length, error
+    if not (m < 2.0 ** 200 and s > 2.0 ** -200):
+        return False
+    e = 6.0 * UNIT * m
+    length = dx * dx + dy * dy
+    # (1.0001 and 4 u: the roundings of the bounds themselves)
+    error = (e * (2.0 * s + 2.0 * e) + 3.0 * UNIT * s * s) * 1.0001
+    if not length > error:
+        return False
+    low[0] = (length - error) * (1.0 - 4.0 * UNIT)
+    high[0] = (length + error) * (1.0 + 4.0 * UNIT)
+    return True
+
+
+cdef inline int64_t _bit_length(gx_i128 value) noexcept:
+    """``int(value).bit_length()`` of 0 <= value < 2**127."""
+    cdef uint64_t high = gx_u128_hi(<gx_u128>value), low = gx_u128_lo(<gx_u128>value)
+    if high:
+        return 128 - gx_clz64(high)
+    if low:
+        return 64 - gx_clz64(low)
+    return 0
+
+
 cdef inline unsigned _decimal(int64_t value, uint8_t *out) noexcept nogil:
     """The decimal digits of ``value`` >= 0 written at ``out``; their count."""
     cdef uint8_t digits[20]
@@ -295,6 +389,7 @@ cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
     return x.c < y.c
 
 
+@cython.final  # no subclasses: its cdef methods are called directly, not through a vtable
 cdef class Kernel:
     """One Lepp-bisection run (see the module docstring).  ``run()`` then ``finish()``."""
 
@@ -347,9 +442,25 @@ cdef class Kernel:
     cdef int cos_sign
     cdef dict left
     cdef object start_segments
-    cdef gx_map start_apex  # the start's half-edges (min angle: the tip limits read them)
+    # the start's half-edges sorted by (origin, end): start_offsets[u] ..
+    # start_offsets[u + 1] index the ends and apexes of u's (the canonical triangles are
+    # read off them in order; min angle: the tip limits read them)
+    cdef int64_t *start_offsets
+    cdef int64_t *start_ends
+    cdef int64_t *start_apexes
     cdef int64_t *start_hints
+    # per vertex: 1 once a walk round it found at most one constraint edge (an interior
+    # vertex), so it has no sector (``_sector``); 0 not known.  Exact for the whole run:
+    # no edit changes how many constraint edges a vertex has (flips and centroids never
+    # touch one, a split keeps each end's), nor makes an interior vertex a boundary one
+    cdef uint8_t *sectorless
+    cdef Py_ssize_t cap_sectorless
     cdef dict tip_grid
+    # per input vertex: its tip limit's state (0 not known yet, 1 none, 2 within
+    # [tip_low, tip_high], the exact value made only when that interval does not decide)
+    cdef uint8_t *tip_state
+    cdef double *tip_low
+    cdef double *tip_high
     # triangle attributes (a mesh with regions): each canonical triangle (a, b, c) with
     # attributes has an entry (a, b) -> the id of its attribute tuple in ``tattr``; the
     # tuples by id and the tail of their digest text; the start's attributes (the tip
@@ -375,9 +486,13 @@ cdef class Kernel:
         free(self.heap)
         free(self.created)
         gx_map_free(&self.segs)
-        gx_map_free(&self.start_apex)
+        self._free_start_halfedges()
         gx_map_free(&self.tattr)
         free(self.start_hints)
+        free(self.sectorless)
+        free(self.tip_state)
+        free(self.tip_low)
+        free(self.tip_high)
 
     def __init__(self, start, run):
         """One run on the snapshot ``start``, as ``run`` (a
@@ -407,9 +522,8 @@ cdef class Kernel:
         centroid = rounded_area_centroid
         cdef Py_ssize_t i, count = start.vertex_count
         cdef TriVertex *vertex
-        cdef uint64_t *first_edges = NULL
-        cdef Py_ssize_t ntriangles
-        cdef int64_t a, b
+        cdef Py_ssize_t k
+        cdef int64_t a, b, c
         cdef int64_t g
         cdef tuple fields
         self.points = start.point_list()
@@ -421,7 +535,9 @@ cdef class Kernel:
         self.cap_heap = self.cap_created = 64
         self.heap = <Entry *>malloc(self.cap_heap * sizeof(Entry))
         self.created = <int64_t *>malloc(3 * self.cap_created * sizeof(int64_t))
-        if not self.heap or not self.created:
+        self.cap_sectorless = max(16, 2 * count)
+        self.sectorless = <uint8_t *>calloc(self.cap_sectorless, sizeof(uint8_t))
+        if not self.heap or not self.created or not self.sectorless:
             raise MemoryError
         if gx_map_alloc(&self.segs, 64) < 0:
             raise MemoryError
@@ -520,10 +636,11 @@ cdef class Kernel:
             self.cos_sign = threshold.cos_sign
             # Refinement.tip_limit reads the start mesh: its half-edges and outgoing hints
             self.start_segments = start.segments
-            if gx_map_copy(&self.start_apex, &self.store.apex) < 0:
-                raise MemoryError
             self.start_hints = <int64_t *>malloc(max(1, count) * sizeof(int64_t))
-            if not self.start_hints:
+            self.tip_state = <uint8_t *>calloc(max(1, count), sizeof(uint8_t))
+            self.tip_low = <double *>malloc(max(1, count) * sizeof(double))
+            self.tip_high = <double *>malloc(max(1, count) * sizeof(double))
+            if not (self.start_hints and self.tip_state and self.tip_low and self.tip_high):
                 raise MemoryError
             for i in range(count):
                 self.start_hints[i] = self.store.vs[i].hint
@@ -550,57 +667,167 @@ cdef class Kernel:
         self.target_grid = 0.0
         self.pysum = mpq(0)
         self.target2 = self.target_scaled = None
-        # sorted(start.iter_triangles()), read off the table: first edges (a, b), apex c
-        ntriangles = store_sorted_triangles(&self.store, &first_edges)
-        try:
-            if average:
-                # Refinement.start_queue: the region's initial doubled area and count
-                self.max_area = True
-                self.area_limit = -(<gx_i128>1 << 126)  # every grid triangle is bad
-                for i in range(ntriangles):
-                    a, b = <int64_t>(first_edges[i] >> 32), <int64_t><uint32_t>first_edges[i]
-                    self._account(a, b, store_apex(&self.store, a, b), 1)
-                total = _from_i128(self.gsum) / self.scale + self.pysum
-                target = criterion.target_mean_area(total / 2, self.count)
-                self.target2 = 2 * target
-                self.target_scaled = self.target2 * self.scale
-                try:
-                    self.target_grid = float(self.target_scaled)
-                except OverflowError:
-                    self.target_grid = math.inf
-                # the filter needs a normal, moderate double (relative error below 2**-50)
-                self.filtered = 2.0 ** -500 < self.target_grid < 2.0 ** 500
-                self.tracking = True
-            for i in range(ntriangles):
-                a, b = <int64_t>(first_edges[i] >> 32), <int64_t><uint32_t>first_edges[i]
-                self._consider(a, b, store_apex(&self.store, a, b))
-        finally:
-            free(first_edges)
+        # sorted(start.iter_triangles()): the half-edges (a, b) -> c with a < b, a < c,
+        # in (a, b) order
+        if average:
+            # Refinement.start_queue: the region's initial doubled area and count
+            self.max_area = True
+            self.area_limit = -(<gx_i128>1 << 126)  # every grid triangle is bad
+            for a in range(count):
+                for k in range(self.start_offsets[a], self.start_offsets[a + 1]):
+                    b, c = self.start_ends[k], self.start_apexes[k]
+                    if a < b and a < c:
+                        self._account(a, b, c, 1)
+            total = _from_i128(self.gsum) / self.scale + self.pysum
+            target = criterion.target_mean_area(total / 2, self.count)
+            self.target2 = 2 * target
+            self.target_scaled = self.target2 * self.scale
+            try:
+                self.target_grid = float(self.target_scaled)
+            except OverflowError:
+                self.target_grid = math.inf
+            # the filter needs a normal, moderate double (relative error below 2**-50)
+            self.filtered = 2.0 ** -500 < self.target_grid < 2.0 ** 500
+            self.tracking = True
+        for a in range(count):
+            for k in range(self.start_offsets[a], self.start_offsets[a + 1]):
+                b, c = self.start_ends[k], self.start_apexes[k]
+                if a < b and a < c:
+                    self._consider(a, b, c)
 
     cdef int _read_start_tables(self, start) except -1:
-        """The start's half-edges into the C table and its outgoing hints into the
-        vertices: from its arrays while its tables are not built (a kernel's result, a
-        bulk-read file: building them here would cost more than the run), else from its
-        tables."""
-        cdef Py_ssize_t i
+        """The start's half-edges into the C table (and sorted, ``_sort_start_halfedges``)
+        and its outgoing hints into the vertices: from its arrays while its tables are not
+        built (a kernel's result, a bulk-read file: building them here would cost more
+        than the run), else from its tables."""
+        cdef Py_ssize_t i, count
         cdef const int64_t[:, ::1] rows
         cdef const int64_t[::1] hints
+        cdef int64_t *table = NULL
         source = start.source
-        if source is not None:
-            rows = np.ascontiguousarray(source.halfedges, dtype=np.int64)
-            hints = np.ascontiguousarray(source.hints, dtype=np.int64)
-            for i in range(self.store.nv):
-                self.store.vs[i].hint = hints[i]
-            for i in range(rows.shape[0]):
-                store_put(&self.store, rows[i, 0], rows[i, 1], rows[i, 2])
-            return 0
-        outgoing = start.outgoing
-        for i in range(self.store.nv):
-            hint = outgoing.get(i)
-            self.store.vs[i].hint = -1 if hint is None else hint
-        for key, w in start.halfedges.items():
-            store_put(&self.store, (<tuple>key)[0], (<tuple>key)[1], w)
+        try:
+            if source is not None:
+                rows = np.ascontiguousarray(source.halfedges, dtype=np.int64)
+                hints = np.ascontiguousarray(source.hints, dtype=np.int64)
+                for i in range(self.store.nv):
+                    self.store.vs[i].hint = hints[i]
+                count = rows.shape[0]
+                table = <int64_t *>malloc(max(1, 3 * count) * sizeof(int64_t))
+                if table == NULL:
+                    raise MemoryError
+                for i in range(count):
+                    store_put(&self.store, rows[i, 0], rows[i, 1], rows[i, 2])
+                    table[3 * i] = rows[i, 0]
+                    table[3 * i + 1] = rows[i, 1]
+                    table[3 * i + 2] = rows[i, 2]
+            else:
+                outgoing = start.outgoing
+                for i in range(self.store.nv):
+                    hint = outgoing.get(i)
+                    self.store.vs[i].hint = -1 if hint is None else hint
+                halfedges = start.halfedges
+                count = len(halfedges)
+                table = <int64_t *>malloc(max(1, 3 * count) * sizeof(int64_t))
+                if table == NULL:
+                    raise MemoryError
+                i = 0
+                for key, w in halfedges.items():
+                    store_put(&self.store, (<tuple>key)[0], (<tuple>key)[1], w)
+                    table[3 * i] = (<tuple>key)[0]
+                    table[3 * i + 1] = (<tuple>key)[1]
+                    table[3 * i + 2] = w
+                    i += 1
+            self._sort_start_halfedges(table, count)
+        finally:
+            free(table)
         return 0
+
+    cdef int _sort_start_halfedges(self, const int64_t *rows, Py_ssize_t count) except -1:
+        """``start_offsets``, ``start_ends``, ``start_apexes`` from the ``count`` rows
+        (u, v, w) put in the table: sorted by (u, v) by two stable counting sorts (by v,
+        then by u), a repeated half-edge keeping its last apex as the table does."""
+        cdef Py_ssize_t n = self.n0, i, k, end, position
+        cdef int64_t u, v
+        cdef int64_t *offsets
+        cdef int64_t *by_end = NULL
+        cdef int64_t *order = NULL
+        for i in range(3 * count):
+            if not 0 <= rows[i] < n:
+                raise ValueError(
+                    f"the start's half-edges name a vertex {rows[i]} outside 0..{n - 1}")
+        self.start_offsets = offsets = <int64_t *>calloc(n + 1, sizeof(int64_t))
+        self.start_ends = <int64_t *>malloc(max(1, count) * sizeof(int64_t))
+        self.start_apexes = <int64_t *>malloc(max(1, count) * sizeof(int64_t))
+        by_end = <int64_t *>malloc(max(1, count) * sizeof(int64_t))
+        order = <int64_t *>malloc(max(1, count) * sizeof(int64_t))
+        try:
+            if not (offsets and self.start_ends and self.start_apexes and by_end and order):
+                raise MemoryError
+            # by v: the counts in offsets[v + 1], summed to the starts, each row placed
+            for i in range(count):
+                offsets[rows[3 * i + 1] + 1] += 1
+            for v in range(n):
+                offsets[v + 1] += offsets[v]
+            for i in range(count):
+                v = rows[3 * i + 1]
+                by_end[offsets[v]] = i
+                offsets[v] += 1
+            # then by u, in that order
+            for v in range(n + 1):
+                offsets[v] = 0
+            for i in range(count):
+                offsets[rows[3 * i] + 1] += 1
+            for u in range(n):
+                offsets[u + 1] += offsets[u]
+            for k in range(count):
+                i = by_end[k]
+                u = rows[3 * i]
+                order[offsets[u]] = i
+                offsets[u] += 1
+            # offsets[u] is now the end of u's rows in ``order``: their ends and apexes, a
+            # run of rows of one half-edge reduced to its last
+            position = 0
+            k = 0
+            for u in range(n):
+                end = offsets[u]
+                offsets[u] = position
+                while k < end:
+                    i = order[k]
+                    k += 1
+                    if k < end and rows[3 * order[k] + 1] == rows[3 * i + 1]:
+                        continue
+                    self.start_ends[position] = rows[3 * i + 1]
+                    self.start_apexes[position] = rows[3 * i + 2]
+                    position += 1
+            offsets[n] = position
+        finally:
+            free(by_end)
+            free(order)
+        return 0
+
+    cdef void _free_start_halfedges(self) noexcept:
+        free(self.start_offsets)
+        free(self.start_ends)
+        free(self.start_apexes)
+        self.start_offsets = self.start_ends = self.start_apexes = NULL
+
+    cdef inline int64_t _start_apex(self, int64_t u, int64_t v) noexcept:
+        """The apex of the start's half-edge (u, v), or -1: a binary search among u's
+        ends."""
+        cdef int64_t low, high, middle
+        if not 0 <= u < self.n0:
+            return -1
+        low = self.start_offsets[u]
+        high = self.start_offsets[u + 1]
+        while low < high:
+            middle = (low + high) >> 1
+            if self.start_ends[middle] < v:
+                low = middle + 1
+            else:
+                high = middle
+        if low < self.start_offsets[u + 1] and self.start_ends[low] == v:
+            return self.start_apexes[low]
+        return -1
 
     # -- vertices -----------------------------------------------------------------------
     cdef bint _on_grid(self, value, double nearest, int64_t *out) except -1:
@@ -610,6 +837,8 @@ cdef class Kernel:
         a coarser power of two), so a finite one that is not decides at once."""
         cdef double scaled_nearest = ldexp(nearest, self.F)
         if isfinite(scaled_nearest) and scaled_nearest != floor(scaled_nearest):
+            return False
+        if gx_lk_off_grid_denominator(value):
             return False
         denominator = value.denominator
         if denominator & (denominator - 1):
@@ -639,17 +868,18 @@ cdef class Kernel:
             if _GRID_MPQ_IN_C and half <= 62:
                 # built in C (GMP); the doubles: one rounding of |s| < 2**61, then an
                 # exact scaling (2**-63 is far from the subnormals)
-                point = tuple.__new__(Point2, (
+                point = _new_point2(
                     _grid_mpq(None, sx, half), _grid_mpq(None, sy, half),
-                    ldexp(<double>sx, -half), ldexp(<double>sy, -half)))
+                    ldexp(<double>sx, -half), ldexp(<double>sy, -half))
         if point is None:
             pu = <tuple>self.points[u]
             pv = <tuple>self.points[v]
-            mx = (pu[0] + pv[0]) / 2
-            my = (pu[1] + pv[1]) / 2
+            # (times 1/2: dividing by 2 would convert the int 2 to a rational each time)
+            mx = (pu[0] + pv[0]) * _HALF
+            my = (pu[1] + pv[1]) * _HALF
             try:
                 # Point2(mx, my, fx, fy) without the Python-level __new__ of the NamedTuple
-                point = tuple.__new__(Point2, (mx, my, float(mx), float(my)))
+                point = _new_point2(mx, my, float(mx), float(my))
             except OverflowError:
                 point = point2(mx, my)
         return self._add_point(point, grid, sx >> 1, sy >> 1)
@@ -663,9 +893,12 @@ cdef class Kernel:
         cdef TriVertex *vertex
         # a Point2 is a tuple: indexed as one (its class's item lookup is slower)
         cdef tuple fields = <tuple>point
-        if n >= MAX_VERTICES:
+        if n >= _MAX_VERTICES:
             raise PreconditionError("add_vertex", f"more than {MAX_VERTICES} vertices")
         store_vertex_room(&self.store)
+        if n == self.cap_sectorless:
+            grow_array(<void **>&self.sectorless, &self.cap_sectorless, sizeof(uint8_t))
+        self.sectorless[n] = 0
         self.points.append(point)
         vertex = &self.store.vs[n]
         vertex.at.fx = fields[2]
@@ -685,7 +918,7 @@ cdef class Kernel:
         if vertex.at.grid:
             self.store.digest += gx_grid_vertex_hash(n, vertex.at.gx, vertex.at.gy, self.F)
         else:
-            self.store.digest += _to_u128(_vertex_hash(n, fields[0], fields[1]))
+            self.store.digest += _vertex_hash(n, fields[0], fields[1])
         return n
 
     cdef bint _grid_centroid(self, int64_t u, int64_t v, int64_t w, int64_t x,
@@ -716,8 +949,8 @@ cdef class Kernel:
             length = dx * dx + dy * dy
             if shortest < 0 or length < shortest:
                 shortest = length
-        exponent = ((_from_i128(shortest).bit_length() - 1 - 2 * self.F) // 2
-                    - CENTROID_BITS + self.F)
+        # (>> 1: floor division by 2, as // in Python)
+        exponent = ((_bit_length(shortest) - 1 - 2 * self.F) >> 1) - _CENTROID_BITS + self.F
         if exponent < 0 or exponent > 62:
             return False
         a1 = _from_i128(gx_grid_area2(pu.at.gx, pu.at.gy, pv.at.gx, pv.at.gy,
@@ -804,7 +1037,7 @@ cdef class Kernel:
         frexp(high, &exp_high)
         if exp_low != exp_high:
             return False
-        exponent = ((exp_low - 1) >> 1) - CENTROID_BITS
+        exponent = ((exp_low - 1) >> 1) - _CENTROID_BITS
         shift = <int>(exponent + self.F)
         if shift < 0 or shift > 62:
             return False
@@ -1184,13 +1417,26 @@ cdef class Kernel:
     cdef bint _sector(self, int64_t p, int64_t q, int64_t r, int64_t *ends) except -1:
         """``Refinement.constraint_sector(p, q, r)``: False when p has no sector, else
         True with the far ends of its two constraint edges in ``ends``."""
-        cdef int64_t first = q, last = r
-        while not self._constraint(p, first):
-            first = store_apex(&self.store, first, p)
+        cdef int64_t first = q, last = r, inner, outer
+        if self.sectorless[p]:
+            return False
+        # each edge p-first (p-last) has the triangle just walked on one side: of its two
+        # apexes only the next one is looked up
+        inner = r  # apex(p, first)
+        while True:
+            outer = store_apex(&self.store, first, p)
+            if self._constraint_known(p, first, inner, outer):
+                break
+            first, inner = outer, first
             if first == r:
+                self.sectorless[p] = 1
                 return False  # all the way round
-        while not self._constraint(p, last):
-            last = store_apex(&self.store, p, last)
+        inner = q  # apex(last, p)
+        while True:
+            outer = store_apex(&self.store, p, last)
+            if self._constraint_known(p, last, outer, inner):
+                break
+            last, inner = outer, last
         ends[0] = first
         ends[1] = last
         return True
@@ -1201,7 +1447,10 @@ cdef class Kernel:
         cdef int64_t ends[2]
         if not self._sector(p, q, r, ends):
             return False
-        return self._orient(p, ends[0], ends[1]) == 1 and self._angle(ends[0], p, ends[1]) == -1
+        # the angle first: at a vertex of a straight constraint line the filter decides it
+        # (180°) where orient2d, exactly 0, would need the exact predicate
+        return (self._angle(ends[0], p, ends[1]) == -1
+                and self._orient(p, ends[0], ends[1]) == 1)
 
     cdef bint _unimprovable(self, int64_t a, int64_t b, int64_t c) except -1:
         """``Refinement.unimprovable``: an angle of (a, b, c) below the threshold lies in
@@ -1215,28 +1464,25 @@ cdef class Kernel:
                 p, q, r = b, c, a
             else:
                 p, q, r = c, a, b
-            if self._angle(q, p, r) != -1:
+            if self.sectorless[p] or self._angle(q, p, r) != -1:
                 continue
             if self._sharp(p, q, r):
                 return True
         return False
 
-    cdef object _tip_limit(self, int64_t vertex):
-        """``Refinement.tip_limit`` of the input vertex ``vertex``: (2^-TIP_DEPTH × its
-        shortest constraint edge in the start mesh)², or None with fewer than two; its
-        star walked as ``snapshot.walk_star`` walks it, on the start's half-edges."""
+    cdef list _start_constraint_ends(self, int64_t vertex):
+        """The far ends of the constraint edges at the input vertex ``vertex`` in the start
+        mesh, its star walked as ``snapshot.walk_star`` walks it, on the start's
+        half-edges."""
         cdef int64_t first, previous, w, x, hint = self.start_hints[vertex]
-        cdef gx_map *apex = &self.start_apex
         cdef list ends = []
-        cdef TriVertex *a
-        cdef TriVertex *b
-        cdef gx_i128 dx, dy
+        cdef list constrained = []
         cdef int64_t left, right
         if hint < 0:
-            return None
+            return constrained
         first = hint
         while True:  # clockwise to the boundary, or all the way round
-            previous = gx_map_get(apex, gx_edge(first, vertex), -1)
+            previous = self._start_apex(first, vertex)
             if previous < 0:
                 break
             if previous == hint:
@@ -1246,7 +1492,7 @@ cdef class Kernel:
         w = first
         x = -1
         while True:
-            x = gx_map_get(apex, gx_edge(vertex, w), -1)
+            x = self._start_apex(vertex, w)
             if x < 0:
                 break
             ends.append(w)
@@ -1255,13 +1501,11 @@ cdef class Kernel:
                 break
         if ends and x < 0:
             ends.append(w)  # a boundary vertex: the last edge of the fan
-        lengths = []
-        a = &self.store.vs[vertex]
         for w in ends:
             # is_constraint_edge on the start: a boundary edge, a segment or an
             # attribute border
-            left = gx_map_get(apex, gx_edge(vertex, w), -1)
-            right = gx_map_get(apex, gx_edge(w, vertex), -1)
+            left = self._start_apex(vertex, w)
+            right = self._start_apex(w, vertex)
             if (left >= 0 and right >= 0
                     and ((vertex, w) if vertex < w else (w, vertex))
                     not in self.start_segments
@@ -1269,7 +1513,18 @@ cdef class Kernel:
                         _canonical(vertex, w, left)) != self.start_tattrs.get(
                             _canonical(w, vertex, right)))):
                 continue
-            b = &self.store.vs[w]
+            constrained.append(w)
+        return constrained
+
+    cdef object _tip_limit(self, int64_t vertex):
+        """``Refinement.tip_limit`` of the input vertex ``vertex``: (2^-TIP_DEPTH × its
+        shortest constraint edge in the start mesh)², or None with fewer than two."""
+        cdef TriVertex *a = &self.store.vs[vertex]
+        cdef TriVertex *b
+        cdef gx_i128 dx, dy
+        lengths = []
+        for w in self._start_constraint_ends(vertex):
+            b = &self.store.vs[<int64_t>w]
             if a.at.grid and b.at.grid:
                 dx = <gx_i128>b.at.gx - a.at.gx
                 dy = <gx_i128>b.at.gy - a.at.gy
@@ -1280,14 +1535,54 @@ cdef class Kernel:
             return None
         return min(lengths) / 4**TIP_DEPTH
 
+    cdef int _tip_interval(self, int64_t vertex) except -1:
+        """Set ``tip_state`` of the input vertex ``vertex``, and when it has a tip limit,
+        doubles around it (unbounded where the doubles cannot bound it): the least of
+        its constraint edges' squared-length bounds, times 4^-TIP_DEPTH (exact)."""
+        cdef double low = INFINITY, high = INFINITY, edge_low, edge_high
+        cdef bint bounded = True
+        ends = self._start_constraint_ends(vertex)
+        if len(ends) < 2:
+            self.tip_state[vertex] = 1
+            return 0
+        for w in ends:
+            if not _length_interval(&self.store.vs[vertex].at,
+                                    &self.store.vs[<int64_t>w].at, &edge_low, &edge_high):
+                bounded = False
+                break
+            low = min(low, edge_low)
+            high = min(high, edge_high)
+        # (2^-1000: the scaled bounds stay normal doubles, so the scaling is exact)
+        if bounded and low > 2.0 ** -1000:
+            self.tip_low[vertex] = ldexp(low, -2 * _TIP_DEPTH)
+            self.tip_high[vertex] = ldexp(high, -2 * _TIP_DEPTH)
+        else:
+            self.tip_low[vertex] = -INFINITY
+            self.tip_high[vertex] = INFINITY
+        self.tip_state[vertex] = 2
+        return 0
+
     cdef bint _under_tip(self, int64_t p, int64_t u, int64_t v) except -1:
         """True when p (an input vertex) has a tip limit and the edge {u, v} is shorter
-        than it (``Refinement.protected``'s length test, exact)."""
+        than it (``Refinement.protected``'s length test, exact): the doubles' bounds of
+        both decide where they are apart, else the exact values."""
         cdef TriVertex *vu
         cdef TriVertex *vv
         cdef gx_i128 dx, dy
+        cdef double low, high
         if p >= self.n0:
             return False  # only input vertices have tip limits
+        if self.tip_state[p] == 0:
+            self._tip_interval(p)
+        if self.tip_state[p] == 1:
+            return False
+        vu = &self.store.vs[u]
+        vv = &self.store.vs[v]
+        if _length_interval(&vu.at, &vv.at, &low, &high):
+            if high < self.tip_low[p]:
+                return True
+            if low >= self.tip_high[p]:
+                return False
         entry = self.tip_grid.get(p)
         if entry is None:
             limit = self._tip_limit(p)
@@ -1298,8 +1593,6 @@ cdef class Kernel:
         limit, bound = entry
         if limit is None:
             return False
-        vu = &self.store.vs[u]
-        vv = &self.store.vs[v]
         if vu.at.grid and vv.at.grid:
             dx = <gx_i128>vv.at.gx - vu.at.gx
             dy = <gx_i128>vv.at.gy - vu.at.gy
@@ -1630,13 +1923,11 @@ cdef class Kernel:
         self._record(0, u, v)
         return n
 
-    cdef int _flip(self, int64_t u, int64_t v) except -2:
-        """``ops.flip_in`` on a flippable edge: 0, or -1 at the step limit (no change then)."""
-        cdef int64_t w, x
+    cdef int _flip(self, int64_t u, int64_t v, int64_t w, int64_t x) except -2:
+        """``ops.flip_in`` on a flippable edge (u, v) with apexes w (left) and x (right): 0,
+        or -1 at the step limit (no change then)."""
         if self.limit >= 0 and self.store.nrec >= self.limit:
             return -1
-        w = store_apex(&self.store, u, v)
-        x = store_apex(&self.store, v, u)
         self._removed_edge(u, v, w, x)
         store_flip(&self.store, u, v, w, x)  # (x, w, u), (w, x, v)
         self._created_any(x, w, u)
@@ -1673,8 +1964,8 @@ cdef class Kernel:
             qy = _grid_mpq(self.inv_unit, at[1], self.F)
             # the nearest doubles of at / 2**F: one rounding (int64 to double), then an
             # exact scaling (|at| / 2**F is far from the subnormals)
-            point = tuple.__new__(Point2, (qx, qy, ldexp(<double>at[0], -self.F),
-                                           ldexp(<double>at[1], -self.F)))
+            point = _new_point2(qx, qy, ldexp(<double>at[0], -self.F),
+                                ldexp(<double>at[1], -self.F))
             n = self._add_point(point, 1, at[0], at[1])
         else:
             points = self.points
@@ -1708,8 +1999,12 @@ cdef class Kernel:
 
     cdef bint _constraint(self, int64_t u, int64_t v) except -1:
         """``Refinement.constraint``: a boundary, segment or attribute-border edge."""
-        cdef int64_t w = store_apex(&self.store, u, v)
-        cdef int64_t x = store_apex(&self.store, v, u)
+        return self._constraint_known(u, v, store_apex(&self.store, u, v),
+                                      store_apex(&self.store, v, u))
+
+    cdef bint _constraint_known(self, int64_t u, int64_t v, int64_t w,
+                                int64_t x) except -1:
+        """``_constraint(u, v)`` given its apexes w = apex(u, v), x = apex(v, u)."""
         if w < 0 or x < 0:
             return True
         if gx_map_get(&self.segs, gx_edge(u, v) if u < v else gx_edge(v, u), -1) >= 0:
@@ -1760,12 +2055,13 @@ cdef class Kernel:
                     p, q, r = u, v, w
                 else:
                     p, q, r = v, u, x
-                # Refinement.second_edge(p, q, r): the longer of (q, r), (r, p)
+                # Refinement.second_edge(p, q, r): the longer of (q, r), (r, p), the
+                # third vertex its apex
                 if _before(self._lengths(q, r, r, p), q, r, r, p):
-                    p, q = q, r
+                    p, q, r = q, r, p
                 else:
-                    p, q = r, p
-                if self._constraint(p, q):
+                    p, q, r = r, p, q
+                if self._constraint_known(p, q, r, store_apex(&self.store, q, p)):
                     if self.bisect_longest:
                         return self._insert_midpoint(u, v)  # Mellado: the longest edge
                     if self.min_angle and self._protected(p, q):
@@ -1813,7 +2109,7 @@ cdef class Kernel:
                 continue
             if self.attributed and self._border(a, b, vertex, q):
                 continue
-            if self._flip(a, b) < 0:
+            if self._flip(a, b, vertex, q) < 0:
                 return -1
             push_pair(&self.store.pending, q, b)
             push_pair(&self.store.pending, a, q)
@@ -1875,7 +2171,7 @@ cdef class Kernel:
                 # -- act ---------------------------------------------------------------
                 if self.method != 0 and not constrained:
                     if self.quasi_flips and self._incircle(u, v, w, x) == 1:
-                        if self._flip(u, v) < 0:
+                        if self._flip(u, v, w, x) < 0:
                             return "step-limit"
                     else:
                         done = self._split_pair(u, v, w, x)
@@ -1954,7 +2250,7 @@ cdef class Kernel:
         self.sealed = True
         # a deferred trace keeps the kernel alive: only the vertices and records stay
         store_release_table(&self.store)
-        gx_map_free(&self.start_apex)
+        self._free_start_halfedges()
         free(self.heap)
         free(self.created)
         self.heap = NULL
@@ -2116,7 +2412,7 @@ cdef class Kernel:
                     return i
                 if self.attributed and self._border(u, v, w, x):
                     return i
-                self._flip(u, v)
+                self._flip(u, v, w, x)
             elif op == "insert_in_quadrilateral" and len(args) == 4:
                 if not (self._has_vertex(args[0]) and self._has_vertex(args[1])):
                     return i
