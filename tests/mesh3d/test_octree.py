@@ -474,3 +474,47 @@ def test_a_balanced_octree_is_not_balanced_again() -> None:
                                             PointRegion(("0.49", "0.01", "0.01")), 3))
     assert tree.balanced and balance_two_to_one(tree) is tree
     assert tree == Octree(tree.domain, tree.grid, tree.leaves)  # the flag is not content
+
+
+def _naive_face_report(tetrahedra: list[list[int]]) -> tuple[int, int, int, int]:
+    """(interior faces, boundary faces, faces of more than two tetrahedra, faces with both
+    tetrahedra on one side), by plain sets: each face's sorted ids, and its orientation
+    as the parity of the sorting permutation."""
+    seen: dict[tuple[int, ...], list[int]] = {}
+    for a, b, c, d in tetrahedra:
+        for face in ((a, b, c), (a, c, d), (a, d, b), (b, d, c)):
+            inversions = sum(face[i] > face[j] for i in range(3) for j in range(i + 1, 3))
+            seen.setdefault(tuple(sorted(face)), []).append(inversions % 2)
+    return (sum(len(p) == 2 for p in seen.values()), sum(len(p) == 1 for p in seen.values()),
+            sum(len(p) > 2 for p in seen.values()),
+            sum(len(p) == 2 and sum(p) != 1 for p in seen.values()))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.data())
+def test_conformity_counts_faces_as_plain_sets_do(data: st.DataObject) -> None:
+    """The face counts and the problems the sorted keys find, on a real octree mesh with
+    tetrahedra dropped, repeated or inverted, against a plain-set count."""
+    run = sphere_run(2, trace=False)
+    lattice = run.leaf_mesh.lattice
+    tetrahedra = np.array(run.leaf_mesh.tetrahedra).tolist()
+    for _ in range(data.draw(st.integers(0, 3))):
+        row = data.draw(st.integers(0, len(tetrahedra) - 1))
+        change = data.draw(st.sampled_from(["drop", "repeat", "invert"]))
+        if change == "drop":
+            del tetrahedra[row]
+        elif change == "repeat":
+            tetrahedra.append(list(tetrahedra[row]))
+        else:
+            tetrahedra[row] = [tetrahedra[row][1], tetrahedra[row][0], *tetrahedra[row][2:]]
+    report = lattice_conformity(lattice.vertices, np.array(tetrahedra, dtype=np.int64),
+                                lattice.size)
+    interior, boundary, over, same_side = _naive_face_report(tetrahedra)
+    assert (report.interior_faces, report.boundary_faces) == (interior, boundary)
+    assert any("more than two" in p for p in report.problems) == (over > 0)
+    assert any("on one side" in p for p in report.problems) == (same_side > 0)
+    original = sorted(map(tuple, np.array(run.leaf_mesh.tetrahedra).tolist()))
+    assert report.conforming == (sorted(map(tuple, tetrahedra)) == original)
+    empty = lattice_conformity(lattice.vertices, np.zeros((0, 4), dtype=np.int64),
+                               lattice.size)
+    assert (empty.interior_faces, empty.boundary_faces) == (0, 0) and not empty.conforming

@@ -88,23 +88,35 @@ def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
     faces = np.concatenate([np.stack(f, axis=1) for f in
                             ((a, b, c), (a, c, d), (a, d, b), (b, d, c))])
     ordered, odd = _sorted_with_parity(faces)
-    base = max(len(points), 1)
-    _, inverse, counts = np.unique((ordered[:, 0] * base + ordered[:, 1]) * base
-                                   + ordered[:, 2], return_inverse=True, return_counts=True)
-    first = np.zeros(len(counts), dtype=np.int64)
-    first[inverse[::-1]] = np.arange(len(inverse))[::-1]
-    keys = ordered[first]
+    # one sort of uint64 keys: the sorted face's ids, then the permutation's parity (each
+    # id below 2**21, so the key is below 2**64); runs of one face give its counts
+    base = np.uint64(max(len(points), 1))
+    sorted_keys = np.sort(((ordered[:, 0].astype(np.uint64) * base
+                            + ordered[:, 1].astype(np.uint64)) * base
+                           + ordered[:, 2].astype(np.uint64)) * np.uint64(2)
+                          + odd.astype(np.uint64))
+    face_keys = sorted_keys >> np.uint64(1)
+    starts = (np.flatnonzero(np.concatenate(([True], face_keys[1:] != face_keys[:-1])))
+              if len(face_keys) else np.zeros(0, dtype=np.int64))
+    counts = np.diff(np.append(starts, len(face_keys)))
+    odd_count = (np.add.reduceat((sorted_keys & np.uint64(1)).astype(np.int64), starts)
+                 if len(starts) else np.zeros(0, dtype=np.int64))
+    keys = _face_ids(face_keys[starts], base)
     if (counts > 2).any():
         over = keys[counts > 2]
         problems.append(f"{len(over)} faces have more than two tetrahedra, e.g. "
                         f"{over[:limit].tolist()}")
-    odd_count = np.bincount(inverse, weights=odd, minlength=len(keys))
     same_side = (counts == 2) & (odd_count != 1)
     if same_side.any():
         problems.append(f"{int(same_side.sum())} faces have both tetrahedra on one side, "
                         f"e.g. {keys[same_side][:limit].tolist()}")
     boundary = counts == 1
-    problems.extend(_boundary_problems(points, faces, inverse, boundary, size, limit))
+    # a boundary face as its tetrahedron has it, up to a rotation: its sorted ids, two of
+    # them swapped when the permutation was odd
+    outer = keys[boundary]
+    swapped = (sorted_keys[starts][boundary] & np.uint64(1)).astype(bool)
+    outer[swapped] = outer[swapped][:, [0, 2, 1]]
+    problems.extend(_boundary_problems(points, outer, size, limit))
     used = np.zeros(len(points), dtype=bool)
     used[tetrahedra.ravel()] = True
     if not used.all():
@@ -114,10 +126,18 @@ def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
                             int(boundary.sum()), volume6, tuple(problems))
 
 
-def _boundary_problems(points: Any, faces: Any, inverse: Any, boundary: Any,
-                       size: tuple[int, int, int], limit: int) -> list[str]:
+def _face_ids(keys: Any, base: Any) -> Any:
+    """The (F x 3) int64 ids of the face keys ``(a * base + b) * base + c``."""
+    high, c = np.divmod(keys, base)
+    a, b = np.divmod(high, base)
+    return np.stack((a, b, c), axis=1).astype(np.int64)
+
+
+def _boundary_problems(points: Any, outer: Any, size: tuple[int, int, int],
+                       limit: int) -> list[str]:
+    """The problems of the boundary faces ``outer`` (F x 3 ids, oriented inward, as their
+    positive tetrahedron has them, up to a rotation)."""
     problems = []
-    outer = faces[boundary[inverse]]  # oriented inward (their tetrahedron is positive)
     corners = points[outer]  # F x 3 x 3
     on_plane = np.zeros(len(outer), dtype=bool)
     for axis in range(3):
