@@ -623,11 +623,10 @@ def write_meshio(
     suffix = path.suffix.lower()
     if suffix not in KEEPS_EVERYTHING:
         cells = ("triangle", numpy.array(value.triangles(), dtype=index_type).reshape(-1, 3))
-        points = numpy.array(rows, dtype=float).reshape(-1, 3)
-        _write_through_meshio(path, meshio.Mesh(points, [cells]), overwrite=overwrite)
+        _write_through_meshio(path, meshio.Mesh(rows, [cells]), overwrite=overwrite)
         return WriteReport((path,), rounded, dropped_parts(value, ()))
     converted, more, dropped = mesh2_meshio(str(path), value, gmsh=suffix == ".msh")
-    converted.points = numpy.array(rows, dtype=float).reshape(-1, 3)
+    converted.points = rows
     _write_through_meshio(path, converted, overwrite=overwrite,
                           file_format="gmsh22" if suffix == ".msh" else None)
     return WriteReport((path,), rounded + more, dropped)
@@ -642,11 +641,10 @@ def _write_mesh3(path: Path, mesh: Mesh3, *, overwrite: bool) -> WriteReport:
     if path.exists() and not overwrite:
         raise OverwriteError(str(path))
     suffix = path.suffix.lower()
-    rows, rounded = _doubles3(path, mesh.point_list())
+    points, rounded = _doubles3(path, mesh.point_list())
     # 32-bit indices where they fit: some writers (PLY) warn on 64-bit ones
     index_type = numpy.int32 if mesh.vertex_count < 2**31 else numpy.int64
     tetrahedra = mesh.tetrahedron_array().astype(index_type)
-    points = numpy.array(rows, dtype=float).reshape(-1, 3)
     cell_data: dict[str, Any] = {}
     if suffix in KEEPS_EVERYTHING and len(tetrahedra):
         from geomexact.mesh3d.quality import dihedral_angles
@@ -893,8 +891,7 @@ def _write_mixed(path: Path, value: MixedMesh3 | MixedMeshData, *,
             cell_data.setdefault(array, []).append(
                 numpy.array(chunk, dtype=object if suffix == ".msh" else numpy.int64))
         start += len(members)
-    points = numpy.array(rows, dtype=float).reshape(-1, 3)
-    _write_through_meshio(path, meshio.Mesh(points, cells, cell_data=cell_data),
+    _write_through_meshio(path, meshio.Mesh(rows, cells, cell_data=cell_data),
                           overwrite=overwrite,
                           file_format="gmsh22" if suffix == ".msh" else None)
     return WriteReport((path,), rounded, ())

@@ -79,15 +79,6 @@ GX_UNUSED static int gx_map_grow(gx_map *m) {
     gx_map_free(&old);
     return 0;
 }
-/* a copy of ``from`` in ``to`` (a map not yet allocated), in the smallest table that keeps
-   its load at most 1/2 (``from`` may have been sized to grow); -1 when out of memory */
-GX_UNUSED static int gx_map_copy(gx_map *to, const gx_map *from) {
-    uint64_t slots = 64;
-    while (slots < 2 * (from->count + 1)) slots *= 2;
-    if (gx_map_alloc(to, slots) < 0) return -1;
-    gx_map_rehash(to, from);
-    return 0;
-}
 static inline int gx_map_set(gx_map *m, uint64_t key, int64_t value) {
     uint64_t i = gx_map_slot(m, key);
     if (m->keys[i] == key) { m->values[i] = value; return 0; }

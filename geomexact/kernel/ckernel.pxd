@@ -23,7 +23,6 @@ cdef extern from "ckernel.h":
     uint64_t gx_edge(int64_t u, int64_t v) nogil
     int gx_map_alloc(gx_map *m, uint64_t slots)
     void gx_map_free(gx_map *m)
-    int gx_map_copy(gx_map *to, const gx_map *src)
     uint64_t gx_map_slot(const gx_map *m, uint64_t key) nogil
     int gx_map_grow(gx_map *m) nogil
     int64_t gx_map_get(const gx_map *m, uint64_t key, int64_t missing) nogil

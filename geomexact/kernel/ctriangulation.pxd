@@ -27,7 +27,7 @@ only their own loops, rules and bookkeeping (attributes, area sums, queues) on t
 """
 
 from libc.stdint cimport int64_t, int8_t, uint32_t, uint64_t
-from libc.stdlib cimport free, malloc, qsort
+from libc.stdlib cimport free, malloc
 
 from geomexact.kernel.ckernel cimport (
     GX_EMPTY,
@@ -253,27 +253,6 @@ cdef inline int store_compare_keys(const void *first, const void *second) noexce
     """qsort's order of half-edge keys ``u << 32 | v``: by (u, v)."""
     cdef uint64_t a = (<const uint64_t *>first)[0], b = (<const uint64_t *>second)[0]
     return (a > b) - (a < b)
-
-
-cdef inline Py_ssize_t store_sorted_triangles(const TriangleStore *s,
-                                              uint64_t **out) except -1:
-    """The canonical triangles (the smallest id first), sorted: a malloc'ed array (the
-    caller frees it) of the keys ``a << 32 | b`` of their first edges (the apex of (a, b)
-    is c; (a, b) alone orders them as (a, b, c) does); returns their number."""
-    cdef uint64_t slot = 0
-    cdef int64_t u, v, w
-    cdef Py_ssize_t n = 0
-    cdef uint64_t *keys = <uint64_t *>malloc((<Py_ssize_t>s.apex.count // 3 + 1)
-                                             * sizeof(uint64_t))
-    if keys == NULL:
-        raise MemoryError
-    while store_next_halfedge(s, &slot, &u, &v, &w):
-        if u < v and u < w:
-            keys[n] = gx_edge(u, v)
-            n += 1
-    qsort(keys, n, sizeof(uint64_t), store_compare_keys)
-    out[0] = keys
-    return n
 
 
 # -- the primitive steps ----------------------------------------------------------------

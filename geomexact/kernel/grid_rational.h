@@ -87,4 +87,20 @@ static PyObject *gx_grid_mpq(int64_t g, int F) {
 #endif
 }
 
+/* 1 when `value` is an mpq whose denominator is no power of two or is at least 2^64
+   (read off its limbs), so it is off every grid 2^-F, F <= 62; 0 when that is not known
+   (no gmpy2 C API, not an mpq, or a power of two below 2^64) */
+static int gx_off_grid_denominator(PyObject *value) {
+#ifdef GX_WITH_GMPY2
+    mpz_srcptr denominator;
+    if (!gx_gmpy2_ready || !MPQ_Check(value)) return 0;
+    denominator = mpq_denref(MPQ(value));
+    if (denominator->_mp_size != 1) return 1;
+    return (denominator->_mp_d[0] & (denominator->_mp_d[0] - 1)) != 0;
+#else
+    (void)value;
+    return 0;
+#endif
+}
+
 #endif /* GEOMEXACT_GRID_RATIONAL_H */

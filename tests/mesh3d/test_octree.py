@@ -443,8 +443,10 @@ def test_quality_of_the_regular_tetrahedron() -> None:
 def test_bulk_digest_equals_the_sum_of_the_element_hashes() -> None:
     import random
 
+    import gmpy2
+
     from geomexact.kernel import digest as _digest
-    from geomexact.kernel.points import point3
+    from geomexact.kernel.points import Point3, point3
     from geomexact.mesh3d.cuboid.compiled import AVAILABLE, bulk_digest
     from geomexact.mesh3d.transient import _bulk_digest, _canonical_rows, reference_bulk_digest
 
@@ -464,6 +466,10 @@ def test_bulk_digest_equals_the_sum_of_the_element_hashes() -> None:
         assert bulk_digest(points, rows) == expected
         # a coordinate whose binary is beyond the kernel's 40 bytes: the reference's turn
         assert bulk_digest([point3(2**400, 0, 0)], rows[:0]) is None
+        # an mpz beside an equal mpq encodes differently: the reference's turn too
+        mixed = [point3(1, 0, 0), Point3(gmpy2.mpz(1), mpq(0), mpq(0), 1.0, 0.0, 0.0)]
+        assert bulk_digest(mixed, rows[:0]) is None
+        assert _bulk_digest(mixed, rows[:0]) == reference_bulk_digest(mixed, rows[:0])
         keys = __import__("geomexact.mesh3d.cuboid.cuboid_kernel",
                           fromlist=["vertex_keys"]).vertex_keys(0, 5000)
         assert keys == [_digest.vertex_key(v) for v in range(5000)]

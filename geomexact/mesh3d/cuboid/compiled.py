@@ -71,11 +71,14 @@ def bulk_digest(points: Sequence[Point3], rows: Any) -> int | None:
         return None
     import numpy as np
 
+    coordinates = [c for point in points for c in point[:3]]
+    # every one an mpq: equal values of other types (an mpz 1, mpq 1) hash alike but
+    # encode differently, and the table keeps one encoding a value
+    if set(map(type, coordinates)) - {_MPQ}:
+        return None
     numbers: dict[Any, int] = {}
     number = numbers.setdefault
-    codes = [number(c, len(numbers)) for point in points for c in point[:3]]
-    if any(type(value) is not _MPQ for value in numbers):
-        return None
+    codes = [number(c, len(numbers)) for c in coordinates]
     binaries = [gmpy2.to_binary(value) for value in numbers]
     if any(len(binary) > MAX_BINARY_BYTES for binary in binaries):
         return None

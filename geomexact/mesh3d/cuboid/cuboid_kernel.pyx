@@ -36,7 +36,6 @@ from geomexact.kernel.ckernel cimport (
     gx_u128,
     gx_u128_hi,
     gx_u128_lo,
-    gx_vertex_key,
 )
 
 MAX_COORDINATE = 1 << 20
@@ -779,10 +778,9 @@ def tetrahedra_hash_sum(const int64_t[:, ::1] tetrahedra, multipliers, final_mul
 
 
 def vertex_keys(Py_ssize_t start, Py_ssize_t stop):
-    """``digest.vertex_key(v)`` for v in ``start .. stop - 1``, made in C (a list; the
-    cached keys, then the computed ones)."""
-    return [gx_cached_vertex_key(<uint64_t> v) if v % 2 else gx_vertex_key(<uint64_t> v)
-            for v in range(start, stop)]
+    """``digest.vertex_key(v)`` for v in ``start .. stop - 1``, as the kernel's cache
+    holds them (a list, for tests)."""
+    return [gx_cached_vertex_key(<uint64_t> v) for v in range(start, stop)]
 
 
 def vertex_hash_sum(const uint8_t[::1] table, const int64_t[::1] starts,

@@ -135,26 +135,7 @@ cdef extern from "grid_rational.h":
     int gx_gmpy2_import(const char *runtime_version, const char *module_path)
     const char *gx_gmpy2_built_version()
     PyObject *gx_grid_mpq(int64_t g, int F)
-
-cdef extern from *:
-    """
-    /* 1 when `value` is an mpq whose denominator is no power of two or is at least 2^64
-       (read off its limbs through gmpy2's C API), so it is off every grid 2^-F, F <= 62;
-       0 when that is not known (no C API, not an mpq, or a small power of two) */
-    static int gx_lk_off_grid_denominator(PyObject *value) {
-    #ifdef GX_WITH_GMPY2
-        mpz_srcptr denominator;
-        if (!gx_gmpy2_ready || !MPQ_Check(value)) return 0;
-        denominator = mpq_denref(MPQ(value));
-        if (denominator->_mp_size != 1) return 1;
-        return (denominator->_mp_d[0] & (denominator->_mp_d[0] - 1)) != 0;
-    #else
-        (void)value;
-        return 0;
-    #endif
-    }
-    """
-    bint gx_lk_off_grid_denominator(object value)
+    bint gx_off_grid_denominator(object value)
 
 cdef bytes _GMPY2_VERSION = gmpy2.version().encode()
 # the compiled module: gmpy2.gmpy2 in a package, gmpy2 itself in a single-file install
@@ -838,7 +819,7 @@ cdef class Kernel:
         cdef double scaled_nearest = ldexp(nearest, self.F)
         if isfinite(scaled_nearest) and scaled_nearest != floor(scaled_nearest):
             return False
-        if gx_lk_off_grid_denominator(value):
+        if gx_off_grid_denominator(value):
             return False
         denominator = value.denominator
         if denominator & (denominator - 1):
