@@ -5,6 +5,9 @@
   (``geomexact.mesh2d.delaunay.triangulation.triangulate_points``);
 * ``geomexact/mesh3d/cuboid/cuboid_kernel.pyx``: the cuboid partition, its improvement and its
   census row (``geomexact.mesh3d.cuboid.compiled``);
+* ``geomexact/kernel/triangle_store.pyx``: the base type of the two 2D kernels (it owns
+  their triangle store, ``geomexact/kernel/ctriangulation.pxd``, and reads back its step
+  records); they import it, so without it they do not load either;
 * ``geomexact/kernel/cfilters.pyx``: test-facing wrappers of the C filters, so that the tests
   can check them against the exact predicates (nothing in the package imports it).
 
@@ -66,6 +69,7 @@ def _remove_stale(name: str) -> None:
 KERNELS = [
     ("geomexact.mesh2d.refinement.engines.lepp_kernel", "geomexact/mesh2d/refinement/engines/lepp_kernel.pyx"),
     ("geomexact.mesh2d.delaunay.delaunay_kernel", "geomexact/mesh2d/delaunay/delaunay_kernel.pyx"),
+    ("geomexact.kernel.triangle_store", "geomexact/kernel/triangle_store.pyx"),
     ("geomexact.kernel.cfilters", "geomexact/kernel/cfilters.pyx"),
     ("geomexact.mesh3d.cuboid.cuboid_kernel", "geomexact/mesh3d/cuboid/cuboid_kernel.pyx"),
 ]
@@ -104,6 +108,7 @@ def _extensions() -> list[Extension]:
             define_macros=gmpy2_macros,
             depends=["geomexact/kernel/ckernel.h", "geomexact/kernel/ckernel.pxd",
                      "geomexact/kernel/ctriangulation.pxd",
+                     "geomexact/kernel/triangle_store.pxd",
                      "geomexact/kernel/grid_rational.h"],
             # the float filters' error bounds assume one rounding per operation: no FMA
             extra_compile_args=["-O2", "-ffp-contract=off", "-fno-fast-math"],

@@ -7,7 +7,7 @@ the exact Python predicate).  ``cimport`` only: there is no module of this name 
 time."""
 
 from libc.stdint cimport int64_t, int8_t, uint8_t, uint64_t
-from libc.stdlib cimport realloc
+from libc.stdlib cimport malloc, realloc
 
 cdef extern from "ckernel.h":
     # Cython sees the 128-bit types as 64-bit ones; they never cross into Python
@@ -211,6 +211,17 @@ cdef struct PairStack:
     Pair *items
     Py_ssize_t count
     Py_ssize_t capacity
+
+
+cdef inline int open_pair_stack(PairStack *stack, Py_ssize_t capacity) except -1:
+    """An empty stack with room for ``capacity`` pairs (MemoryError when there is none;
+    ``free(stack.items)`` releases it)."""
+    stack.count = 0
+    stack.capacity = capacity
+    stack.items = <Pair *>malloc(capacity * sizeof(Pair))
+    if stack.items == NULL:
+        raise MemoryError
+    return 0
 
 
 cdef inline int push_pair(PairStack *stack, int64_t a, int64_t b) except -1:

@@ -44,6 +44,7 @@ from geomexact.kernel.ckernel cimport (
     gx_map_next,
     gx_u128,
     incircle_sign,
+    open_pair_stack,
     orient_sign,
 )
 
@@ -93,11 +94,9 @@ cdef inline int store_init(TriangleStore *s, Py_ssize_t vertices, Py_ssize_t ver
     s.vs = <TriVertex *>malloc(s.cap_v * sizeof(TriVertex))
     s.cap_rec = max(64, record_room)
     s.records = <StepRecord *>malloc(s.cap_rec * sizeof(StepRecord))
-    s.pending.capacity = 64
-    s.pending.count = 0
-    s.pending.items = <Pair *>malloc(s.pending.capacity * sizeof(Pair))
-    if not s.vs or not s.records or not s.pending.items:
+    if not s.vs or not s.records:
         raise MemoryError
+    open_pair_stack(&s.pending, 64)
     while slots < (<uint64_t>vertices << SPREAD_BITS) + 64:
         slots *= 2
     if gx_map_alloc(&s.apex, slots) < 0:

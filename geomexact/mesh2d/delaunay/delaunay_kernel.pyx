@@ -55,33 +55,9 @@ from geomexact.trace.step import Step
 
 # the triangulation store: its types and store_* steps (names prefixed, see the .pxd)
 from geomexact.kernel.ctriangulation cimport *
-from geomexact.kernel.ckernel cimport (
-    StepLayout,
-    make_step,
-    step_layout,
-    GridPoint,
-    Pair,
-    PairStack,
-    _from_u128,
-    _init_constants,
-    _to_u128,
-    filtered_dot,
-    filtered_orient,
-    gx_cell_hash,
-    gx_edge,
-    gx_grid_vertex_hash,
-    gx_cached_vertex_key,
-    gx_map,
-    gx_map_alloc,
-    gx_map_free,
-    gx_map_get,
-    gx_map_next,
-    gx_map_set,
-    gx_map_slot,
-    grow_array,
-    pop_pair,
-    push_pair,
-)
+from geomexact.kernel.triangle_store cimport RecordedStore
+# the shared C layer (ckernel.pxd: hash tables, 128-bit digests, filters, step records)
+from geomexact.kernel.ckernel cimport *
 
 _init_constants()
 
@@ -120,13 +96,10 @@ RECOVERED = 0
 DECLINED = 1
 
 
-cdef class Builder:
+cdef class Builder(RecordedStore):
     """One ``triangulate_points`` construction: ``run(a, b, c, rest)`` then
-    ``finish(start)``."""
+    ``finish(start)``; the store, the digests and the step count: :class:`RecordedStore`."""
 
-    # the vertices, the half-edge table, the digest, the records, the stack to
-    # legalize (ctriangulation.pxd)
-    cdef TriangleStore store
     cdef Pair *visible
     cdef Py_ssize_t cap_visible
     cdef int64_t last_a, last_b
@@ -147,8 +120,8 @@ cdef class Builder:
     cdef list carve_args
 
     def __dealloc__(self):
-        # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
-        store_free(&self.store)
+        # (the C attributes start zeroed: pointers that __init__ did not reach are NULL;
+        # RecordedStore frees the store)
         free(self.visible)
         free(self.work.items)
         free(self.crossed.items)
@@ -424,13 +397,9 @@ cdef class Builder:
         store_repair_hints(&self.store)  # as the sealed point triangulation has them
         if gx_map_alloc(&self.segments, 64) < 0:
             raise MemoryError
-        self.work.capacity = self.crossed.capacity = self.queue.capacity = 64
-        self.work.items = <Pair *>malloc(64 * sizeof(Pair))
-        self.crossed.items = <Pair *>malloc(64 * sizeof(Pair))
-        self.queue.items = <Pair *>malloc(64 * sizeof(Pair))
-        if not self.work.items or not self.crossed.items or not self.queue.items:
-            raise MemoryError
-        self.work.count = self.crossed.count = self.queue.count = 0
+        open_pair_stack(&self.work, 64)
+        open_pair_stack(&self.crossed, 64)
+        open_pair_stack(&self.queue, 64)
         self.carve_args = []
 
     cdef int _t_flip(self, int64_t u, int64_t v) except -1:
@@ -724,11 +693,7 @@ cdef class Builder:
         cdef int64_t u, v, w
         cdef Pair canonical
         cdef PairStack region
-        region.count = 0
-        region.capacity = 64
-        region.items = <Pair *>malloc(64 * sizeof(Pair))
-        if region.items == NULL:
-            raise MemoryError
+        open_pair_stack(&region, 64)
         try:
             while store_next_halfedge(&self.store, &slot, &u, &v, &w):
                 if self._get(v, u) >= 0 or self._constrained(u, v):
@@ -798,11 +763,7 @@ cdef class Builder:
                 ba, bb, bc = a, b, c
         if ba < 0:
             return -1
-        region.count = 0
-        region.capacity = 64
-        region.items = <Pair *>malloc(64 * sizeof(Pair))
-        if region.items == NULL:
-            raise MemoryError
+        open_pair_stack(&region, 64)
         try:
             push_pair(&region, ba, bb)
             removed = self._flood_remove(&region)
@@ -887,19 +848,6 @@ cdef class Builder:
                 args = (record.a, record.b, record.c)
             result.append(make_step(Step, &_STEP_LAYOUT, op, args))
         return result
-
-    def digests(self):
-        """The digest after each recorded step."""
-        return store_digests(&self.store)
-
-    def digest_at(self, Py_ssize_t i):
-        """The digest after step ``i``."""
-        return store_digest_at(&self.store, i)
-
-    @property
-    def step_count(self):
-        """How many steps were recorded."""
-        return self.store.nrec
 
     @property
     def grid(self):

@@ -78,47 +78,8 @@ from geomexact.trace.step import Step
 
 # the triangulation store: its types and store_* steps (names prefixed, see the .pxd)
 from geomexact.kernel.ctriangulation cimport *
-from geomexact.kernel.ckernel cimport (
-    allocated,
-    StepLayout,
-    make_step,
-    step_layout,
-    GridPoint,
-    filtered_orient,
-    Pair,
-    filtered_dot,
-    filtered_lengths,
-    _from_i128,
-    _from_u128,
-    _init_constants,
-    _to_i128,
-    _to_u128,
-    gx_blake2b_128,
-    gx_cell_hash,
-    gx_blake2b_vertex_message,
-    gx_clz64,
-    gx_grid_vertex_hash,
-    gx_cached_vertex_key,
-    gx_edge,
-    gx_grid_area2,
-    gx_grid_orient,
-    gx_i128,
-    gx_map,
-    gx_map_alloc,
-    gx_map_del,
-    gx_map_free,
-    gx_map_get,
-    gx_map_next,
-    gx_map_set,
-    gx_u128,
-    gx_u128_hi,
-    gx_u128_lo,
-    grow_array,
-    incircle_sign,
-    orient_sign,
-    pop_pair,
-    push_pair,
-)
+from geomexact.kernel.triangle_store cimport RecordedStore
+from geomexact.kernel.ckernel cimport *
 
 # the C pieces (hash tables, 128-bit digest, grid predicates, float filters, the predicates
 # with their exact fallback) live in geomexact/kernel/ckernel.h and ckernel.pxd, shared with
@@ -371,12 +332,10 @@ cdef inline int _triangle_less(Entry *x, Entry *y) noexcept nogil:
 
 
 @cython.final  # no subclasses: its cdef methods are called directly, not through a vtable
-cdef class Kernel:
-    """One Lepp-bisection run (see the module docstring).  ``run()`` then ``finish()``."""
+cdef class Kernel(RecordedStore):
+    """One Lepp-bisection run (see the module docstring).  ``run()`` then ``finish()``;
+    the store, the digests and the step count: :class:`RecordedStore`."""
 
-    # the vertices, the half-edge table, the digest, the records, the stack to legalize
-    # (ctriangulation.pxd)
-    cdef TriangleStore store
     cdef Py_ssize_t n0
     cdef gx_map segs
     cdef Entry *heap
@@ -462,8 +421,8 @@ cdef class Kernel:
     cdef dict exact_lengths  # (edge, edge) -> the sign of |e|^2 - |f|^2, decided exactly
 
     def __dealloc__(self):
-        # (the C attributes start zeroed: pointers that __init__ did not reach are NULL)
-        store_free(&self.store)
+        # (the C attributes start zeroed: pointers that __init__ did not reach are NULL;
+        # RecordedStore frees the store)
         free(self.heap)
         free(self.created)
         gx_map_free(&self.segs)
@@ -1398,29 +1357,37 @@ cdef class Kernel:
     cdef bint _sector(self, int64_t p, int64_t q, int64_t r, int64_t *ends) except -1:
         """``Refinement.constraint_sector(p, q, r)``: False when p has no sector, else
         True with the far ends of its two constraint edges in ``ends``."""
-        cdef int64_t first = q, last = r, inner, outer
+        cdef int64_t first, last
         if self.sectorless[p]:
             return False
-        # each edge p-first (p-last) has the triangle just walked on one side: of its two
-        # apexes only the next one is looked up
-        inner = r  # apex(p, first)
-        while True:
-            outer = store_apex(&self.store, first, p)
-            if self._constraint_known(p, first, inner, outer):
-                break
-            first, inner = outer, first
-            if first == r:
-                self.sectorless[p] = 1
-                return False  # all the way round
-        inner = q  # apex(last, p)
-        while True:
-            outer = store_apex(&self.store, p, last)
-            if self._constraint_known(p, last, outer, inner):
-                break
-            last, inner = outer, last
+        first = self._walk_to_constraint(p, q, r, True, r)
+        if first < 0:
+            self.sectorless[p] = 1
+            return False  # all the way round
+        last = self._walk_to_constraint(p, r, q, False, -1)
         ends[0] = first
         ends[1] = last
         return True
+
+    cdef int64_t _walk_to_constraint(self, int64_t p, int64_t e, int64_t inner,
+                                     bint forward, int64_t stop) except -2:
+        """Walk round p from the edge p-e, whose triangle on the side walked from has the
+        apex ``inner`` (apex(p, e) when ``forward``, else apex(e, p)), to the first
+        constraint edge p-e: its far end e, or -1 when the walk reaches p-``stop``."""
+        cdef int64_t outer, left, right
+        while True:
+            # of the edge's two apexes only the next one is looked up
+            if forward:
+                outer = store_apex(&self.store, e, p)
+                left, right = inner, outer
+            else:
+                outer = store_apex(&self.store, p, e)
+                left, right = outer, inner
+            if self._constraint_known(p, e, left, right):
+                return e
+            e, inner = outer, e
+            if e == stop:
+                return -1
 
     cdef bint _sharp(self, int64_t p, int64_t q, int64_t r) except -1:
         """``Refinement.sharp``: the triangle (p, q, r) lies in a sector at p whose
@@ -2250,19 +2217,6 @@ cdef class Kernel:
         if self.step_objects is not None:
             return list(self.step_objects)
         return [self._step(&self.store.records[i]) for i in range(self.store.nrec)]
-
-    def digests(self):
-        """The digest after each recorded step."""
-        return store_digests(&self.store)
-
-    def digest_at(self, Py_ssize_t i):
-        """The digest after step ``i``."""
-        return store_digest_at(&self.store, i)
-
-    @property
-    def step_count(self):
-        """How many steps were recorded."""
-        return self.store.nrec
 
     cdef object _triangle_attribute_map(self):
         """The triangles' attributes as a persistent map (canonical triangle ->
