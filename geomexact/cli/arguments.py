@@ -2,13 +2,15 @@
 :mod:`~geomexact.cli.command_table` describes it), the common options (``--json``, ``-v``,
 ``--format``, ``--to``), the arguments and options several commands declare with their own
 help text (``INPUT``, ``TRACE``, ``-o``, ``--trace``, ``--check``, ``--picture``,
-``--engine``) and the argument types."""
+``--engine``), a table's options that each take one value, and the argument types."""
 
 from __future__ import annotations
 
 import argparse
 from collections.abc import Callable, Sequence
 from typing import TypeAlias
+
+import attrs
 
 from geomexact import io
 from geomexact.cli.command_table import command_spec
@@ -194,6 +196,42 @@ def add_writing_options(sub: argparse.ArgumentParser, *, formats: bool = True) -
     add_force_flag(sub)
     add_json_flag(sub)
     add_verbose_flag(sub)
+
+
+@attrs.frozen(slots=True)
+class ValueOption:
+    """An option that takes one value (a string, None when not given): its ``flag``
+    (``--max-area``, also its ``args`` name), the ``metavar`` that names the value in
+    ``--help`` and its ``help`` text."""
+
+    flag: str
+    metavar: str
+    help: str
+
+    def add_to(self, sub: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
+        """Add the option to ``sub``, a parser or an argument group."""
+        sub.add_argument(self.flag, metavar=self.metavar, help=self.help)
+
+
+@attrs.frozen(slots=True)
+class ChoiceOption:
+    """An option that takes one of ``choices`` (None when not given; ``--help`` lists
+    them): its ``flag`` (also its ``args`` name) and its ``help`` text."""
+
+    flag: str
+    choices: tuple[str, ...]
+    help: str
+
+    def add_to(self, sub: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
+        """Add the option to ``sub``, a parser or an argument group."""
+        sub.add_argument(self.flag, choices=self.choices, help=self.help)
+
+
+def add_options(sub: argparse.ArgumentParser | argparse._ArgumentGroup,
+                options: Sequence[ValueOption | ChoiceOption]) -> None:
+    """Add each of ``options`` to ``sub`` (a parser or an argument group), in order."""
+    for option in options:
+        option.add_to(sub)
 
 
 def non_negative(text: str) -> int:

@@ -12,18 +12,7 @@ from typing import TYPE_CHECKING, Any, Literal, cast
 
 import attrs
 
-from geomexact.cli.arguments import (
-    MESH_OR_PSLG,
-    Subcommands,
-    add_check_flag,
-    add_command,
-    add_engine_option,
-    add_input_argument,
-    add_output_option,
-    add_trace_output,
-    add_writing_options,
-    non_negative,
-)
+from geomexact.cli import arguments
 from geomexact.cli.errors import UsageProblem
 from geomexact.cli.exit_codes import EXIT_BUDGET, EXIT_FAILED, EXIT_OK
 from geomexact.cli.kinds import wrong_kind
@@ -123,7 +112,7 @@ def step_limit(text: str) -> int | Literal["auto"] | None:
         return None
     if word == "auto":
         return "auto"
-    return non_negative(text)
+    return arguments.non_negative(text)
 
 
 def _refine_criterion(args: argparse.Namespace, region_areas: Any = None) -> Any:
@@ -567,23 +556,58 @@ def _memory_steps(mesh: Mesh2, estimate: int) -> int:
     return max(0, room // 2)
 
 
-def add_parser(commands: Subcommands) -> None:
+GOAL_LIMITS = (
+    arguments.ValueOption("--max-area", "A", "largest triangle area allowed"),
+    arguments.ValueOption("--factor", "F", "refine the largest triangles until the region's "
+                          "mean area is at most F times its initial mean"),
+    arguments.ValueOption("--min-angle", "DEG", "smallest angle allowed, in degrees (0 < DEG "
+                          "< 60; centroid or quasi method, or bisection with --max-steps)"),
+    arguments.ValueOption("--max-edge", "L", "longest edge allowed"),
+)
+"""The goal options that take a number (in ``--help`` order, before ``--region-areas``)."""
+
+RULE_OPTIONS = (
+    arguments.ChoiceOption("--order", ("worst-first", "passes"),
+                           "worst-first (default: the worst bad triangle first) or passes "
+                           "(the bad triangles in passes, each in vertex-id order)"),
+    arguments.ChoiceOption("--second-longest-rule",
+                           ("bisect-second", "centroid", "bisect-longest"),
+                           "a terminal triangle whose second-longest edge is a constraint: "
+                           "bisect that edge (default), ignore it (insert the centroid), or "
+                           "bisect the longest edge (Mellado's literal rule; it may not end)"),
+    arguments.ChoiceOption("--factor-stop", ("action", "target"),
+                           "--factor: check the mean after every action (default) or after "
+                           "each refined triangle (Pineda, Alg. 3)"),
+    arguments.ChoiceOption("--centroid", ("area", "area-exact", "vertices", "midpoint"),
+                           "point inserted in a terminal quadrilateral: area centroid rounded "
+                           "to 24 bits (default), exact area centroid (slow: coordinates "
+                           "grow), the mean of the four vertices, or midpoint: bisect the "
+                           "terminal edge instead (Mellado's centroid=false variant)"),
+)
+"""The rule options (each overrides ``--preset``'s rule; None: the preset's, or the
+default named in its help)."""
+
+EXTRA_OUTPUTS = (
+    arguments.ValueOption("--filename", "NAME", "with -o DIR (a directory, Pineda's -output): "
+                          "the files' name, DIR/NAME.off (default: the input's name)"),
+    arguments.ValueOption("--print-region", "FILE", "write the input's triangles in the "
+                          "region as a mesh file (Pineda's -print_region)"),
+    arguments.ValueOption("--print-iter", "DIR", "write the mesh before and after every step "
+                          "to DIR/step-NNNNNN.off (exact)"),
+)
+"""The options of the files refine writes besides the mesh, its trace and ``--polylla``."""
+
+
+def add_parser(commands: arguments.Subcommands) -> None:
     """Add the ``refine`` command."""
-    refine_ = add_command(commands, "refine", command_refine)
-    add_input_argument(refine_, MESH_OR_PSLG)
-    add_output_option(refine_)
+    refine_ = arguments.add_command(commands, "refine", command_refine)
+    arguments.add_input_argument(refine_, arguments.MESH_OR_PSLG)
+    arguments.add_output_option(refine_)
     goal = refine_.add_argument_group(
         "goal", "one or more of --min-angle, --max-area, --max-edge, --region-areas (a "
         "triangle is refined while it fails any, like Triangle's -q30a0.01), or --factor "
         "alone")
-    goal.add_argument("--max-area", metavar="A", help="largest triangle area allowed")
-    goal.add_argument("--factor", metavar="F",
-                      help="refine the largest triangles until the region's mean area is at "
-                           "most F times its initial mean")
-    goal.add_argument("--min-angle", metavar="DEG",
-                      help="smallest angle allowed, in degrees (0 < DEG < 60; centroid or "
-                           "quasi method, or bisection with --max-steps)")
-    goal.add_argument("--max-edge", metavar="L", help="longest edge allowed")
+    arguments.add_options(goal, GOAL_LIMITS)
     goal.add_argument("--region-areas", action="store_true",
                       help="the largest area of each region of a .poly input, from its "
                            "region list (Triangle's -a without a number)")
@@ -608,29 +632,12 @@ def add_parser(commands: Subcommands) -> None:
                               "(--second-longest-rule centroid --factor-stop target), "
                               "mellado (--centroid vertices --order passes); each rule "
                               "option below overrides it")
-    refine_.add_argument("--order", choices=("worst-first", "passes"),
-                         help="worst-first (default: the worst bad triangle first) or "
-                              "passes (the bad triangles in passes, each in vertex-id order)")
-    refine_.add_argument("--second-longest-rule",
-                         choices=("bisect-second", "centroid", "bisect-longest"),
-                         help="a terminal triangle whose second-longest edge is a "
-                              "constraint: bisect that edge (default), ignore it (insert "
-                              "the centroid), or bisect the longest edge (Mellado's literal "
-                              "rule; it may not end)")
-    refine_.add_argument("--factor-stop", choices=("action", "target"),
-                         help="--factor: check the mean after every action (default) or "
-                              "after each refined triangle (Pineda, Alg. 3)")
-    refine_.add_argument("--centroid", choices=("area", "area-exact", "vertices", "midpoint"),
-                         help="point inserted in a terminal quadrilateral: area centroid "
-                              "rounded to 24 bits (default), exact area centroid (slow: "
-                              "coordinates grow), the mean of the four vertices, or "
-                              "midpoint: bisect the terminal edge instead (Mellado's "
-                              "centroid=false variant)")
+    arguments.add_options(refine_, RULE_OPTIONS)
     refine_.add_argument("--plain-centroids", action="store_true",
                          help="do not bisect a constraint second-longest edge of a terminal "
                               "triangle; always insert the centroid (= --second-longest-rule "
                               "centroid)")
-    add_engine_option(
+    arguments.add_engine_option(
         refine_, (*ENGINES, *OLD_NAMES),
         "auto (default: compiled where it applies, else the pure Python engine), compiled "
         "(the kernel; an error where it does not apply), python or reference (the pure "
@@ -641,27 +648,20 @@ def add_parser(commands: Subcommands) -> None:
                               "of 100 x (input triangles + the criterion's estimate) + "
                               "10000 steps (status 'budget', exit code 3), also "
                               "'auto'; 'none': no limit")
-    add_trace_output(refine_, "write the trace (JSON Lines; from a PSLG: from its vertices)")
+    arguments.add_trace_output(refine_,
+                               "write the trace (JSON Lines; from a PSLG: from its vertices)")
     refine_.add_argument("--polylla", metavar="OFF", nargs="?", const="",
                          help="also write the Polylla polygon mesh of the result (OFF); "
                               "with -o DIR and no file name: DIR/NAME_polylla.off, its "
                               "non-convex polygons (NAME_polylla_reflex.off), its convex "
                               "decomposition (NAME_polylla_convex.off) and the input's "
                               "(NAME_input_polylla.off), as Pineda's -polylla")
-    refine_.add_argument("--filename", metavar="NAME",
-                         help="with -o DIR (a directory, Pineda's -output): the files' "
-                              "name, DIR/NAME.off (default: the input's name)")
-    refine_.add_argument("--print-region", metavar="FILE",
-                         help="write the input's triangles in the region as a mesh file "
-                              "(Pineda's -print_region)")
-    refine_.add_argument("--print-iter", metavar="DIR",
-                         help="write the mesh before and after every step to "
-                              "DIR/step-NNNNNN.off (exact)")
-    add_check_flag(refine_, "validate the result (exit 1 on violations)")
+    arguments.add_options(refine_, EXTRA_OUTPUTS)
+    arguments.add_check_flag(refine_, "validate the result (exit 1 on violations)")
     refine_.add_argument("--check-delaunay", action="store_true",
                          help="check (exactly) that the result is (constrained) Delaunay, "
                               "exit 1 when it is not; without it the check is skipped "
                               "where the method guarantees it (bisection, centroid with "
                               "flips, from a Delaunay start): is_delaunay null")
     add_progress_flags(refine_)
-    add_writing_options(refine_)
+    arguments.add_writing_options(refine_)

@@ -16,21 +16,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from geomexact.errors import FormatError
+from geomexact.io import registry
 from geomexact.io.files import read_lines
-from geomexact.io.registry import (
-    NumberStyle,
-    NumberText,
-    TriangleTable,
-    Value,
-    WriteReport,
-    build_mesh,
-    dropped_parts,
-    parse_number,
-    quoted_tokens,
-    token_lines,
-    write_files,
-    written_value,
-)
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.snapshot import Mesh2, canonical_triangle
 
@@ -51,14 +38,14 @@ def looks_like_mellado(path: Path) -> bool:
     which otherwise name the triangle list.  Reads no further than that line; a file that
     cannot be read is left to the reader to report."""
     try:
-        for _, tokens in token_lines(read_lines(path)):
+        for _, tokens in registry.token_lines(read_lines(path)):
             return tokens[0].lower() in _SECTIONS
     except (OSError, FormatError):
         return False
     return False
 
 
-def read_mellado(path: Path) -> tuple[Value, list[str]]:
+def read_mellado(path: Path) -> tuple[registry.Value, list[str]]:
     """A Mellado text file as a :class:`Mesh2` (module docstring)."""
     name = str(path)
     notes: list[str] = []
@@ -69,29 +56,29 @@ def read_mellado(path: Path) -> tuple[Value, list[str]]:
     corners: list[tuple[int, int, int]] = []
     corner_lines: list[int | None] = []
     neighbours: list[tuple[int, list[int]]] = []  # (line, entries)
-    for number, tokens in token_lines(read_lines(path)):
+    for number, tokens in registry.token_lines(read_lines(path)):
         head = tokens[0].lower()
         if head in _SECTIONS:
             section = _SECTIONS[head]
             if len(tokens) > 2:
                 raise FormatError(name, number, f"a section header is '{tokens[0]}' with an "
-                                  f"optional count, found {quoted_tokens(tokens)}")
+                                  f"optional count, found {registry.quoted_tokens(tokens)}")
             if len(tokens) == 2:
                 declared[section] = (_index(name, number, tokens[1], "the count"), number)
             continue
         if section is None:
             raise FormatError(name, number, "data before the first section (Vertices, "
-                              f"Triangles or Neighbors): {quoted_tokens(tokens)}")
+                              f"Triangles or Neighbors): {registry.quoted_tokens(tokens)}")
         if head != section:
             raise FormatError(name, number, f"a line of this section starts with "
-                              f"'{section}', found {quoted_tokens(tokens)}")
+                              f"'{section}', found {registry.quoted_tokens(tokens)}")
         values = tokens[1:]
         if section in _ARITY and len(values) != _ARITY[section]:
             shape = "v x y" if section == "v" else "t a b c"
             raise FormatError(name, number, f"a line of this section is '{shape}', found "
-                              f"{quoted_tokens(tokens)}")
+                              f"{registry.quoted_tokens(tokens)}")
         if section == "v":
-            x, y = (parse_number(name, number, token, field)
+            x, y = (registry.parse_number(name, number, token, field)
                     for token, field in zip(values, ("x", "y"), strict=True))
             points.append(point2(x, y))
             point_lines.append(number)
@@ -124,9 +111,9 @@ def read_mellado(path: Path) -> tuple[Value, list[str]]:
         triangles.append(shifted)
     if neighbours:
         _check_neighbours(name, triangles, len(points), neighbours, base, notes)
-    table = TriangleTable(path=name, triangles=triangles, lines=corner_lines,
-                          vertex_base=base)
-    mesh = build_mesh(points, point_lines, table, point_path=name, notes=notes)
+    table = registry.TriangleTable(path=name, triangles=triangles, lines=corner_lines,
+                                   vertex_base=base)
+    mesh = registry.build_mesh(points, point_lines, table, point_path=name, notes=notes)
     return mesh, notes
 
 
@@ -176,13 +163,13 @@ def _check_neighbours(
 
 
 def write_mellado(
-    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
-) -> WriteReport:
+    path: Path, value: registry.Value, /, *, overwrite: bool, numbers: registry.NumberStyle
+) -> registry.WriteReport:
     """A Mesh2 in Mellado's text format: its vertices, its triangles (canonical order,
     counter-clockwise) and one ``n`` line per triangle, 0-based; markers, attributes and
     segments are dropped (and reported)."""
-    mesh = written_value(value, Mesh2, "mellado")
-    number = NumberText(numbers)
+    mesh = registry.written_value(value, Mesh2, "mellado")
+    number = registry.NumberText(numbers)
     ids = {vertex: index for index, vertex in enumerate(sorted(mesh.vertices.keys()))}
     triangles = mesh.triangles()
     position = {triangle: index for index, triangle in enumerate(triangles)}
@@ -197,9 +184,9 @@ def write_mellado(
             apex = mesh.apex(v, u)
             entries.append(-1 if apex is None else position[canonical_triangle(v, u, apex)])
         out.append("n " + " ".join(map(str, entries)))
-    return write_files(
+    return registry.write_files(
         [(path, "".join(line + "\n" for line in out))],
         overwrite=overwrite,
         numbers=number,
-        dropped=dropped_parts(mesh, ()),
+        dropped=registry.dropped_parts(mesh, ()),
     )

@@ -26,31 +26,8 @@ from pathlib import Path
 import attrs
 
 from geomexact.errors import FormatError, UnsupportedValueError
+from geomexact.io import registry
 from geomexact.io.files import read_lines
-from geomexact.io.registry import (
-    NumberedLine,
-    NumberStyle,
-    NumberText,
-    Reading,
-    SourceLines,
-    TriangleTable,
-    Value,
-    WriteReport,
-    build_mesh,
-    check_index,
-    expect_exact_fields,
-    expect_field_range,
-    expect_fields,
-    expected_neighbours,
-    note_duplicate_points,
-    parse_int,
-    parse_number,
-    quoted,
-    quoted_tokens,
-    token_lines,
-    uniform_attributes,
-    write_files,
-)
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.pslg import PSLG, RegionSeed
@@ -79,22 +56,24 @@ def _attributes(
     name: str, number: int, tokens: Sequence[str], owner: str
 ) -> tuple[Rational, ...]:
     """The exact attribute values ``tokens`` of ``owner`` (a vertex or a triangle)."""
-    return tuple(parse_number(name, number, token, f"attribute of {owner}") for token in tokens)
+    return tuple(registry.parse_number(name, number, token, f"attribute of {owner}")
+                 for token in tokens)
 
 
-def _parse(name: str, lines: Iterable[NumberedLine]) -> _Records:
+def _parse(name: str, lines: Iterable[registry.NumberedLine]) -> _Records:
     records = _Records()
     for number, tokens in lines:
         tag = tokens[0]
         if tag == "v":
-            expect_fields(name, number, tokens, 3, "a vertex record 'v x y [marker [attributes]]'")
+            registry.expect_fields(name, number, tokens, 3,
+                                   "a vertex record 'v x y [marker [attributes]]'")
             index = len(records.points)
-            x = parse_number(name, number, tokens[1], f"x of vertex {index}")
-            y = parse_number(name, number, tokens[2], f"y of vertex {index}")
+            x = registry.parse_number(name, number, tokens[1], f"x of vertex {index}")
+            y = registry.parse_number(name, number, tokens[2], f"y of vertex {index}")
             records.points.append(point2(x, y))
             records.point_lines.append(number)
             records.markers.append(
-                parse_int(name, number, tokens[3], f"marker of vertex {index}")
+                registry.parse_int(name, number, tokens[3], f"marker of vertex {index}")
                 if len(tokens) > 3
                 else None
             )
@@ -102,17 +81,19 @@ def _parse(name: str, lines: Iterable[NumberedLine]) -> _Records:
                 (number, _attributes(name, number, tokens[4:], f"vertex {index}"))
             )
         elif tag == "s":
-            expect_field_range(name, number, tokens, 3, 4, "a segment record 's a b [marker]'")
-            a = parse_int(name, number, tokens[1], "segment endpoint")
-            b = parse_int(name, number, tokens[2], "segment endpoint")
-            marker = parse_int(name, number, tokens[3], "segment marker") if len(tokens) > 3 else 0
+            registry.expect_field_range(name, number, tokens, 3, 4,
+                                        "a segment record 's a b [marker]'")
+            a = registry.parse_int(name, number, tokens[1], "segment endpoint")
+            b = registry.parse_int(name, number, tokens[2], "segment endpoint")
+            marker = (registry.parse_int(name, number, tokens[3], "segment marker")
+                      if len(tokens) > 3 else 0)
             records.segments.append((a, b, marker, number))
         elif tag == "h":
-            expect_exact_fields(name, number, tokens, 3, "a hole record 'h x y'")
+            registry.expect_exact_fields(name, number, tokens, 3, "a hole record 'h x y'")
             records.holes.append(
                 point2(
-                    parse_number(name, number, tokens[1], "x of hole"),
-                    parse_number(name, number, tokens[2], "y of hole"),
+                    registry.parse_number(name, number, tokens[1], "x of hole"),
+                    registry.parse_number(name, number, tokens[2], "y of hole"),
                 )
             )
             records.hole_lines.append(number)
@@ -122,25 +103,26 @@ def _parse(name: str, lines: Iterable[NumberedLine]) -> _Records:
                     name,
                     number,
                     "a region record is 'r x y attribute [max_area]', found "
-                    f"{quoted_tokens(tokens)}",
+                    f"{registry.quoted_tokens(tokens)}",
                 )
             point = point2(
-                parse_number(name, number, tokens[1], "x of region"),
-                parse_number(name, number, tokens[2], "y of region"),
+                registry.parse_number(name, number, tokens[1], "x of region"),
+                registry.parse_number(name, number, tokens[2], "y of region"),
             )
-            attribute = parse_number(name, number, tokens[3], "attribute of region")
+            attribute = registry.parse_number(name, number, tokens[3], "attribute of region")
             area: Rational | None = None
             if len(tokens) == 5:
-                area = parse_number(name, number, tokens[4], "maximum area of region")
+                area = registry.parse_number(name, number, tokens[4], "maximum area of region")
                 if area <= 0:
                     area = None
             records.regions.append(RegionSeed(point, attribute, area))
             records.region_lines.append(number)
         elif tag == "t":
-            expect_fields(name, number, tokens, 4, "a triangle record 't a b c [attributes]'")
+            registry.expect_fields(name, number, tokens, 4,
+                                   "a triangle record 't a b c [attributes]'")
             index = len(records.triangles)
             a, b, c = (
-                parse_int(name, number, token, f"vertex of triangle {index}")
+                registry.parse_int(name, number, token, f"vertex of triangle {index}")
                 for token in tokens[1:4]
             )
             records.triangles.append((a, b, c, number))
@@ -148,13 +130,14 @@ def _parse(name: str, lines: Iterable[NumberedLine]) -> _Records:
                 (number, _attributes(name, number, tokens[4:], f"triangle {index}"))
             )
         elif tag == "n":
-            expect_exact_fields(name, number, tokens, 4, "a neighbour record 'n n0 n1 n2'")
+            registry.expect_exact_fields(name, number, tokens, 4, "a neighbour record 'n n0 n1 n2'")
             n0, n1, n2 = (
-                parse_int(name, number, token, "neighbour") for token in tokens[1:4]
+                registry.parse_int(name, number, token, "neighbour") for token in tokens[1:4]
             )
             records.neighbours.append((n0, n1, n2, number))
         else:
-            raise FormatError(name, number, f"unknown record {quoted(tag)}; expected {_TAGS}")
+            raise FormatError(name, number,
+                              f"unknown record {registry.quoted(tag)}; expected {_TAGS}")
     return records
 
 
@@ -176,19 +159,19 @@ def _uniform(
     return [values for _, values in rows]
 
 
-def read_pslg_text(path: Path) -> tuple[Value, list[str]]:
+def read_pslg_text(path: Path) -> tuple[registry.Value, list[str]]:
     """A ``.pslg`` file as a Mesh2 (with ``t`` records) or a PSLG
     (:func:`pslg_text_reading` without the lines)."""
     reading = pslg_text_reading(path)
     return reading.value, reading.notes
 
 
-def pslg_text_reading(path: Path) -> Reading:
+def pslg_text_reading(path: Path) -> registry.Reading:
     """A ``.pslg`` file as a Mesh2 (with ``t`` records) or a PSLG, with the line of each
     vertex, segment, hole and region; streamed."""
     name = str(path)
     notes: list[str] = []
-    records = _parse(name, token_lines(read_lines(path)))
+    records = _parse(name, registry.token_lines(read_lines(path)))
     count = len(records.points)
     vertex_markers = (
         [marker or 0 for marker in records.markers]
@@ -199,8 +182,8 @@ def pslg_text_reading(path: Path) -> Reading:
     segments = []
     segment_lines: list[int | None] = []
     for a, b, marker, number in records.segments:
-        u = check_index(name, number, a, count, 0, "segment endpoint: vertex")
-        v = check_index(name, number, b, count, 0, "segment endpoint: vertex")
+        u = registry.check_index(name, number, a, count, 0, "segment endpoint: vertex")
+        v = registry.check_index(name, number, b, count, 0, "segment endpoint: vertex")
         if u == v:
             raise FormatError(name, number, f"segment ({a}, {b}) has equal ends")
         segments.append((u, v, marker))
@@ -210,7 +193,7 @@ def pslg_text_reading(path: Path) -> Reading:
             raise FormatError(
                 name, records.neighbours[0][3], "neighbour records need triangle records"
             )
-        note_duplicate_points(records.points, records.point_lines, notes)
+        registry.note_duplicate_points(records.points, records.point_lines, notes)
         pslg = PSLG(
             vertices=records.points,
             segments=segments,
@@ -219,11 +202,11 @@ def pslg_text_reading(path: Path) -> Reading:
             vertex_markers=tuple(vertex_markers) if vertex_markers is not None else (),
             vertex_attributes=tuple(vertex_attributes) if vertex_attributes is not None else (),
         )
-        sources = SourceLines(
+        sources = registry.SourceLines(
             name, tuple(records.point_lines), name, tuple(segment_lines),
             tuple(records.hole_lines), tuple(records.region_lines),
         )
-        return Reading(pslg, notes, sources)
+        return registry.Reading(pslg, notes, sources)
     if records.holes or records.regions:
         line = (records.hole_lines + records.region_lines)[0]
         raise FormatError(
@@ -232,17 +215,17 @@ def pslg_text_reading(path: Path) -> Reading:
     triangles: list[tuple[int, int, int]] = []
     for a, b, c, number in records.triangles:
         corners = [
-            check_index(name, number, vertex, count, 0, "triangle corner: vertex")
+            registry.check_index(name, number, vertex, count, 0, "triangle corner: vertex")
             for vertex in (a, b, c)
         ]
         triangles.append((corners[0], corners[1], corners[2]))
-    table = TriangleTable(
+    table = registry.TriangleTable(
         path=name,
         triangles=triangles,
         lines=[number for *_, number in records.triangles],
         attributes=_uniform(name, records.triangle_attributes, "triangle"),
     )
-    mesh = build_mesh(
+    mesh = registry.build_mesh(
         records.points,
         records.point_lines,
         table,
@@ -256,12 +239,12 @@ def pslg_text_reading(path: Path) -> Reading:
     if records.neighbours:
         _check_neighbours(name, table, records.neighbours)
         notes.append("the neighbour records agree with the adjacency")
-    return Reading(mesh, notes, SourceLines(name, tuple(records.point_lines), name,
-                                            tuple(segment_lines)))
+    sources = registry.SourceLines(name, tuple(records.point_lines), name, tuple(segment_lines))
+    return registry.Reading(mesh, notes, sources)
 
 
 def _check_neighbours(
-    name: str, table: TriangleTable, neighbours: list[tuple[int, int, int, int]]
+    name: str, table: registry.TriangleTable, neighbours: list[tuple[int, int, int, int]]
 ) -> None:
     count = len(table.triangles)
     if len(neighbours) != count:
@@ -269,11 +252,11 @@ def _check_neighbours(
         raise FormatError(
             name, line, f"{len(neighbours)} neighbour records for {count} triangles"
         )
-    expected = expected_neighbours(table.triangles)
+    expected = registry.expected_neighbours(table.triangles)
     for index, (*listed, number) in enumerate(neighbours):
         for corner, neighbour in enumerate(listed):
             if neighbour != -1:
-                check_index(name, number, neighbour, count, 0, "neighbour: triangle")
+                registry.check_index(name, number, neighbour, count, 0, "neighbour: triangle")
             want = expected[index][corner]
             if neighbour != want:
                 vertex = table.triangles[index][corner]
@@ -286,11 +269,11 @@ def _check_neighbours(
 
 
 def write_pslg_text(
-    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
-) -> WriteReport:
+    path: Path, value: registry.Value, /, *, overwrite: bool, numbers: registry.NumberStyle
+) -> registry.WriteReport:
     """A PSLG (v, s, h, r records) or a Mesh2 (v, t, n, s records) as a ``.pslg`` file
     (nothing dropped)."""
-    number = NumberText(numbers)
+    number = registry.NumberText(numbers)
     out: list[str] = []
     if isinstance(value, PSLG):
         markers = value.vertex_markers or (0,) * len(value.vertices)
@@ -316,14 +299,14 @@ def write_pslg_text(
         raise UnsupportedValueError(
             f"the pslg format writes a PSLG or a Mesh2, not a {type(value).__name__}"
         )
-    return write_files(
+    return registry.write_files(
         [(path, "".join(line + "\n" for line in out))], overwrite=overwrite, numbers=number
     )
 
 
 def _mesh_records(mesh: Mesh2, number: Callable[[Rational], str], out: list[str]) -> None:
     count = mesh.vertex_count
-    vertex_count, vertex_rows = uniform_attributes(
+    vertex_count, vertex_rows = registry.uniform_attributes(
         [mesh.vertex_attributes.get(index) for index in range(count)], "vertex"
     )
     show_markers = bool(mesh.vertex_markers) or vertex_count > 0
@@ -334,10 +317,10 @@ def _mesh_records(mesh: Mesh2, number: Callable[[Rational], str], out: list[str]
             fields.extend(number(value) for value in vertex_rows[index])
         out.append(" ".join(fields))
     triangles = mesh.triangles()
-    _, rows = uniform_attributes(
+    _, rows = registry.uniform_attributes(
         [mesh.triangle_attributes.get(triangle) for triangle in triangles], "triangle"
     )
     for index, (a, b, c) in enumerate(triangles):
         out.append(" ".join(["t", str(a), str(b), str(c), *(number(v) for v in rows[index])]))
-    out.extend(f"n {n0} {n1} {n2}" for n0, n1, n2 in expected_neighbours(triangles))
+    out.extend(f"n {n0} {n1} {n2}" for n0, n1, n2 in registry.expected_neighbours(triangles))
     out.extend(f"s {u} {v} {marker}" for u, v, marker in mesh.segment_list())

@@ -377,6 +377,69 @@ def parse_marker_flag(path: str, line: int, tokens: Tokens, index: int, what: st
     return markers
 
 
+@attrs.frozen(slots=True)
+class FixedField:
+    """A header field that must hold ``value`` (the corners of a ``.ele`` triangle, the
+    dimension of a ``.node``): ``what`` names it in :func:`parse_int`'s messages,
+    ``default`` is its value when the header ends before it, and ``problem(found)`` is the
+    message of any other value ``found``."""
+
+    what: str
+    value: int
+    default: int
+    problem: Callable[[int], str]
+
+    def check(self, path: str, line: int, tokens: Tokens, index: int) -> None:
+        """FormatError ``problem(found)`` unless the field ``tokens[index]`` of the header
+        (``default`` when the header ends before it) is ``value``."""
+        found = (parse_int(path, line, tokens[index], self.what) if len(tokens) > index
+                 else self.default)
+        if found != self.value:
+            raise FormatError(path, line, self.problem(found))
+
+
+@attrs.frozen(slots=True)
+class HeaderCounts:
+    """What the header line ``count field attributes markers`` of a Triangle or TetGen file
+    (on line ``line``) says; a field it leaves out is 0."""
+
+    line: int
+    count: int
+    attributes: int
+    markers: int
+
+
+@attrs.frozen(slots=True)
+class CountHeader:
+    """The header line ``count field [attributes [markers]]`` of a Triangle or TetGen file:
+    ``header`` names it in messages (``"the .ele header"``), ``shape`` is its form
+    (``"count corners attributes"``, which has no markers field), ``count`` names its
+    first field and ``field`` its second."""
+
+    header: str
+    shape: str
+    count: str
+    field: FixedField
+
+    def parse(self, path: str, line: int, tokens: Tokens) -> HeaderCounts:
+        """The counts of the header ``tokens`` on line ``line`` of ``path``: FormatErrors
+        of :func:`expect_header_fields`, :func:`parse_count`, :meth:`FixedField.check` and
+        :func:`parse_marker_flag`."""
+        expect_header_fields(path, line, tokens, self.header, self.shape)
+        count = parse_count(path, line, tokens[0], self.count)
+        self.field.check(path, line, tokens, 1)
+        attributes = parse_count(path, line, tokens[2], "attribute count") if len(tokens) > 2 else 0
+        markers = parse_marker_flag(path, line, tokens, 3, "boundary marker count")
+        return HeaderCounts(line, count, attributes, markers)
+
+    def read(self, path: Path) -> tuple[Lines, HeaderCounts]:
+        """The lines of the file ``path`` after its header line, and the counts of that
+        line (:meth:`parse`)."""
+        lines = file_lines(path)
+        line, tokens = lines.next(f"the header '{self.shape}'")
+        return lines, self.parse(str(path), line, tokens)
+
+
 def check_numbering(path: str, line: int, label: int, index: int, base: int, noun: str) -> int:
     """The numbering base of a file whose ``noun``s are numbered consecutively from 0 or
     1: the first label sets it (``index == 0``), each later one must follow; returns the

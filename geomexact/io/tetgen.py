@@ -28,6 +28,8 @@ from geomexact.io.bulk import (
     rows_text,
 )
 from geomexact.io.registry import (
+    CountHeader,
+    FixedField,
     NumberStyle,
     NumberText,
     Value,
@@ -58,6 +60,27 @@ from geomexact.mesh3d.snapshot import Mesh3, empty_mesh3, tetrahedron_faces
 from geomexact.mesh3d.transient import Transient3, mesh3_from_positive_arrays
 
 NODE, ELE, FACE = ".node", ".ele", ".face"
+
+_NODE_HEADER = CountHeader(
+    "the vertex header", "count 3 attributes markers", "vertex count",
+    FixedField("dimension", 3, default=2,
+               problem=lambda dimension: f"dimension is {dimension}; a TetGen mesh is 3"),
+)
+"""The header of a ``.node``: a TetGen mesh is 3D."""
+
+
+def _corners_problem(corners: int) -> str:
+    if corners == 3:
+        return ("lists 3-node triangles, but its .node is 3D (dimension 3): only 2D Triangle "
+                "meshes and TetGen meshes of 4-node tetrahedra are supported")
+    return f"tetrahedra have {corners} nodes; only 4-node tetrahedra are supported"
+
+
+_ELE_HEADER = CountHeader(
+    "the .ele header", "count 4 attributes", "tetrahedron count",
+    FixedField("corners per tetrahedron", 4, default=4, problem=_corners_problem),
+)
+"""The header of an ``.ele``: only 4-node tetrahedra are read."""
 
 
 def mesh_stem(path: Path) -> Path:
@@ -91,13 +114,8 @@ def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
     bulk = _bulk_nodes(path, notes)
     if bulk is not None:
         return bulk
-    lines, number, tokens = read_header(path, "the vertex header", "count 3 attributes markers")
-    count = parse_count(name, number, tokens[0], "vertex count")
-    dimension = parse_int(name, number, tokens[1], "dimension") if len(tokens) > 1 else 2
-    if dimension != 3:
-        raise FormatError(name, number, f"dimension is {dimension}; a TetGen mesh is 3")
-    attributes = parse_count(name, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
-    markers = parse_marker_flag(name, number, tokens, 3, "boundary marker count")
+    lines, header = _NODE_HEADER.read(path)
+    count, attributes, markers = header.count, header.attributes, header.markers
     fields = 4 + attributes + markers
     shape = (
         "a vertex line 'number x y z" + " attributes" * bool(attributes)
@@ -260,22 +278,8 @@ def _read_tetrahedra(
     bulk = _bulk_tetrahedra(path, points, base, notes)
     if bulk is not None:
         return bulk
-    lines, number, tokens = read_header(path, "the .ele header", "count 4 attributes")
-    count = parse_count(name, number, tokens[0], "tetrahedron count")
-    corners = (
-        parse_int(name, number, tokens[1], "corners per tetrahedron") if len(tokens) > 1 else 4
-    )
-    if corners == 3:
-        raise FormatError(
-            name, number,
-            "lists 3-node triangles, but its .node is 3D (dimension 3): only 2D Triangle "
-            "meshes and TetGen meshes of 4-node tetrahedra are supported",
-        )
-    if corners != 4:
-        raise FormatError(
-            name, number, f"tetrahedra have {corners} nodes; only 4-node tetrahedra are supported"
-        )
-    attributes = parse_count(name, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
+    lines, header = _ELE_HEADER.read(path)
+    count, attributes = header.count, header.attributes
     fields = 5 + attributes
     tetrahedra: list[tuple[int, int, int, int]] = []
     numbers: list[int] = []

@@ -22,10 +22,10 @@ from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
-from geomexact.errors import FormatError, RationalParseError
+from geomexact.errors import FormatError
 from geomexact.io.files import read_lines, write_lines_atomic
-from geomexact.io.registry import bounded, clipped, quoted
-from geomexact.kernel.numbers import Rational, parse_rational
+from geomexact.io.registry import bounded, clipped, parse_number, quoted
+from geomexact.kernel.numbers import Rational
 from geomexact.trace.record import Trace
 from geomexact.trace.step import Step, StepArgument
 
@@ -194,12 +194,7 @@ def _argument(value: object, path: str, number: int) -> int | Rational:
                           "id nor a rational 'p/q'")
     if isinstance(value, int):
         return value
-    try:
-        return parse_rational(value)
-    except RationalParseError as error:
-        raise FormatError(
-            path, number, f"step argument {quoted(value)}: {error.problem}"
-        ) from error
+    return parse_number(path, number, value, "step argument")
 
 
 def is_compressed_name(path: str | Path) -> bool:

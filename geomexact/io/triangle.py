@@ -38,6 +38,9 @@ from geomexact.io.bulk import (
 )
 from geomexact.io.registry import (
     BulkOrientation,
+    CountHeader,
+    FixedField,
+    HeaderCounts,
     Lines,
     NumberStyle,
     NumberText,
@@ -57,7 +60,6 @@ from geomexact.io.registry import (
     expect_fields,
     expect_header_fields,
     expected_neighbours,
-    file_lines,
     file_set_stem,
     file_stem,
     is_count_line,
@@ -99,36 +101,24 @@ class VertexTable:
     attributes: list[Attributes]
 
 
-def _read_vertex_header(path: str, number: int, tokens: list[str]) -> tuple[int, int, int]:
-    """(count, attribute count, markers flag) from ``n [dim [attrs [markers]]]``."""
-    expect_header_fields(
-        path, number, tokens, "the vertex header", "count dimension attributes markers"
-    )
-    count = parse_count(path, number, tokens[0], "vertex count")
-    if len(tokens) > 1:
-        dimension = parse_int(path, number, tokens[1], "dimension")
-        if dimension != 2:
-            raise FormatError(
-                path, number, f"dimension is {dimension}; only 2D files are supported"
-            )
-    attributes = parse_count(path, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
-    markers = parse_marker_flag(path, number, tokens, 3, "boundary marker count")
-    return count, attributes, markers
+_VERTEX_HEADER = CountHeader(
+    "the vertex header", "count dimension attributes markers", "vertex count",
+    FixedField("dimension", 2, default=2,
+               problem=lambda dimension: f"dimension is {dimension}; only 2D files are "
+                                         "supported"),
+)
+"""The header of a vertex section (a ``.node``, the start of a ``.poly``): only 2D files
+are read."""
 
 
 def _read_vertices(
-    path: str,
-    lines: Lines,
-    count: int,
-    attribute_count: int,
-    has_markers: bool,
-    *,
-    header_line: int | None = None,
-    followed: bool = False,
+    path: str, lines: Lines, header: HeaderCounts, *, followed: bool = False
 ) -> VertexTable:
-    """The vertex lines after a vertex header (on ``header_line``); ``followed``: a
-    segment header comes next (a ``.poly``), so a line of that shape ends the section."""
-    fields = 3 + attribute_count + (1 if has_markers else 0)
+    """The vertex lines after the vertex header ``header``; ``followed``: a segment
+    header comes next (a ``.poly``), so a line of that shape ends the section."""
+    count, attribute_count = header.count, header.attributes
+    has_markers = bool(header.markers)
+    fields = 3 + attribute_count + header.markers
     points: list[Point2] = []
     point_lines: list[int | None] = []
     markers: list[int] = []
@@ -146,7 +136,7 @@ def _read_vertices(
         )
         if len(tokens) != fields and followed and index and is_count_line(tokens, 2):
             raise section_too_short(
-                path, number, count, index, "vertices", header_line,
+                path, number, count, index, "vertices", header.line,
                 f"{quoted_tokens(tokens)} is the segment header 'count markers'",
             )
         expect_exact_fields(path, number, tokens, fields, shape)
@@ -177,13 +167,9 @@ def read_node_table(path: Path) -> VertexTable:
     bulk = _bulk_node_table(path)
     if bulk is not None:
         return bulk
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count dimension attributes markers'")
-    count, attribute_count, markers = _read_vertex_header(name, number, tokens)
-    table = _read_vertices(
-        name, lines, count, attribute_count, bool(markers), header_line=number
-    )
-    lines.expect_end(f"the {counted(count, 'vertex', 'vertices')}")
+    lines, header = _VERTEX_HEADER.read(path)
+    table = _read_vertices(name, lines, header)
+    lines.expect_end(f"the {counted(header.count, 'vertex', 'vertices')}")
     return table
 
 
@@ -201,9 +187,10 @@ def _bulk_node_table(path: Path) -> VertexTable | None:
         with PlainLines(path) as lines:
             tokens, number = lines.next_line()
             try:
-                count, attribute_count, has_markers = _read_vertex_header(name, number, tokens)
+                header = _VERTEX_HEADER.parse(name, number, tokens)
             except FormatError:
                 return None
+            count, attribute_count, has_markers = header.count, header.attributes, header.markers
             fields = 3 + attribute_count + has_markers
             base = 0
             for tokens, numbers in lines.chunks(count, fields):
@@ -469,16 +456,14 @@ def poly_reading(path: Path) -> Reading:
     count is 0), with the line of each item; streamed."""
     name = str(path)
     notes: list[str] = []
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count dimension attributes markers'")
-    count, attribute_count, markers = _read_vertex_header(name, number, tokens)
+    lines, header = _VERTEX_HEADER.read(path)
     vertex_file = name
-    if count == 0:
+    if header.count == 0:
         node_path = with_extension(file_stem(path, POLY), NODE)
         if not node_path.exists():
             raise FormatError(
                 name,
-                number,
+                header.line,
                 f"the vertex count is 0, meaning 'vertices in {node_path.name}', but there "
                 "is no such file",
             )
@@ -486,10 +471,7 @@ def poly_reading(path: Path) -> Reading:
         vertex_file = str(node_path)
         notes.append(f"vertices read from {node_path}")
     else:
-        table = _read_vertices(
-            name, lines, count, attribute_count, bool(markers), header_line=number,
-            followed=True,
-        )
+        table = _read_vertices(name, lines, header, followed=True)
     sections = _read_poly_sections(name, lines, len(table.points), table.base, notes)
     _note_duplicate_vertices(table, notes)
     vertex_markers, vertex_attributes = _pslg_vertex_tables(table)
@@ -560,6 +542,15 @@ class ElementTable:
     orienter: Orienter | BulkOrientation | None = None  # each triangle oriented as read
 
 
+_ELE_HEADER = CountHeader(
+    "the .ele header", "count corners attributes", "triangle count",
+    FixedField("corners per triangle", 3, default=3,
+               problem=lambda corners: f"triangles have {corners} nodes; only 3-node "
+                                       "triangles are supported"),
+)
+"""The header of an ``.ele``: only 3-node triangles are read."""
+
+
 def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
     """The triangles of an ``.ele`` file, streamed, each oriented as it is read (a
     degenerate or mixed triangle stops the reading at its line); a plain file in bulk
@@ -568,16 +559,8 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
     bulk = _bulk_ele(path, nodes)
     if bulk is not None:
         return bulk
-    lines, number, tokens = read_header(path, "the .ele header", "count corners attributes")
-    count = parse_count(name, number, tokens[0], "triangle count")
-    corners = parse_int(name, number, tokens[1], "corners per triangle") if len(tokens) > 1 else 3
-    if corners != 3:
-        raise FormatError(
-            name, number, f"triangles have {corners} nodes; only 3-node triangles are supported"
-        )
-    attribute_count = (
-        parse_count(name, number, tokens[2], "attribute count") if len(tokens) > 2 else 0
-    )
+    lines, header = _ELE_HEADER.read(path)
+    count, attribute_count = header.count, header.attributes
     fields = 4 + attribute_count
     vertex_count = len(nodes.points)
     base = nodes.base
@@ -790,10 +773,8 @@ def _read_mesh_segments(
     path: Path, nodes: VertexTable, notes: list[str]
 ) -> tuple[list[tuple[int, int, int]], list[int | None]]:
     name = str(path)
-    lines = file_lines(path)
-    number, tokens = lines.next("the header 'count dimension attributes markers'")
-    count, _, _ = _read_vertex_header(name, number, tokens)
-    if count != 0:
+    lines, header = _VERTEX_HEADER.read(path)
+    if header.count != 0:
         notes.append(f"{path} lists its own vertices; did not use its segments for the mesh")
         return [], []
     sections = _read_poly_sections(name, lines, len(nodes.points), nodes.base, notes)

@@ -12,22 +12,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from geomexact.errors import FormatError
+from geomexact.io import registry
 from geomexact.io.files import read_lines
-from geomexact.io.registry import (
-    NumberStyle,
-    NumberText,
-    Orienter,
-    TriangleTable,
-    Value,
-    WriteReport,
-    build_mesh,
-    dropped_parts,
-    parse_number,
-    quoted_tokens,
-    token_lines,
-    write_files,
-    written_value,
-)
 from geomexact.kernel.numbers import Rational
 from geomexact.kernel.points import Point2, point2
 from geomexact.mesh2d.snapshot import Mesh2
@@ -35,7 +21,7 @@ from geomexact.mesh2d.snapshot import Mesh2
 _NAMES = ("x1", "y1", "x2", "y2", "x3", "y3")
 
 
-def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
+def read_triangle_list(path: Path) -> tuple[registry.Value, list[str]]:
     """A triangle-list file as a Mesh2 (vertices merged by exact coordinates)."""
     name = str(path)
     notes: list[str] = []
@@ -44,18 +30,18 @@ def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
     point_lines: list[int | None] = []
     triangles: list[tuple[int, int, int]] = []
     triangle_lines: list[int | None] = []
-    table = TriangleTable(path=name, triangles=triangles, lines=triangle_lines)
-    orienter = Orienter(table, points, individually=True)
-    for number, tokens in token_lines(read_lines(path)):  # streamed
+    table = registry.TriangleTable(path=name, triangles=triangles, lines=triangle_lines)
+    orienter = registry.Orienter(table, points, individually=True)
+    for number, tokens in registry.token_lines(read_lines(path)):  # streamed
         if len(tokens) != 6:
             raise FormatError(
                 name,
                 number,
                 f"a triangle line is 'x1 y1 x2 y2 x3 y3', found {len(tokens)} fields: "
-                f"{quoted_tokens(tokens)}",
+                f"{registry.quoted_tokens(tokens)}",
             )
         values = [
-            parse_number(name, number, token, field)
+            registry.parse_number(name, number, token, field)
             for token, field in zip(tokens, _NAMES, strict=True)
         ]
         corners = []
@@ -71,7 +57,7 @@ def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
         orienter.add(len(triangles) - 1)  # a degenerate triangle stops the reading here
     if not triangles:
         notes.append("the file lists no triangles")
-    mesh = build_mesh(
+    mesh = registry.build_mesh(
         points, point_lines, table, point_path=name, notes=notes, orient_individually=True,
         orienter=orienter,
     )
@@ -79,21 +65,21 @@ def read_triangle_list(path: Path) -> tuple[Value, list[str]]:
 
 
 def write_triangle_list(
-    path: Path, value: Value, /, *, overwrite: bool, numbers: NumberStyle
-) -> WriteReport:
+    path: Path, value: registry.Value, /, *, overwrite: bool, numbers: registry.NumberStyle
+) -> registry.WriteReport:
     """A Mesh2's triangles, one ``x1 y1 x2 y2 x3 y3`` line each (canonical order); its
     markers, attributes, segments and unused vertices are dropped (and reported)."""
-    mesh = written_value(value, Mesh2, "trilist")
-    number = NumberText(numbers)
+    mesh = registry.written_value(value, Mesh2, "trilist")
+    number = registry.NumberText(numbers)
     text = {index: f"{number(p.x)} {number(p.y)}" for index, p in mesh.vertices.items()}
     triangles = mesh.triangles()
     out = [f"{text[a]} {text[b]} {text[c]}" for a, b, c in triangles]
-    dropped = dropped_parts(mesh, ())
+    dropped = registry.dropped_parts(mesh, ())
     unused = mesh.vertex_count - len({vertex for triangle in triangles for vertex in triangle})
     if unused:
         dropped += (f"{unused} vertex in no triangle" if unused == 1
                     else f"{unused} vertices in no triangle",)
-    return write_files(
+    return registry.write_files(
         [(path, "".join(line + "\n" for line in out))],
         overwrite=overwrite,
         numbers=number,

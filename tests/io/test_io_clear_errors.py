@@ -67,6 +67,19 @@ def test_a_huge_trace_value_is_quoted_briefly(tmp_path: Path) -> None:
     assert len(str(caught.value)) < 600
 
 
+def test_a_bad_rational_step_argument_reads_as_any_bad_number(tmp_path: Path) -> None:
+    """A step's string argument is parsed like every number of a file: the message names
+    it, quotes the token and gives the parser's reason."""
+    header = ('{"format":"geomexact-trace","geomexact":"0","input_digest":"' + "0" * 32
+              + '","parameters":{},"steps":1,"version":1}\n')
+    step = '{"i":1,"op":"flip","args":[0,"1/x"],"digest":"' + "0" * 32 + '"}\n'
+    path = write(tmp_path, "t.jsonl", header + step)
+    with pytest.raises(FormatError) as caught:
+        read_trace(path)
+    assert caught.value.line == 2
+    assert caught.value.problem.startswith("step argument: cannot read '1/x' as a number: ")
+
+
 # -- counts larger (or smaller) than the file --------------------------------------------
 @pytest.mark.parametrize(
     ("name", "text", "line", "fragment"),
