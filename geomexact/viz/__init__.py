@@ -28,7 +28,7 @@ from geomexact._lazy_exports import lazy_exports
 if TYPE_CHECKING:
     from geomexact.viz.pictures import figure, plot, plot_step
     from geomexact.viz.pictures3d import figure_mesh3, plot_mesh3
-    from geomexact.viz.scene import History, Scene, history_of, scene_of
+    from geomexact.viz.scene import CellChanges, History, Scene, history_of, scene_of
     from geomexact.viz.scene3d import clip_plane, viewer_html_3d, write_viewer_3d
     from geomexact.viz.viewer import Download, empty_viewer_html, viewer_html, write_viewer
 
@@ -39,6 +39,7 @@ _HOMES: dict[str, str] = {
     "figure_mesh3": "geomexact.viz.pictures3d",
     "plot_mesh3": "geomexact.viz.pictures3d",
     "clip_plane": "geomexact.viz.scene3d",
+    "CellChanges": "geomexact.viz.scene",
     "History": "geomexact.viz.scene",
     "Scene": "geomexact.viz.scene",
     "history_of": "geomexact.viz.scene",
@@ -52,6 +53,7 @@ _HOMES: dict[str, str] = {
 }
 
 __all__ = [
+    "CellChanges",
     "Download",
     "History",
     "Scene",

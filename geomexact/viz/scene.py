@@ -335,33 +335,51 @@ def scene_of(value: object, *, exact_budget: int = DEFAULT_EXACT_BUDGET,
 # histories
 # ---------------------------------------------------------------------------------------
 @attrs.frozen(eq=False)
-class History:
-    """What each step of a trace changed, for the viewer's step slider.
+class CellChanges:
+    """The cells of one kind (triangles, or constrained segments) that a trace's steps add
+    and remove.
 
-    Every triangle that exists at some step gets a *slot* (``cells[3s:3s+3]``, canonical
-    vertex triple; a triangle removed and later re-created keeps its slot).  ``start``
-    lists the slots alive before step 1.  Step k (1-based) removes the slots
+    Every cell that exists at some step gets a *slot*: ``cells[w*s : w*s + w]`` are its
+    ``w`` vertex ids (canonical; a cell removed and later re-created keeps its slot).
+    ``start`` lists the slots alive before step 1.  Step k (1-based) removes the slots
     ``removed[removed_offsets[k-1]:removed_offsets[k]]`` and then adds
-    ``added[added_offsets[k-1]:added_offsets[k]]``; a slot in both lists is a triangle the
-    step re-created (e.g. a new regional attribute).  Constrained segments use the same
-    scheme with vertex pairs (``segment_cells`` …).  ``vertex_counts[k]`` is the number of
-    vertices after k steps (vertex ids only grow).  ``final`` is the mesh after the last
-    step.
-    """
+    ``added[added_offsets[k-1]:added_offsets[k]]``; a slot in both lists is a cell the
+    step re-created (e.g. a triangle with a new regional attribute)."""
 
-    labels: tuple[str, ...]
     cells: array[int]
     start: array[int]
     added_offsets: array[int]
     added: array[int]
     removed_offsets: array[int]
     removed: array[int]
-    segment_cells: array[int]
-    segment_start: array[int]
-    segment_added_offsets: array[int]
-    segment_added: array[int]
-    segment_removed_offsets: array[int]
-    segment_removed: array[int]
+
+    def added_at(self, step: int) -> array[int]:
+        """The slots step ``step`` (1-based) adds."""
+        return self.added[self.added_offsets[step - 1]:self.added_offsets[step]]
+
+    def removed_at(self, step: int) -> array[int]:
+        """The slots step ``step`` (1-based) removes."""
+        return self.removed[self.removed_offsets[step - 1]:self.removed_offsets[step]]
+
+    def alive(self, step: int) -> set[int]:
+        """The slots alive after ``step`` steps (0 <= step <= the step count)."""
+        alive = set(self.start)
+        for index in range(1, step + 1):
+            alive.difference_update(self.removed_at(index))
+            alive.update(self.added_at(index))
+        return alive
+
+
+@attrs.frozen(eq=False)
+class History:
+    """What each step of a trace changed, for the viewer's step slider: the
+    :class:`CellChanges` of the ``triangles`` and of the constrained ``segments``;
+    ``vertex_counts[k]``, the number of vertices after k steps (vertex ids only grow);
+    ``final``, the mesh after the last step."""
+
+    labels: tuple[str, ...]
+    triangles: CellChanges
+    segments: CellChanges
     vertex_counts: array[int]
     input_digest: str
     final_digest: str
@@ -371,45 +389,31 @@ class History:
     def steps(self) -> int:
         return len(self.labels)
 
-    def _alive(self, start: array[int], added_offsets: array[int], added: array[int],
-               removed_offsets: array[int], removed: array[int], step: int) -> set[int]:
-        if not 0 <= step <= self.steps:
-            raise ValueError(f"step {step} is outside 0..{self.steps}")
-        alive = set(start)
-        for index in range(step):
-            alive.difference_update(removed[removed_offsets[index]:removed_offsets[index + 1]])
-            alive.update(added[added_offsets[index]:added_offsets[index + 1]])
-        return alive
+    def _check_step(self, step: int, first: int) -> None:
+        if not first <= step <= self.steps:
+            raise ValueError(f"step {step} is outside {first}..{self.steps}")
 
     def triangles_at(self, step: int) -> list[Triangle]:
         """The triangles (canonical, sorted) after ``step`` steps.  O(changes)."""
-        alive = self._alive(self.start, self.added_offsets, self.added,
-                            self.removed_offsets, self.removed, step)
-        cells = self.cells
-        return sorted((cells[3 * s], cells[3 * s + 1], cells[3 * s + 2]) for s in alive)
+        self._check_step(step, 0)
+        return _triples(self.triangles.cells, self.triangles.alive(step))
 
     def segments_at(self, step: int) -> list[Edge]:
         """The constrained segments (u < v, sorted) after ``step`` steps."""
-        alive = self._alive(self.segment_start, self.segment_added_offsets,
-                            self.segment_added, self.segment_removed_offsets,
-                            self.segment_removed, step)
-        cells = self.segment_cells
-        return sorted((cells[2 * s], cells[2 * s + 1]) for s in alive)
+        self._check_step(step, 0)
+        cells = self.segments.cells
+        return sorted((cells[2 * s], cells[2 * s + 1]) for s in self.segments.alive(step))
 
     def step_changes(self, step: int) -> tuple[list[Triangle], list[Triangle]]:
         """(added, removed) triangles of step number ``step`` (1-based)."""
-        if not 1 <= step <= self.steps:
-            raise ValueError(f"step {step} is outside 1..{self.steps}")
-        cells = self.cells
+        self._check_step(step, 1)
+        cells = self.triangles.cells
+        return (_triples(cells, self.triangles.added_at(step)),
+                _triples(cells, self.triangles.removed_at(step)))
 
-        def triples(slots: Iterable[int]) -> list[Triangle]:
-            return sorted((cells[3 * s], cells[3 * s + 1], cells[3 * s + 2]) for s in slots)
 
-        added = triples(self.added[self.added_offsets[step - 1]:self.added_offsets[step]])
-        removed = triples(
-            self.removed[self.removed_offsets[step - 1]:self.removed_offsets[step]]
-        )
-        return added, removed
+def _triples(cells: array[int], slots: Iterable[int]) -> list[Triangle]:
+    return sorted((cells[3 * s], cells[3 * s + 1], cells[3 * s + 2]) for s in slots)
 
 
 class _Slots:
@@ -452,6 +456,10 @@ class _Slots:
         self.first.clear()
         self.last.clear()
         return len(added) - len(removed)
+
+    def changes(self) -> CellChanges:
+        return CellChanges(self.cells, self.start, self.added_offsets, self.added,
+                           self.removed_offsets, self.removed)
 
 
 class _RecordingTransient(Transient2):
@@ -520,18 +528,8 @@ def history_of(start: Mesh2, trace: Trace) -> History:
         labels.append(step_label(step))
     return History(
         labels=tuple(labels),
-        cells=triangles.cells,
-        start=triangles.start,
-        added_offsets=triangles.added_offsets,
-        added=triangles.added,
-        removed_offsets=triangles.removed_offsets,
-        removed=triangles.removed,
-        segment_cells=segments.cells,
-        segment_start=segments.start,
-        segment_added_offsets=segments.added_offsets,
-        segment_added=segments.added,
-        segment_removed_offsets=segments.removed_offsets,
-        segment_removed=segments.removed,
+        triangles=triangles.changes(),
+        segments=segments.changes(),
         vertex_counts=vertex_counts,
         input_digest=f"{trace.input_digest:032x}",
         final_digest=f"{trace.final_digest:032x}",

@@ -28,6 +28,7 @@ from geomexact.io.files import write_text_atomic
 from geomexact.trace.record import Trace
 from geomexact.viz.scene import (
     DEFAULT_EXACT_BUDGET,
+    CellChanges,
     History,
     Scene,
     Viewable,
@@ -94,23 +95,24 @@ def _scale_notes(scene: Scene) -> list[str]:
             "not"]
 
 
+def _changes_payload(prefix: str, changes: CellChanges) -> dict[str, str | None]:
+    return {
+        f"{prefix}cells": _b64(changes.cells),
+        f"{prefix}start": _b64(changes.start),
+        f"{prefix}added_offsets": _b64(changes.added_offsets),
+        f"{prefix}added": _b64(changes.added),
+        f"{prefix}removed_offsets": _b64(changes.removed_offsets),
+        f"{prefix}removed": _b64(changes.removed),
+    }
+
+
 def history_payload(history: History) -> dict[str, Any]:
     """The ``history`` object of the payload."""
     return {
         "steps": history.steps,
         "labels": list(history.labels),
-        "cells": _b64(history.cells),
-        "start": _b64(history.start),
-        "added_offsets": _b64(history.added_offsets),
-        "added": _b64(history.added),
-        "removed_offsets": _b64(history.removed_offsets),
-        "removed": _b64(history.removed),
-        "segment_cells": _b64(history.segment_cells),
-        "segment_start": _b64(history.segment_start),
-        "segment_added_offsets": _b64(history.segment_added_offsets),
-        "segment_added": _b64(history.segment_added),
-        "segment_removed_offsets": _b64(history.segment_removed_offsets),
-        "segment_removed": _b64(history.segment_removed),
+        **_changes_payload("", history.triangles),
+        **_changes_payload("segment_", history.segments),
         "vertex_counts": _b64(history.vertex_counts),
         "input_digest": history.input_digest,
         "final_digest": history.final_digest,

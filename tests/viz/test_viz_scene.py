@@ -103,8 +103,8 @@ def test_step_changes_of_a_flip() -> None:
     added, removed = history.step_changes(1)
     assert removed == [(0, 1, 2), (0, 2, 3)]
     assert added == [(0, 1, 3), (1, 2, 3)]
-    assert list(history.added_offsets) == [0, 2]
-    assert list(history.removed_offsets) == [0, 2]
+    assert list(history.triangles.added_offsets) == [0, 2]
+    assert list(history.triangles.removed_offsets) == [0, 2]
     with pytest.raises(ValueError):
         history.step_changes(2)
     with pytest.raises(ValueError):
@@ -122,7 +122,7 @@ def test_recreated_triangle_keeps_its_slot() -> None:
     flip_in(t, 1, 3)
     t.seal()
     history = history_of(start, Trace(start.digest, t.steps, t.step_digests))
-    assert len(history.cells) // 3 == 4
+    assert len(history.triangles.cells) // 3 == 4
     assert history.triangles_at(2) == history.triangles_at(0)
 
 

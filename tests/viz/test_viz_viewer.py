@@ -121,9 +121,9 @@ def test_payload_history_matches_history_of(superior: PSLG) -> None:
     history = history_of(run.start, run.trace)
     carried = data["history"]
     assert carried["steps"] == len(run.trace)
-    assert decode(carried["added_offsets"], INDEX_TYPE) == list(history.added_offsets)
-    assert decode(carried["removed"], INDEX_TYPE) == list(history.removed)
-    assert decode(carried["cells"], INDEX_TYPE) == list(history.cells)
+    assert decode(carried["added_offsets"], INDEX_TYPE) == list(history.triangles.added_offsets)
+    assert decode(carried["removed"], INDEX_TYPE) == list(history.triangles.removed)
+    assert decode(carried["cells"], INDEX_TYPE) == list(history.triangles.cells)
     assert decode(carried["vertex_counts"], INDEX_TYPE)[-1] == 518
     assert len(decode(carried["added_offsets"], INDEX_TYPE)) == len(run.trace) + 1
     assert carried["labels"] == list(history.labels)
