@@ -40,6 +40,7 @@ from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.mixed.transient import mixed_mesh_from_cells
 from geomexact.mesh3d.mixed.validation import validate_mixed
 from geomexact.mesh3d.octree.balance import balance_two_to_one
+from geomexact.mesh3d.octree.conformity import FaceConformity
 from geomexact.mesh3d.octree.lattice import OctreeLattice, octree_lattice
 from geomexact.mesh3d.octree.tree import Octree
 from geomexact.trace.record import Trace
@@ -77,18 +78,12 @@ class CellLeafMesh:
     trace: Trace | None = None
 
 
-@attrs.frozen(slots=True)
-class CellConformity:
-    """The exact check of a cell final (:func:`cell_conformity`)."""
+@attrs.frozen(slots=True, kw_only=True)
+class CellConformity(FaceConformity):
+    """The exact check of a cell final (:func:`cell_conformity`, :class:`FaceConformity`)
+    of its ``cells``."""
 
     cells: int
-    interior_faces: int
-    boundary_faces: int
-    problems: tuple[str, ...]
-
-    @property
-    def conforming(self) -> bool:
-        return not self.problems
 
 
 def _templates(lattice: OctreeLattice, kind: str) -> list[CellTemplate]:
@@ -180,6 +175,6 @@ def cell_conformity(mesh: MixedMesh3, volume: Rational,
                          for problem in validate_mixed(shown, volume=8, check_digest=False)]
     problems += validate_mixed(mesh, volume=volume, check_digest=False,
                                cell_geometry=templates is None)
-    return CellConformity(mesh.cell_count, len(mesh.interior_faces()),
-                          len(mesh.boundary_faces()),
-                          tuple(map(str, problems)))
+    return CellConformity(cells=mesh.cell_count, interior_faces=len(mesh.interior_faces()),
+                          boundary_faces=len(mesh.boundary_faces()),
+                          problems=tuple(map(str, problems)))

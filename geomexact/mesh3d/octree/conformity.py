@@ -22,20 +22,28 @@ from geomexact.kernel.numbers import Rational, mpq
 __all__ = ["ConformityReport", "lattice_conformity"]
 
 
-@attrs.frozen(slots=True)
-class ConformityReport:
-    """The result of :func:`lattice_conformity`: ``conforming`` when ``problems`` is empty;
-    the face counts; ``volume6`` (six times the lattice volume of the tetrahedra)."""
+@attrs.frozen(slots=True, kw_only=True)
+class FaceConformity:
+    """An exact conformity check of a cell mesh: the faces two cells share
+    (``interior_faces``) and those on one cell (``boundary_faces``); ``conforming`` when
+    ``problems`` is empty."""
 
-    tetrahedra: int
     interior_faces: int
     boundary_faces: int
-    volume6: int
     problems: tuple[str, ...]
 
     @property
     def conforming(self) -> bool:
         return not self.problems
+
+
+@attrs.frozen(slots=True, kw_only=True)
+class ConformityReport(FaceConformity):
+    """The result of :func:`lattice_conformity` (:class:`FaceConformity`) for its
+    ``tetrahedra``; ``volume6``, six times their lattice volume."""
+
+    tetrahedra: int
+    volume6: int
 
     def volume(self, unit_volume: Rational) -> Rational:
         """The exact volume, given the exact volume of one lattice cell."""
@@ -122,8 +130,9 @@ def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
     if not used.all():
         problems.append(f"{int((~used).sum())} vertices are in no tetrahedron, e.g. "
                         f"{np.flatnonzero(~used)[:limit].tolist()}")
-    return ConformityReport(len(tetrahedra), int((counts == 2).sum()),
-                            int(boundary.sum()), volume6, tuple(problems))
+    return ConformityReport(tetrahedra=len(tetrahedra), interior_faces=int((counts == 2).sum()),
+                            boundary_faces=int(boundary.sum()), volume6=volume6,
+                            problems=tuple(problems))
 
 
 def _face_ids(keys: Any, base: Any) -> Any:

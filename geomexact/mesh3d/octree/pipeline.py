@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Generic, Protocol, TypeVar
 
 import attrs
 import numpy as np
@@ -17,7 +17,11 @@ from geomexact.mesh3d.cuboid.boxes import Box
 from geomexact.mesh3d.measures import total_volume
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3
 from geomexact.mesh3d.octree.cell_final import CellConformity, CellLeafMesh, cell_conformity
-from geomexact.mesh3d.octree.conformity import ConformityReport, lattice_conformity
+from geomexact.mesh3d.octree.conformity import (
+    ConformityReport,
+    FaceConformity,
+    lattice_conformity,
+)
 from geomexact.mesh3d.octree.stages import (
     BALANCE_TWO_TO_ONE,
     NO_REFINEMENT,
@@ -32,38 +36,72 @@ from geomexact.mesh3d.quality import QualitySummary, lattice_quality, quality_su
 from geomexact.mesh3d.snapshot import Mesh3
 from geomexact.trace.record import Trace
 
-__all__ = ["OctreeCellMesh", "OctreeMesh", "generate", "generate_cells"]
+__all__ = ["OctreeCellMesh", "OctreeMesh", "StagedOctree", "generate", "generate_cells"]
+
+
+_MeshT = TypeVar("_MeshT", Mesh3, MixedMesh3)
+_ReportT = TypeVar("_ReportT", bound=FaceConformity)
+
+
+_Mesh_co = TypeVar("_Mesh_co", covariant=True)
+
+
+class _FinalOutput(Protocol[_Mesh_co]):
+    """What every final stage gives (:class:`LeafMesh`, :class:`CellLeafMesh`)."""
+
+    @property
+    def octree(self) -> Octree: ...
+
+    @property
+    def mesh(self) -> _Mesh_co: ...
+
+    @property
+    def start(self) -> _Mesh_co | None: ...
+
+    @property
+    def trace(self) -> Trace | None: ...
+
+
+_OutputT = TypeVar("_OutputT", bound=_FinalOutput[Any])
 
 
 @attrs.frozen(slots=True, eq=False)
-class OctreeMesh:
-    """The result of :func:`generate`: the octree after each stage (``initial``,
-    ``refined``, ``improved``, and the one partitioned, ``leaf_mesh.octree``), the
+class StagedOctree(Generic[_MeshT, _OutputT, _ReportT]):
+    """The octree after each stage (``initial``, ``refined``, ``improved``, and the one
+    partitioned, ``leaf_mesh.octree``), the final stage's output ``leaf_mesh`` with its
     snapshot ``mesh``, the exact ``conformity`` report, the stage ``seconds`` and, when
     recorded, ``start`` and the ``trace`` that replays ``mesh`` from it."""
 
     initial: Octree
     refined: Octree
     improved: Octree
-    leaf_mesh: LeafMesh
-    conformity: ConformityReport
+    leaf_mesh: _OutputT
+    conformity: _ReportT
     seconds: dict[str, float]
 
     @property
-    def mesh(self) -> Mesh3:
-        return self.leaf_mesh.mesh
+    def mesh(self) -> _MeshT:
+        mesh: _MeshT = self.leaf_mesh.mesh  # (the output's mesh type is _MeshT)
+        return mesh
 
     @property
     def octree(self) -> Octree:
         return self.leaf_mesh.octree
 
     @property
-    def start(self) -> Mesh3 | None:
-        return self.leaf_mesh.start
+    def start(self) -> _MeshT | None:
+        start: _MeshT | None = self.leaf_mesh.start
+        return start
 
     @property
     def trace(self) -> Trace | None:
         return self.leaf_mesh.trace
+
+
+@attrs.frozen(slots=True, eq=False)
+class OctreeMesh(StagedOctree[Mesh3, LeafMesh, ConformityReport]):
+    """The result of :func:`generate` (:class:`StagedOctree`), with the exact ``volume``
+    and the ``quality`` of its tetrahedra."""
 
     @property
     def volume(self) -> Rational:
@@ -146,32 +184,9 @@ def _generate(domain: Box, initial: Callable[[Box], Octree],
 
 
 @attrs.frozen(slots=True, eq=False)
-class OctreeCellMesh:
-    """The result of :func:`generate_cells`: as :class:`OctreeMesh`, with a mixed-cell
+class OctreeCellMesh(StagedOctree[MixedMesh3, CellLeafMesh, CellConformity]):
+    """The result of :func:`generate_cells` (:class:`StagedOctree`): a mixed-cell
     ``leaf_mesh`` and its exact ``conformity``."""
-
-    initial: Octree
-    refined: Octree
-    improved: Octree
-    leaf_mesh: CellLeafMesh
-    conformity: CellConformity
-    seconds: dict[str, float]
-
-    @property
-    def mesh(self) -> MixedMesh3:
-        return self.leaf_mesh.mesh
-
-    @property
-    def octree(self) -> Octree:
-        return self.leaf_mesh.octree
-
-    @property
-    def start(self) -> MixedMesh3 | None:
-        return self.leaf_mesh.start
-
-    @property
-    def trace(self) -> Trace | None:
-        return self.leaf_mesh.trace
 
 
 def generate_cells(
