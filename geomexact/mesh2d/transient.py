@@ -27,7 +27,6 @@ from geomexact.mesh2d.snapshot import (
     empty_mesh,
 )
 from geomexact.trace.recording import RecordingTransient
-from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
 _cell_hash = _digest.cell_hash
@@ -56,7 +55,7 @@ class Transient2(RecordingTransient[Point2]):
         """Open on ``mesh``; ``batch`` edits plain dicts instead of the maps' mutations
         (O(n) to open and seal, cheaper writes: for long runs, :mod:`geomexact.trace.
         tables`)."""
-        self._vertices = open_table(mesh.vertices, batch)
+        self._open_record(mesh.vertices, mesh.digest, batch)
         self._halfedges = open_table(mesh.halfedges, batch)
         self._outgoing = open_table(mesh.outgoing, batch)
         self._segments = open_table(mesh.segments, batch)
@@ -64,11 +63,7 @@ class Transient2(RecordingTransient[Point2]):
         self._vertex_attributes = open_table(mesh.vertex_attributes, batch)
         self._triangle_attributes = open_table(mesh.triangle_attributes, batch)
         self._triangle_count = mesh.triangle_count
-        self._digest = mesh.digest
-        self._sealed = False
         self.stale_outgoing: set[int] = set()
-        self.steps: list[Step] = []
-        self.step_digests: list[int] = []
 
     # -- reads --------------------------------------------------------------------------
     @property

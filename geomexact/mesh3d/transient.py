@@ -27,7 +27,6 @@ from geomexact.mesh3d.snapshot import (
 )
 from geomexact.trace.protocols import kind_of
 from geomexact.trace.recording import RecordingTransient
-from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
 __all__ = ["SpaceTransient", "Transient3", "mesh3_from_positive_arrays",
@@ -57,18 +56,13 @@ class Transient3(SpaceTransient):
     snapshot_type = Mesh3
 
     def __init__(self, mesh: Mesh3, *, batch: bool = False) -> None:
-        """Open on ``mesh``; ``batch`` edits plain dicts instead of the maps' mutations
-        (O(n) to open and seal, cheaper writes: for long runs, :mod:`geomexact.trace.
-        tables`)."""
-        self._vertices = open_table(mesh.vertices, batch)
+        """Open on ``mesh``'s vertices, faces, vertex hints and tetrahedron count
+        (``batch``: plain dicts, :meth:`_open_record`)."""
+        self._open_record(mesh.vertices, mesh.digest, batch)
         self._faces = open_table(mesh.faces, batch)
         self._hints = open_table(mesh.hints, batch)
         self._tetrahedron_count = mesh.tetrahedron_count
-        self._digest = mesh.digest
-        self._sealed = False
         self._stale: set[int] = set()  # vertices of removed tetrahedra: hints to check
-        self.steps: list[Step] = []
-        self.step_digests: list[int] = []
 
     # -- reads --------------------------------------------------------------------------
     @property

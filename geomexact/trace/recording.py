@@ -8,12 +8,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import ClassVar, Generic, TypeVar
 
+import immutables
+
 from geomexact.errors import PreconditionError, TransientSealedError
 from geomexact.kernel import digest as _digest
 from geomexact.kernel.numbers import Rational
 from geomexact.trace.protocols import apply_from, kind_of
 from geomexact.trace.step import Step
-from geomexact.trace.tables import EditableTable
+from geomexact.trace.tables import EditableTable, open_table
 
 __all__ = ["MAX_VERTICES", "RecordingTransient"]
 
@@ -38,6 +40,16 @@ class RecordingTransient(Generic[P]):
     _sealed: bool
     steps: list[Step]
     step_digests: list[int]
+
+    def _open_record(self, vertices: immutables.Map[int, P], digest: int, batch: bool) -> None:
+        """Open the vertex table on a snapshot's ``vertices`` (``batch``: a plain dict,
+        :func:`~geomexact.trace.tables.open_table`), its ``digest``, and no steps yet
+        (each subclass's ``__init__`` starts with this, then opens its own tables)."""
+        self._vertices = open_table(vertices, batch)
+        self._digest = digest
+        self._sealed = False
+        self.steps = []
+        self.step_digests = []
 
     @property
     def digest(self) -> int:

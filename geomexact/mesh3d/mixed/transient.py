@@ -13,7 +13,6 @@ from geomexact.kernel.points import Point3, point3
 from geomexact.mesh3d.mixed.cells import Cell, Face, cell_hash_of, reversed_face, rotated_face
 from geomexact.mesh3d.mixed.snapshot import MixedMesh3, empty_mixed_mesh
 from geomexact.mesh3d.transient import SpaceTransient
-from geomexact.trace.step import Step
 from geomexact.trace.tables import open_table, sealed_table, table_snapshot
 
 __all__ = ["MixedTransient3", "mixed_mesh_from_cells"]
@@ -29,15 +28,11 @@ class MixedTransient3(SpaceTransient):
     snapshot_type = MixedMesh3
 
     def __init__(self, mesh: MixedMesh3, *, batch: bool = False) -> None:
-        """Open on ``mesh``; ``batch`` edits plain dicts (O(n) to open and seal, cheaper
-        writes: :mod:`geomexact.trace.tables`)."""
-        self._vertices = open_table(mesh.vertices, batch)
+        """Open on ``mesh``'s vertices, cells and faces (``batch``: plain dicts,
+        :meth:`_open_record`)."""
+        self._open_record(mesh.vertices, mesh.digest, batch)
         self._cells = open_table(mesh.cell_hashes, batch)
         self._faces = open_table(mesh.faces, batch)
-        self._digest = mesh.digest
-        self._sealed = False
-        self.steps: list[Step] = []
-        self.step_digests: list[int] = []
 
     # -- reads --------------------------------------------------------------------------
     @property

@@ -18,7 +18,7 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Iterable
 from itertools import islice
-from typing import Any, Final, Literal
+from typing import Any, Final, Literal, get_args
 
 import attrs
 import numpy as np
@@ -55,7 +55,7 @@ __all__ = [
 ]
 
 CellFinalKind = Literal["mixed", "polyhedral"]
-CELL_FINAL_KINDS: Final[tuple[CellFinalKind, ...]] = ("mixed", "polyhedral")
+CELL_FINAL_KINDS: Final[tuple[CellFinalKind, ...]] = get_args(CellFinalKind)
 
 
 @attrs.frozen(slots=True, eq=False)

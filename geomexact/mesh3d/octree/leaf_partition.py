@@ -15,7 +15,7 @@ Two implementations, proven equal by ``tests/mesh3d/test_octree.py``:
 
 from __future__ import annotations
 
-from typing import Any, Final, Literal
+from typing import Any, Final, Literal, get_args
 
 import numpy as np
 
@@ -38,7 +38,7 @@ __all__ = [
 ]
 
 FinalKind = Literal["patterns", "delaunay"]
-FINAL_KINDS: Final[tuple[FinalKind, ...]] = ("patterns", "delaunay")
+FINAL_KINDS: Final[tuple[FinalKind, ...]] = get_args(FinalKind)
 
 
 def _check_kind(kind: str) -> None:
