@@ -524,3 +524,110 @@ def test_conformity_counts_faces_as_plain_sets_do(data: st.DataObject) -> None:
     empty = lattice_conformity(lattice.vertices, np.zeros((0, 4), dtype=np.int64),
                                lattice.size)
     assert (empty.interior_faces, empty.boundary_faces) == (0, 0) and not empty.conforming
+
+
+def test_conformity_kernel_pass_equals_numpy() -> None:
+    """The compiled kernel's one pass (``lattice_faces``) gives the numpy determinants and
+    face keys, bit for bit (wrapping int64 included); the reports agree either way."""
+    from geomexact.mesh3d.cuboid import compiled
+    from geomexact.mesh3d.octree import conformity
+
+    if not compiled.AVAILABLE:
+        pytest.skip("the compiled cuboid kernel is not built")
+    run = sphere_run(3, trace=False)
+    lattice = run.leaf_mesh.lattice
+    tetrahedra = np.array(run.leaf_mesh.tetrahedra, dtype=np.int64)
+    rng = np.random.default_rng(5)
+    broken = tetrahedra.copy()
+    broken[rng.integers(0, len(broken), 40), rng.integers(0, 4, 40)] = rng.integers(
+        0, lattice.vertex_count, 40)
+    huge = np.asarray(lattice.vertices, dtype=np.int64) * (1 << 50)  # products wrap
+    for points, rows in ((lattice.vertices, tetrahedra), (lattice.vertices, broken),
+                         (huge, tetrahedra), (lattice.vertices, tetrahedra[:, [1, 0, 2, 3]])):
+        points, rows = np.asarray(points, dtype=np.int64), np.ascontiguousarray(rows)
+        base = np.uint64(len(points))
+        found = compiled.lattice_faces(points, rows, base)
+        assert found is not None
+        det, keys = found
+        assert np.array_equal(det, conformity._det6(points, rows))
+        assert np.array_equal(keys, conformity._face_keys(rows, base))
+    kernel_report = lattice_conformity(lattice.vertices, broken, lattice.size)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(compiled, "lattice_faces", lambda *arrays: None)
+        assert lattice_conformity(lattice.vertices, broken, lattice.size) == kernel_report
+
+
+def test_regions_answer_many_boxes_as_each_box() -> None:
+    """``meets_boxes`` (a region's ``meets_sides``: exact integer sums, int64 or Python
+    integers; or a call per box) gives each box's own answer, for every region kind."""
+    from fractions import Fraction
+    from itertools import pairwise
+
+    from geomexact.mesh3d.octree.regions import meets_boxes
+
+    def sides_of(lines: list[Fraction]) -> list[tuple[Fraction, Fraction]]:
+        return list(pairwise(lines))
+
+    tiny = Fraction(1, 3 ** 40)  # scaled sums beyond int64: Python integers
+    regions = [
+        BallRegion(CENTRE, "0.3"), SphereSurfaceRegion(CENTRE, "0.3"),
+        BallRegion(("1/3", "2/7", "0.5"), "1/5"), SphereSurfaceRegion((0, 0, 0), "0.5"),
+        BallRegion((tiny, 0, 0), "0.25"), SphereSurfaceRegion((0, tiny, "1/7"), "0.4"),
+        BoxRegion(("0.1", "0.2", "0.3"), ("0.4", "0.5", "0.6")), PointRegion(("0.5", 0, 1)),
+        WholeDomain(), SegmentRegion((0, 0, 0), (1, "0.5", "0.25")),
+        UnionRegion([BallRegion((0, 0, 0), "0.2"), SegmentRegion((1, 1, 0), (0, 1, 1))]),
+        UnionRegion([PointRegion((1, 1, 1)), BoxRegion((0, 0, 0), ("0.1", "0.1", "0.1"))]),
+    ]
+    for steps in (8, 7):
+        lines = [Fraction(n, steps) for n in range(steps + 1)]
+        sides = [sides_of(lines), sides_of([x + tiny for x in lines]), sides_of(lines)]
+        rows = np.array([(i, j, k) for i in range(steps) for j in range(steps)
+                         for k in range(steps)], dtype=np.int64)
+        boxes = [Box(tuple(sides[a][row[a]][0] for a in range(3)),
+                     tuple(sides[a][row[a]][1] for a in range(3))) for row in rows.tolist()]
+        for region in regions:
+            expected = [region(box) for box in boxes]
+            assert meets_boxes(region, sides, rows).tolist() == expected, region
+            assert any(expected) or isinstance(region, PointRegion)
+
+
+def test_refinement_asks_a_plain_region_and_a_criterion_box_by_box() -> None:
+    """A region without ``meets_sides`` is called on each box; a criterion only where the
+    region meets: the same octree as the vectorised regions make."""
+    ball = BallRegion(CENTRE, "0.3")
+    asked: list[Box] = []
+
+    def plain(box: Box) -> bool:
+        asked.append(box)
+        return ball(box)
+
+    start = octree_of_grid(unit_cube())
+    vectorised = refine_octree(start, MaxEdgeLength("0.1"), ball, 5)
+    assert refine_octree(start, MaxEdgeLength("0.1"), plain, 5) == vectorised
+    assert len(asked) == len({(b.low, b.high) for b in asked})  # each box asked once
+    assert refine_octree(start, RefineToMaxLevel(), ball, 3) == refine_octree(
+        start, lambda box: False, plain, 3)
+
+
+def test_balance_family_targets_are_the_leaves_targets() -> None:
+    """Taking the leaves by parent (``families``) finds exactly the cells the leaves'
+    own 18 neighbours find, on any set of leaves (a tiling or not)."""
+    import random
+
+    from geomexact.mesh3d.octree.balance import _by_level, _uncovered_targets
+
+    rng = random.Random(3)
+    for _ in range(60):
+        leaves = list(octree_of_grid(unit_cube(), (2, 1, 1)).leaves)
+        for _ in range(rng.randint(1, 30)):
+            cell = leaves.pop(rng.randrange(len(leaves)))
+            leaves.extend(cell_children(cell) if cell[0] < 4 else [cell])
+        leaves += [(rng.randint(2, 4), rng.randint(-2, 20), rng.randint(0, 9),
+                    rng.randint(-1, 9)) for _ in range(rng.randint(0, 3))]
+        by_level = _by_level(leaves)
+        for level in by_level:
+            if level < 2:
+                continue
+            _, each = _uncovered_targets(by_level, (2, 1, 1), level)
+            _, families = _uncovered_targets(by_level, (2, 1, 1), level, families=True)
+            assert {tuple(t) for t in each.tolist()} == {tuple(t) for t in families.tolist()}

@@ -140,6 +140,6 @@ def test_shapes_that_share_a_hash_are_still_told_apart(monkeypatch: pytest.Monke
     tetrahedra = [*FIVE, *([v + 8 for v in t] for t in FIVE)]
     expected = dihedral_angles(points, tetrahedra), radius_edge_ratios(points, tetrahedra)
     monkeypatch.setattr(quality, "_row_hashes",
-                        lambda rows: np.zeros(len(rows), dtype=np.uint64))
+                        lambda columns: np.zeros(columns.shape[1], dtype=np.uint64))
     assert (dihedral_angles(points, tetrahedra) == expected[0]).all()
     assert (radius_edge_ratios(points, tetrahedra) == expected[1]).all()

@@ -93,6 +93,23 @@ def bulk_digest(points: Sequence[Point3], rows: Any) -> int | None:
     return int(total) & (_digest.MODULUS - 1)
 
 
+def lattice_faces(points: Any, tetrahedra: Any, base: Any) -> tuple[Any, Any] | None:
+    """The octree conformity check's pass over ``tetrahedra`` (T x 4 int64 ids, each in
+    0 .. V - 1) of the lattice ``points`` (V x 3 int64) in the kernel: (six times each
+    tetrahedron's signed volume, the 4T face keys over ``base``), the integers of
+    ``geomexact.mesh3d.octree.conformity``'s numpy ``_det6`` and ``_face_keys`` (tested
+    equal); None when the kernel is not built."""
+    if _cuboid_kernel is None:
+        return None
+    import numpy as np
+
+    det = np.empty(len(tetrahedra), dtype=np.int64)
+    keys = np.empty(4 * len(tetrahedra), dtype=np.uint64)
+    _cuboid_kernel.lattice_faces(np.ascontiguousarray(points), np.ascontiguousarray(tetrahedra),
+                                 base, det, keys)
+    return det, keys
+
+
 def kernel_corners(box: Box) -> tuple[tuple[int, int, int], ...] | None:
     """The eight corners of ``box`` as the kernel's integers (the low corner at the origin,
     every coordinate even), or None when they exceed ``MAX_COORDINATE``."""

@@ -807,3 +807,58 @@ def vertex_hash_sum(const uint8_t[::1] table, const int64_t[::1] starts,
                 at += length
             total += gx_blake2b_vertex_message(message, <unsigned> at)
     return (int(gx_u128_hi(total)) << 64) | int(gx_u128_lo(total))
+
+
+def lattice_faces(const int64_t[:, ::1] points, const int64_t[:, ::1] tetrahedra,
+                  uint64_t base, int64_t[::1] det, uint64_t[::1] keys):
+    """The octree conformity check's one pass over the tetrahedra (T x 4 ids, each in
+    0 .. V - 1, checked by the caller) of the lattice ``points`` (V x 3): into ``det`` (T)
+    six times each one's signed volume, into ``keys`` (4T, face by face: face n of
+    tetrahedron i at n * T + i) each face's key -- its ids sorted, ``(low * base + middle)
+    * base + high``, times two plus the parity of the sorting permutation.  The same
+    integers as ``geomexact.mesh3d.octree.conformity``'s numpy ``_det6`` and
+    ``_face_keys``: the determinant in two's complement int64 arithmetic (computed
+    unsigned, so it wraps as numpy's does), the keys in uint64."""
+    cdef Py_ssize_t i, n, t = tetrahedra.shape[0]
+    cdef int64_t x, y, z, low, high
+    cdef uint64_t b0, b1, b2, c0, c1, c2, d0, d1, d2
+    cdef uint64_t p0, p1, p2
+    cdef int64_t q
+    cdef int faces[4][3]
+    faces[0][:] = [0, 1, 2]
+    faces[1][:] = [0, 2, 3]
+    faces[2][:] = [0, 3, 1]
+    faces[3][:] = [1, 3, 2]
+    if det.shape[0] != t or keys.shape[0] != 4 * t:
+        raise ValueError("det holds T values and keys 4T")
+    with nogil:
+        for i in range(t):
+            q = tetrahedra[i, 0]
+            p0 = <uint64_t> points[q, 0]
+            p1 = <uint64_t> points[q, 1]
+            p2 = <uint64_t> points[q, 2]
+            q = tetrahedra[i, 1]
+            b0 = <uint64_t> points[q, 0] - p0
+            b1 = <uint64_t> points[q, 1] - p1
+            b2 = <uint64_t> points[q, 2] - p2
+            q = tetrahedra[i, 2]
+            c0 = <uint64_t> points[q, 0] - p0
+            c1 = <uint64_t> points[q, 1] - p1
+            c2 = <uint64_t> points[q, 2] - p2
+            q = tetrahedra[i, 3]
+            d0 = <uint64_t> points[q, 0] - p0
+            d1 = <uint64_t> points[q, 1] - p1
+            d2 = <uint64_t> points[q, 2] - p2
+            det[i] = <int64_t> (b0 * (c1 * d2 - c2 * d1) - b1 * (c0 * d2 - c2 * d0)
+                                + b2 * (c0 * d1 - c1 * d0))
+            for n in range(4):
+                x = tetrahedra[i, faces[n][0]]
+                y = tetrahedra[i, faces[n][1]]
+                z = tetrahedra[i, faces[n][2]]
+                low = x if x < y else y
+                low = low if low < z else z
+                high = x if x > y else y
+                high = high if high > z else z
+                keys[n * t + i] = ((<uint64_t> low * base + <uint64_t> (x + y + z - low - high))
+                                   * base + <uint64_t> high) * 2 + <uint64_t> (
+                                       (x > y) ^ (x > z) ^ (y > z))

@@ -25,12 +25,13 @@ NEIGHBOUR_OFFSETS: Final[tuple[tuple[int, int, int], ...]] = tuple(
 
 
 def _by_level(cells: Iterable[Cell]) -> dict[int, Any]:
-    """The cells as one (m x 3) int64 array of (i, j, k) per level."""
-    rows: dict[int, list[tuple[int, int, int]]] = {}
-    for level, i, j, k in cells:
-        rows.setdefault(level, []).append((i, j, k))
-    return {level: np.array(found, dtype=np.int64).reshape(-1, 3)
-            for level, found in rows.items()}
+    """The cells as one (m x 3) int64 array of (i, j, k) per level (in their order)."""
+    array = np.array(list(cells), dtype=np.int64).reshape(-1, 4)
+    array = array[np.argsort(array[:, 0], kind="stable")]
+    levels, starts = np.unique(array[:, 0], return_index=True)
+    bounds = [*starts.tolist(), len(array)]
+    return {level: array[bounds[n]:bounds[n + 1], 1:]
+            for n, level in enumerate(levels.tolist())}
 
 
 def _level_keys(cells: Any, grid: tuple[int, int, int], level: int) -> Any:
@@ -55,21 +56,59 @@ def _among(known: Any, keys: Any) -> Any:
     return known[at] == keys
 
 
+def _family_targets() -> Any:
+    """For each set of a parent's children (bit b: octant b = x + 2y + 4z), the steps d
+    from the parent to the level L-1 cells those children's 18 neighbours fall in, the
+    parent itself left out (it is a node), each listed once and the list padded to 18 by
+    repeating its first (256 x 18 x 3).  One child's: on each axis d is -1 or 0 where its
+    octant bit is 0, 0 or 1 where it is 1 (-1 or 1 exactly when the neighbour steps out
+    that way), and at most two axes step."""
+    table = np.zeros((256, len(NEIGHBOUR_OFFSETS), 3), dtype=np.int64)
+    for children in range(1, 256):
+        steps = sorted({d for octant in range(8) if children >> octant & 1
+                        for d in product(*((b - 1, b) for b in
+                                           ((octant >> axis) & 1 for axis in range(3))))
+                        if 1 <= sum(map(abs, d)) <= 2})
+        table[children] = steps + steps[:1] * (len(NEIGHBOUR_OFFSETS) - len(steps))
+    return table
+
+
+FAMILY_TARGETS: Final = _family_targets()
+
+
 def _uncovered_targets(by_level: dict[int, Any], grid: tuple[int, int, int],
-                       level: int) -> tuple[Any, Any]:
+                       level: int, *, families: bool = False) -> tuple[Any, Any]:
     """For the leaves of ``level`` >= 2: (rows, targets) of each level L-1 cell next to
     one of them across a face or an edge that is not a node (a coarser leaf covers it):
-    ``rows[n]`` is the leaf's row in ``by_level[level]``, ``targets[n]`` the cell."""
+    ``rows[n]`` is the leaf's row in ``by_level[level]``, ``targets[n]`` the cell, once
+    for each of the leaf's 18 neighbours that falls in it.
+
+    With ``families`` the leaves are taken by parent: each parent once, with the steps of
+    :data:`FAMILY_TARGETS` for the children that are leaves here -- the same cells (each
+    perhaps more than once), found with a fraction of the work; ``rows`` is then the
+    parent's first leaf's row."""
     cells = by_level[level]
-    offsets = np.array(NEIGHBOUR_OFFSETS, dtype=np.int64)
-    neighbours = (cells[:, None, :] + offsets[None, :, :]).reshape(-1, 3)  # 18 per leaf
-    bound = np.array(grid, dtype=np.int64) << level
-    inside = ((neighbours >= 0) & (neighbours < bound)).all(axis=1)
-    targets = neighbours >> 1
+    if families:
+        parents = cells >> 1
+        _, first, family = np.unique(_level_keys(parents, grid, level - 1),
+                                     return_index=True, return_inverse=True)
+        children = np.zeros(len(first), dtype=np.int64)
+        octants = (cells[:, 0] & 1) + 2 * (cells[:, 1] & 1) + 4 * (cells[:, 2] & 1)
+        np.bitwise_or.at(children, family.ravel(), np.left_shift(1, octants))
+        steps = FAMILY_TARGETS[children]
+        targets = (parents[first][:, None, :] + steps).reshape(-1, 3)
+        bound = np.array(grid, dtype=np.int64) << (level - 1)
+        inside = ((targets >= 0) & (targets < bound)).all(axis=1)
+    else:
+        steps = np.array(NEIGHBOUR_OFFSETS, dtype=np.int64)
+        neighbours = (cells[:, None, :] + steps[None, :, :]).reshape(-1, 3)  # 18 a leaf
+        bound = np.array(grid, dtype=np.int64) << level
+        inside = ((neighbours >= 0) & (neighbours < bound)).all(axis=1)
+        targets = neighbours >> 1
     known = _node_keys(by_level, grid, level - 1)
     missing = inside & ~_among(known, _level_keys(targets, grid, level - 1))
-    rows = np.flatnonzero(missing)
-    return rows // len(offsets), targets[rows]
+    rows = np.flatnonzero(missing) // len(NEIGHBOUR_OFFSETS)
+    return (first[rows] if families else rows), targets[missing]
 
 
 def _coarse_targets(octree: Octree, leaves: Iterable[Cell]) -> list[tuple[Cell, Cell]]:
@@ -101,12 +140,13 @@ def balance_two_to_one(octree: Octree) -> Octree:
     for level in range(max(by_level, default=0), 1, -1):
         if level not in by_level or not len(by_level[level]):
             continue
-        _, targets = _uncovered_targets(by_level, grid, level)
+        _, targets = _uncovered_targets(by_level, grid, level, families=True)
         if len(targets):
             _split_down_to(by_level, grid, np.unique(targets, axis=0), level - 1)
-    leaves = [(level, i, j, k) for level, cells in by_level.items()
-              for i, j, k in cells.tolist()]
-    return attrs.evolve(octree, leaves=leaves, balanced=True)
+    rows = np.concatenate([np.zeros((0, 4), dtype=np.int64)] + [
+        np.column_stack((np.full(len(cells), level, dtype=np.int64), cells))
+        for level, cells in by_level.items()])
+    return attrs.evolve(octree, leaves=list(map(tuple, rows.tolist())), balanced=True)
 
 
 def _split_down_to(by_level: dict[int, Any], grid: tuple[int, int, int], targets: Any,

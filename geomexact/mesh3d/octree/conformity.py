@@ -18,6 +18,7 @@ import numpy as np
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, mpq
+from geomexact.mesh3d.cuboid import compiled
 
 __all__ = ["ConformityReport", "lattice_conformity"]
 
@@ -51,22 +52,49 @@ class ConformityReport(FaceConformity):
 
 
 def _det6(points: Any, tetrahedra: Any) -> Any:
-    p = points[tetrahedra]  # T x 4 x 3
-    b, c, d = (p[:, n] - p[:, 0] for n in (1, 2, 3))
-    return (b[:, 0] * (c[:, 1] * d[:, 2] - c[:, 2] * d[:, 1])
-            - b[:, 1] * (c[:, 0] * d[:, 2] - c[:, 2] * d[:, 0])
-            + b[:, 2] * (c[:, 0] * d[:, 1] - c[:, 1] * d[:, 0]))
+    x, y, z = (np.ascontiguousarray(points[:, axis]) for axis in range(3))
+    # each corner's coordinates gathered by column (T each): the same int64 arithmetic
+    corners = [[coordinate[tetrahedra[:, n]] for coordinate in (x, y, z)] for n in range(4)]
+    b, c, d = ([p - q for p, q in zip(corners[n], corners[0], strict=True)]
+               for n in (1, 2, 3))
+    return (b[0] * (c[1] * d[2] - c[2] * d[1])
+            - b[1] * (c[0] * d[2] - c[2] * d[0])
+            + b[2] * (c[0] * d[1] - c[1] * d[0]))
 
 
-def _sorted_with_parity(faces: Any) -> tuple[Any, Any]:
-    """Each face's ids sorted, and whether the sorting permutation is odd (an odd number
-    of inversions among the three)."""
-    x, y, z = faces[:, 0], faces[:, 1], faces[:, 2]
-    low = np.minimum(np.minimum(x, y), z)
-    high = np.maximum(np.maximum(x, y), z)
-    ordered = np.stack((low, x + y + z - low - high, high), axis=1)
-    odd = ((x > y).astype(np.int8) + (x > z) + (y > z)) % 2 == 1
-    return ordered, odd
+_FACES = ((0, 1, 2), (0, 2, 3), (0, 3, 1), (1, 3, 2))
+"""A positive tetrahedron's faces, each oriented as it has it."""
+
+
+def _face_keys(tetrahedra: Any, base: Any) -> Any:
+    """One uint64 per face of every tetrahedron (4T, face by face): its ids sorted, as
+    ``(low * base + middle) * base + high``, then the parity of the sorting permutation
+    (an odd number of inversions among the three) as the lowest bit.  Each id below
+    2**21, so the key is below 2**64."""
+    columns = [np.ascontiguousarray(tetrahedra[:, n]) for n in range(4)]
+    keys = np.empty(4 * len(tetrahedra), dtype=np.uint64)
+    for n, (i, j, k) in enumerate(_FACES):
+        x, y, z = columns[i], columns[j], columns[k]
+        low = np.minimum(np.minimum(x, y), z)
+        high = np.maximum(np.maximum(x, y), z)
+        middle = x + y + z - low - high
+        odd = (x > y) ^ (x > z) ^ (y > z)
+        keys[n * len(x):(n + 1) * len(x)] = (
+            (low.astype(np.uint64) * base + middle.astype(np.uint64)) * base
+            + high.astype(np.uint64)) * np.uint64(2) + odd
+    return keys
+
+
+def _faces_and_volumes(points: Any, tetrahedra: Any, base: Any) -> tuple[Any, Any]:
+    """(:func:`_det6`, :func:`_face_keys`): in one pass of the compiled cuboid kernel
+    (``lattice_faces``: the same integers, tested equal) when it is built and every id
+    is a vertex's, else by numpy (which also says how an id out of range fails)."""
+    if (len(tetrahedra) and int(tetrahedra.min()) >= 0
+            and int(tetrahedra.max()) < len(points)):
+        found = compiled.lattice_faces(points, tetrahedra, base)
+        if found is not None:
+            return found
+    return _det6(points, tetrahedra), _face_keys(tetrahedra, base)
 
 
 def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
@@ -74,13 +102,14 @@ def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
     """Check the mesh of lattice ``points`` (V x 3 ints, fewer than 2**21) and
     ``tetrahedra`` (T x 4 ids) against the box [0, size]; at most ``limit`` examples of
     each problem are named."""
-    points = np.asarray(points, dtype=np.int64)
-    tetrahedra = np.asarray(tetrahedra, dtype=np.int64)
+    points = np.asarray(points, dtype=np.int64).reshape(-1, 3)
+    tetrahedra = np.asarray(tetrahedra, dtype=np.int64).reshape(-1, 4)
     problems: list[str] = []
     if len(points) >= 1 << 21:
         raise PreconditionError("octree", f"{len(points)} vertices: the conformity check "
                                 "takes fewer than 2**21")
-    det = _det6(points, tetrahedra)
+    base = np.uint64(max(len(points), 1))
+    det, face_keys = _faces_and_volumes(points, tetrahedra, base)
     bad = np.flatnonzero(det <= 0)
     if bad.size:
         problems.append(f"{bad.size} tetrahedra are not positive, e.g. "
@@ -92,37 +121,31 @@ def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
     if volume6 != 6 * nx * ny * nz:
         problems.append(f"the volumes add up to {mpq(volume6, 6)} lattice cells, not "
                         f"{nx * ny * nz}")
-    a, b, c, d = tetrahedra.T
-    faces = np.concatenate([np.stack(f, axis=1) for f in
-                            ((a, b, c), (a, c, d), (a, d, b), (b, d, c))])
-    ordered, odd = _sorted_with_parity(faces)
-    # one sort of uint64 keys: the sorted face's ids, then the permutation's parity (each
-    # id below 2**21, so the key is below 2**64); runs of one face give its counts
-    base = np.uint64(max(len(points), 1))
-    sorted_keys = np.sort(((ordered[:, 0].astype(np.uint64) * base
-                            + ordered[:, 1].astype(np.uint64)) * base
-                           + ordered[:, 2].astype(np.uint64)) * np.uint64(2)
-                          + odd.astype(np.uint64))
+    # one sort of the keys (the sorted face, then the parity): runs of one face give its
+    # counts; a face of two tetrahedra has them on opposite sides when their parities
+    # differ, i.e. when its two keys do
+    sorted_keys = np.sort(face_keys)
     face_keys = sorted_keys >> np.uint64(1)
     starts = (np.flatnonzero(np.concatenate(([True], face_keys[1:] != face_keys[:-1])))
               if len(face_keys) else np.zeros(0, dtype=np.int64))
     counts = np.diff(np.append(starts, len(face_keys)))
-    odd_count = (np.add.reduceat((sorted_keys & np.uint64(1)).astype(np.int64), starts)
-                 if len(starts) else np.zeros(0, dtype=np.int64))
-    keys = _face_ids(face_keys[starts], base)
+    first_keys = sorted_keys[starts]
     if (counts > 2).any():
-        over = keys[counts > 2]
+        over = _face_ids(first_keys[counts > 2] >> np.uint64(1), base)
         problems.append(f"{len(over)} faces have more than two tetrahedra, e.g. "
                         f"{over[:limit].tolist()}")
-    same_side = (counts == 2) & (odd_count != 1)
+    pairs = counts == 2
+    same_side = np.zeros(len(starts), dtype=bool)
+    same_side[pairs] = first_keys[pairs] == sorted_keys[starts[pairs] + 1]
     if same_side.any():
-        problems.append(f"{int(same_side.sum())} faces have both tetrahedra on one side, "
-                        f"e.g. {keys[same_side][:limit].tolist()}")
+        one_side = _face_ids(first_keys[same_side] >> np.uint64(1), base)
+        problems.append(f"{len(one_side)} faces have both tetrahedra on one side, "
+                        f"e.g. {one_side[:limit].tolist()}")
     boundary = counts == 1
     # a boundary face as its tetrahedron has it, up to a rotation: its sorted ids, two of
     # them swapped when the permutation was odd
-    outer = keys[boundary]
-    swapped = (sorted_keys[starts][boundary] & np.uint64(1)).astype(bool)
+    outer = _face_ids(first_keys[boundary] >> np.uint64(1), base)
+    swapped = (first_keys[boundary] & np.uint64(1)).astype(bool)
     outer[swapped] = outer[swapped][:, [0, 2, 1]]
     problems.extend(_boundary_problems(points, outer, size, limit))
     used = np.zeros(len(points), dtype=bool)
@@ -130,7 +153,7 @@ def lattice_conformity(points: Any, tetrahedra: Any, size: tuple[int, int, int],
     if not used.all():
         problems.append(f"{int((~used).sum())} vertices are in no tetrahedron, e.g. "
                         f"{np.flatnonzero(~used)[:limit].tolist()}")
-    return ConformityReport(tetrahedra=len(tetrahedra), interior_faces=int((counts == 2).sum()),
+    return ConformityReport(tetrahedra=len(tetrahedra), interior_faces=int(pairs.sum()),
                             boundary_faces=int(boundary.sum()), volume6=volume6,
                             problems=tuple(problems))
 

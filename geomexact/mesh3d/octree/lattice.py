@@ -100,6 +100,39 @@ def _keys(points: Any, size: tuple[int, int, int]) -> Any:
     return (points[..., 0] * (ny + 1) + points[..., 1]) * (nz + 1) + points[..., 2]
 
 
+DENSE_POINTS_PER_KEY: Final = 8
+""":func:`_vertex_table` numbers the vertices through a table of every lattice point when
+the lattice has at most this many points per looked-up key (else by sorting the keys)."""
+
+
+def _vertex_table(keys: Any, low: Any, half: Any,
+                  size: tuple[int, int, int]) -> tuple[Any, Any]:
+    """The vertices (the distinct leaf corners, ``keys[:, :8]``, lexicographic: V x 3) and,
+    for every key, its vertex id or -1 when it is not a corner's.  When every leaf lies in
+    the lattice (its keys then name its points one to one) and the lattice is small, by a
+    table of every lattice point (a scatter and a gather; the vertices read off their
+    keys), else by a sort and a binary search (the vertices at their first corner): the
+    same arrays."""
+    points = (size[0] + 1) * (size[1] + 1) * (size[2] + 1)
+    corners = keys[:, :8].ravel()
+    inside = bool(((low >= 0) & (low + 2 * half[:, None] <= np.array(size))).all())
+    if inside and points <= DENSE_POINTS_PER_KEY * max(keys.size, 1):
+        table = np.zeros(points, dtype=np.int64)
+        table[corners] = 1
+        vertex_keys = np.flatnonzero(table)
+        table -= 1
+        table[vertex_keys] = np.arange(len(vertex_keys), dtype=np.int64)
+        _, ny, nz = size
+        rest, z = np.divmod(vertex_keys, nz + 1)
+        x, y = np.divmod(rest, ny + 1)
+        return np.stack((x, y, z), axis=1), table[keys]
+    vertex_keys, first = np.unique(corners, return_index=True)
+    positions = low[:, None, :] + half[:, None, None] * CODE_OFFSETS2[None, :8, :]
+    found = np.minimum(np.searchsorted(vertex_keys, keys), len(vertex_keys) - 1)
+    return (positions.reshape(-1, 3)[first],
+            np.where(vertex_keys[found] == keys, found, -1))
+
+
 def octree_lattice(octree: Octree) -> OctreeLattice:
     """The lattice, vertices, patterns and templates of ``octree`` (whose leaves must tile
     its domain; the patterns are only meaningful when every leaf is 1-irregular)."""
@@ -112,14 +145,11 @@ def octree_lattice(octree: Octree) -> OctreeLattice:
     levels = cells[:, 0]
     half = np.left_shift(np.int64(1), depth - levels - 1)  # half a leaf edge, >= 1
     low = cells[:, 1:] * (2 * half)[:, None]
-    positions = low[:, None, :] + half[:, None, None] * CODE_OFFSETS2[None, :, :]
-    keys = _keys(positions, size)
-    vertex_keys, first = np.unique(keys[:, :8].ravel(), return_index=True)
-    vertices = positions[:, :8].reshape(-1, 3)[first]
-    found = np.searchsorted(vertex_keys, keys)
-    found_clipped = np.minimum(found, len(vertex_keys) - 1)
-    present = vertex_keys[found_clipped] == keys
-    codes = np.where(present, found_clipped, -1)
+    # a key is linear in its point: a leaf's keys are its low corner's plus its half edge
+    # times the keys of the code offsets (integers, exact)
+    keys = _keys(low, size)[:, None] + half[:, None] * _keys(CODE_OFFSETS2, size)[None, :]
+    vertices, codes = _vertex_table(keys, low, half, size)
+    present = codes >= 0
     weights = np.left_shift(np.int64(1), np.arange(18, dtype=np.int64))
     patterns = (present[:, 8:] * weights).sum(axis=1)
     templates = (cells[:, 1] + cells[:, 2] + cells[:, 3]) & 1

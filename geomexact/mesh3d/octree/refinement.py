@@ -8,9 +8,13 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import attrs
+import numpy as np
 
 from geomexact.errors import PreconditionError
+from geomexact.kernel.numbers import Rational
 from geomexact.mesh3d.cuboid.boxes import Box
+from geomexact.mesh3d.octree.criteria import RefineToMaxLevel
+from geomexact.mesh3d.octree.regions import meets_boxes
 from geomexact.mesh3d.octree.tree import Cell, Octree, cell_children, cell_parent
 
 __all__ = ["MAX_LEVEL", "derefine_octree", "refine_octree"]
@@ -29,16 +33,43 @@ def refine_octree(octree: Octree, criterion: Callable[[Box], bool],
     leaves: list[Cell] = []
     pending = list(octree.leaves)
     while pending:
+        below = [cell for cell in pending if cell[0] < max_level]
+        leaves.extend(cell for cell in pending if cell[0] >= max_level)
         following: list[Cell] = []
-        for cell in pending:
-            if cell[0] < max_level:
-                box = octree.cell_box(cell)
-                if region(box) and not criterion(box):
-                    following.extend(cell_children(cell))
-                    continue
-            leaves.append(cell)
+        for cell, split in zip(below, _splits(octree, below, criterion, region), strict=True):
+            if split:
+                following.extend(cell_children(cell))
+            else:
+                leaves.append(cell)
         pending = following
     return attrs.evolve(octree, leaves=leaves, balanced=False)
+
+
+def _splits(octree: Octree, cells: list[Cell], criterion: Callable[[Box], bool],
+            region: Callable[[Box], bool]) -> list[bool]:
+    """Whether each of ``cells`` is split: ``region`` meets its box and ``criterion`` does
+    not accept it.  The region is asked level by level about all the cells at once
+    (:func:`~geomexact.mesh3d.octree.regions.meets_boxes`: each distinct side of a box
+    made once); the criterion only where the region meets, and never when it is
+    :class:`~geomexact.mesh3d.octree.criteria.RefineToMaxLevel` (it accepts nothing)."""
+    met = [False] * len(cells)
+    by_level: dict[int, list[int]] = {}
+    for n, cell in enumerate(cells):
+        by_level.setdefault(cell[0], []).append(n)
+    for level, at in by_level.items():
+        sides: list[list[tuple[Rational, Rational]]] = []
+        columns = []
+        for axis in range(3):
+            index: dict[int, int] = {}
+            columns.append([index.setdefault(cells[n][axis + 1], len(index)) for n in at])
+            sides.append([octree.cell_interval(level, axis, p) for p in index])
+        rows = np.array(columns, dtype=np.int64).T.reshape(-1, 3)
+        for n, value in zip(at, meets_boxes(region, sides, rows).tolist(), strict=True):
+            met[n] = value
+    if type(criterion) is RefineToMaxLevel:
+        return met
+    return [value and not criterion(octree.cell_box(cell))
+            for value, cell in zip(met, cells, strict=True)]
 
 
 def derefine_octree(octree: Octree, accepts: Callable[[Box], bool],

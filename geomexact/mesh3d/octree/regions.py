@@ -1,20 +1,31 @@
 """Where the octree is refined: a *region* is any callable ``region(box) -> bool``, true when
 it meets the closed box (exact rational arithmetic, no tolerance).  The classes here are
 the source's regions: box, solid ball, sphere surface, point, segment, the whole domain,
-and a union of regions."""
+and a union of regions.
+
+Many boxes at once: :func:`meets_boxes` answers for the boxes of a grid of *sides* (each
+box one side per axis, given by its rows into per-axis lists of sides).  A region whose
+test is a sum or a conjunction over the axes (ball, sphere, box, point, whole domain, a
+union of those) answers there by ``meets_sides``: its per-axis terms made once per side,
+brought exactly to integers over one common denominator and added by numpy (int64 where
+the sums fit, else Python integers), the same answers as its call on each box; any other
+region is called on each box."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
-from typing import Protocol, TypeAlias
+from typing import Any, Protocol, TypeAlias
 
 import attrs
+import numpy as np
 
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import ZERO, Rational, to_rational
 from geomexact.mesh3d.cuboid.boxes import Box
 
 __all__ = [
+    "AxisSides",
     "BallRegion",
     "BoxRegion",
     "PointRegion",
@@ -23,9 +34,12 @@ __all__ = [
     "SphereSurfaceRegion",
     "UnionRegion",
     "WholeDomain",
+    "meets_boxes",
 ]
 
 Triple: TypeAlias = tuple[Rational, Rational, Rational]
+AxisSides: TypeAlias = Sequence[Sequence[tuple[Rational, Rational]]]
+"""Per axis, a list of sides (low, high) of boxes."""
 
 
 class Region(Protocol):
@@ -46,16 +60,60 @@ def _positive(value: object) -> Rational:
     return number
 
 
+def _gap_reach(c: Rational, lo: Rational, hi: Rational) -> tuple[Rational, Rational]:
+    """Along one axis, the distances from ``c`` to the nearest and farthest points of
+    [lo, hi]."""
+    gap = lo - c if c < lo else (c - hi if c > hi else ZERO)
+    return gap, max(c - lo, hi - c)
+
+
 def _distance2_range(centre: Triple, box: Box) -> tuple[Rational, Rational]:
     """The squared distances from ``centre`` to the nearest and farthest points of
     ``box``."""
     near = far = ZERO
     for c, lo, hi in zip(centre, box.low, box.high, strict=True):
-        gap = lo - c if c < lo else (c - hi if c > hi else ZERO)
+        gap, reach = _gap_reach(c, lo, hi)
         near += gap * gap
-        reach = max(c - lo, hi - c)
         far += reach * reach
     return near, far
+
+
+def _sums(terms: Sequence[Sequence[Sequence[Rational]]], rows: Any,
+          bounds: Sequence[Rational]) -> tuple[list[Any], list[int]]:
+    """For each of ``terms`` (per axis, one non-negative rational per side): its sum over
+    the axes for each row of ``rows`` (n x 3 side indices), and ``bounds`` -- all scaled
+    by the lcm of every denominator, so exact integers (int64 when the sums fit, else
+    Python integers); a sum compares with a bound as the rationals do."""
+    values = [q for term in terms for axis in term for q in axis] + list(bounds)
+    scale = math.lcm(*(int(q.denominator) for q in values))
+    largest = max((int(q.numerator) * (scale // int(q.denominator)) for q in values),
+                  default=0)
+    kind: Any = np.int64 if 3 * largest < 1 << 62 else object
+    sums = []
+    for term in terms:
+        columns = [np.array([int(q.numerator) * (scale // int(q.denominator)) for q in axis],
+                            dtype=kind) for axis in term]
+        sums.append(columns[0][rows[:, 0]] + columns[1][rows[:, 1]] + columns[2][rows[:, 2]])
+    return sums, [int(q * scale) for q in bounds]
+
+
+def _all_axes(meets: Sequence[Sequence[bool]], rows: Any) -> Any:
+    """True for the rows (n x 3 side indices) whose side meets on every axis."""
+    flags = [np.array(axis, dtype=bool) for axis in meets]
+    return flags[0][rows[:, 0]] & flags[1][rows[:, 1]] & flags[2][rows[:, 2]]
+
+
+def meets_boxes(region: Callable[[Box], bool], sides: AxisSides, rows: Any) -> Any:
+    """Whether ``region`` meets each box ``sides[0][rows[n, 0]] x sides[1][rows[n, 1]] x
+    sides[2][rows[n, 2]]`` (a bool array): by the region's ``meets_sides`` when it has
+    one, else by calling it on each box."""
+    rows = np.asarray(rows, dtype=np.int64).reshape(-1, 3)
+    vectorised = getattr(region, "meets_sides", None)
+    if vectorised is not None:
+        return np.asarray(vectorised(sides, rows), dtype=bool)
+    return np.array([bool(region(Box(tuple(sides[a][row[a]][0] for a in range(3)),
+                                         tuple(sides[a][row[a]][1] for a in range(3)))))
+                     for row in rows.tolist()], dtype=bool)
 
 
 @attrs.frozen(slots=True)
@@ -64,6 +122,9 @@ class WholeDomain:
 
     def __call__(self, box: Box, /) -> bool:
         return True
+
+    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+        return np.ones(len(rows), dtype=bool)
 
 
 @attrs.frozen(slots=True)
@@ -82,6 +143,11 @@ class BoxRegion:
         return all(lo <= b_hi and b_lo <= hi for lo, hi, b_lo, b_hi
                    in zip(self.low, self.high, box.low, box.high, strict=True))
 
+    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+        return _all_axes([[lo <= b_hi and b_lo <= hi for b_lo, b_hi in axis]
+                          for lo, hi, axis in zip(self.low, self.high, sides, strict=True)],
+                         rows)
+
 
 @attrs.frozen(slots=True)
 class BallRegion:
@@ -93,6 +159,12 @@ class BallRegion:
     def __call__(self, box: Box, /) -> bool:
         near, _ = _distance2_range(self.centre, box)
         return bool(near <= self.radius * self.radius)
+
+    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+        gaps = [[_gap_reach(c, lo, hi)[0] ** 2 for lo, hi in axis]
+                for c, axis in zip(self.centre, sides, strict=True)]
+        (near,), (r2,) = _sums([gaps], rows, [self.radius * self.radius])
+        return near <= r2
 
 
 @attrs.frozen(slots=True)
@@ -108,6 +180,14 @@ class SphereSurfaceRegion:
         r2 = self.radius * self.radius
         return bool(near <= r2 <= far)
 
+    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+        ranges = [[_gap_reach(c, lo, hi) for lo, hi in axis]
+                  for c, axis in zip(self.centre, sides, strict=True)]
+        gaps = [[gap * gap for gap, _ in axis] for axis in ranges]
+        reaches = [[reach * reach for _, reach in axis] for axis in ranges]
+        (near, far), (r2,) = _sums([gaps, reaches], rows, [self.radius * self.radius])
+        return (near <= r2) & (r2 <= far)
+
 
 @attrs.frozen(slots=True)
 class PointRegion:
@@ -118,6 +198,10 @@ class PointRegion:
     def __call__(self, box: Box, /) -> bool:
         return all(lo <= p <= hi for p, lo, hi in zip(self.point, box.low, box.high,
                                                       strict=True))
+
+    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+        return _all_axes([[lo <= p <= hi for lo, hi in axis]
+                          for p, axis in zip(self.point, sides, strict=True)], rows)
 
 
 @attrs.frozen(slots=True)
@@ -152,3 +236,12 @@ class UnionRegion:
 
     def __call__(self, box: Box, /) -> bool:
         return any(region(box) for region in self.regions)
+
+    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+        met = np.zeros(len(rows), dtype=bool)
+        for region in self.regions:  # each asked only about the boxes not yet met
+            open_rows = np.flatnonzero(~met)
+            if not len(open_rows):
+                break
+            met[open_rows] = meets_boxes(region, sides, rows[open_rows])
+        return met

@@ -105,25 +105,24 @@ class Octree:
             extents.append(self.planes[axis][g + 1] - self.planes[axis][g])
         return (extents[0], extents[1], extents[2])
 
+    def cell_interval(self, level: int, axis: int, position: int) -> tuple[Rational, Rational]:
+        """The exact [low, high] along ``axis`` of the cells of ``level`` at integer
+        ``position`` on that axis (a box's side: the same for every cell in that slab)."""
+        if self.planes is not None:
+            scale = 1 << level
+            g, r = divmod(position, scale)
+            start, end = self.planes[axis][g], self.planes[axis][g + 1]
+            step = (end - start) / scale
+            return start + step * r, start + step * (r + 1)
+        extent = (self.domain.high[axis] - self.domain.low[axis]) / (self.grid[axis] << level)
+        low = self.domain.low[axis] + extent * position
+        return low, low + extent
+
     def cell_box(self, cell: Cell) -> Box:
         """The exact box of ``cell``."""
-        if self.planes is not None:
-            level, *position = cell
-            scale = 1 << level
-            lows, highs = [], []
-            for axis, value in enumerate(position):
-                g, r = divmod(value, scale)
-                start, end = self.planes[axis][g], self.planes[axis][g + 1]
-                step = (end - start) / scale
-                lows.append(start + step * r)
-                highs.append(start + step * (r + 1))
-            return Box(tuple(lows), tuple(highs))
         level, *position = cell
-        extents = self.cell_extents(level)
-        low = tuple(lo + e * p for lo, e, p in zip(self.domain.low, extents, position,
-                                                    strict=True))
-        high = tuple(lo + e for lo, e in zip(low, extents, strict=True))
-        return Box(low, high)
+        sides = [self.cell_interval(level, axis, value) for axis, value in enumerate(position)]
+        return Box(tuple(low for low, _ in sides), tuple(high for _, high in sides))
 
     def contains_cell(self, cell: Cell) -> bool:
         """True when ``cell``'s position is inside the domain's grid at its level."""
