@@ -143,10 +143,15 @@ class BoxGrid:
 
 @attrs.frozen(slots=True)
 class NoRefinement:
-    """The octree unchanged."""
+    """The octree unchanged: the refinement or improvement stage that does nothing
+    (:data:`NoImprovement` is this class)."""
 
     def __call__(self, octree: Octree, /) -> Octree:
         return octree
+
+
+NoImprovement = NoRefinement
+"""The improvement stage that leaves the octree unchanged (:class:`NoRefinement`)."""
 
 
 @attrs.frozen(slots=True)
@@ -160,14 +165,6 @@ class RefineWhere:
 
     def __call__(self, octree: Octree, /) -> Octree:
         return refine_octree(octree, self.criterion, self.region, self.max_level)
-
-
-@attrs.frozen(slots=True)
-class NoImprovement:
-    """The octree unchanged."""
-
-    def __call__(self, octree: Octree, /) -> Octree:
-        return octree
 
 
 @attrs.frozen(slots=True)
