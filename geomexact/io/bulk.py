@@ -21,7 +21,7 @@ from __future__ import annotations
 import itertools
 import re
 from array import array
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -435,6 +435,8 @@ class OrientedChunks:
         self._doubles: Doubles | None = None
         self._parts: list[IntArray] = []
         self.reversed_count = 0
+        self.lines: list[int | None] = []
+        """The line number of each triangle :meth:`read_last_section` added."""
 
     @property
     def empty(self) -> bool:
@@ -453,6 +455,23 @@ class OrientedChunks:
         self.reversed_count += oriented[1]
         self._parts.append(corners)
         return True
+
+    def read_last_section(self, lines: PlainLines, count: int,
+                          corners_of: Callable[[IntArray], IntArray | None]) -> bool:
+        """Read the last ``count`` lines of ``lines``, four integers each (a number, then
+        three vertices), a chunk at a time: ``corners_of`` makes a chunk's rows (n x 4)
+        0-based triangles, or None when they are not plain; each chunk is :meth:`add`-ed
+        and its line numbers kept in :attr:`lines`.  False as soon as a chunk does not
+        parse, is not plain or cannot be added, or when the file goes on after them."""
+        for tokens, numbers in lines.chunks(count, 4):
+            values = integer_column(tokens)
+            if values is None:
+                return False
+            corners = corners_of(values.reshape(-1, 4))
+            if corners is None or not self.add(corners):
+                return False  # (add: degenerate, or mixed orientations)
+            self.lines.extend(numbers)
+        return lines.at_end()
 
     def tables(self) -> tuple[IntArray, IntArray]:
         """The triangles added, in order: as they are in the file, and made

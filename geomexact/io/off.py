@@ -383,6 +383,7 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
     import numpy as np
 
     from geomexact.io.bulk import (
+        IntArray,
         NotPlain,
         OrientedChunks,
         PlainLines,
@@ -391,10 +392,17 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
         triangle_tuples,
     )
 
+    def triangle_corners(rows: IntArray) -> IntArray | None:
+        corners = rows[:, 1:]  # of the rows "3 a b c" with every id a vertex's
+        if (not bool(np.all(rows[:, 0] == 3)) or int(corners.min()) < 0
+                or int(corners.max()) >= vertex_count):
+            return None
+        return corners
+
     points: list[Point2] = []
     point_lines: list[int | None] = []
     faces = OrientedChunks(points)
-    face_lines: list[int | None] = []
+    vertex_count = 0
     cache: dict[str, tuple[Rational, float]] = {}
     try:
         with PlainLines(path) as lines:
@@ -414,26 +422,14 @@ def _bulk_off(path: Path) -> tuple[Mesh2, list[str]] | None:
                     return None
                 points.extend(map(Point2, xs[0], ys[0], xs[1], ys[1]))
                 point_lines.extend(rows_lines)
-            for tokens, rows_lines in lines.chunks(face_count, 4):
-                values = integer_column(tokens)
-                if values is None:
-                    return None
-                rows = values.reshape(-1, 4)
-                corners = rows[:, 1:]
-                if (not bool(np.all(rows[:, 0] == 3)) or int(corners.min()) < 0
-                        or int(corners.max()) >= vertex_count):
-                    return None
-                if not faces.add(corners):
-                    return None  # degenerate, or mixed orientations
-                face_lines.extend(rows_lines)
-            if not lines.at_end():
+            if not faces.read_last_section(lines, face_count, triangle_corners):
                 return None
     except NotPlain:
         return None
     corners, rows = faces.tables()
     name = str(path)
     notes: list[str] = []
-    table = TriangleTable(path=name, triangles=triangle_tuples(corners), lines=face_lines)
+    table = TriangleTable(path=name, triangles=triangle_tuples(corners), lines=faces.lines)
     mesh = build_mesh(
         points, point_lines, table, point_path=name, notes=notes,
         orienter=BulkOrientation(rows, faces.reversed_count),

@@ -24,6 +24,7 @@ import numpy as np
 
 from geomexact.errors import FormatError
 from geomexact.io.bulk import (
+    IntArray,
     NotPlain,
     OrientedChunks,
     PlainLines,
@@ -627,7 +628,14 @@ def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
     error, having read no further than its line)."""
     base = nodes.base
     triangles = OrientedChunks(nodes.points)
-    triangle_lines: list[int | None] = []
+    first = 0
+
+    def numbered(rows: IntArray) -> IntArray | None:
+        nonlocal first
+        if triangles.empty:
+            first = int(rows[0, 0])
+        return numbered_corners(rows, first, len(triangles.lines), base, len(nodes.points))
+
     try:
         with PlainLines(path) as lines:
             tokens, _ = lines.next_line()
@@ -636,28 +644,13 @@ def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
             header = integer_column(tokens[:1])
             if header is None or header[0] < 0:
                 return None
-            first = 0
-            for tokens, numbers in lines.chunks(int(header[0]), 4):
-                values = integer_column(tokens)
-                if values is None:
-                    return None
-                rows = values.reshape(-1, 4)
-                if triangles.empty:
-                    first = int(rows[0, 0])
-                corners = numbered_corners(rows, first, len(triangle_lines), base,
-                                           len(nodes.points))
-                if corners is None:
-                    return None
-                if not triangles.add(corners):
-                    return None  # degenerate, or mixed orientations
-                triangle_lines.extend(numbers)
-            if not lines.at_end():
+            if not triangles.read_last_section(lines, int(header[0]), numbered):
                 return None
     except NotPlain:
         return None
     corners, rows = triangles.tables()
     element_table = TriangleTable(
-        path=str(path), triangles=triangle_tuples(corners), lines=triangle_lines,
+        path=str(path), triangles=triangle_tuples(corners), lines=triangles.lines,
         first_number=first, vertex_base=base,
     )
     return ElementTable(element_table, first, BulkOrientation(rows, triangles.reversed_count))
