@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import Any, Literal, TypeAlias
+from typing import Any, Literal, Protocol, TypeAlias, TypeVar
 
 from geomexact.errors import MissingDependencyError
 
@@ -52,6 +52,9 @@ __all__ = [
     "points3",
     "rationals",
 ]
+
+_Drawn = TypeVar("_Drawn")
+_Drawn_co = TypeVar("_Drawn_co", covariant=True)
 
 Magnitude: TypeAlias = Literal["ordinary", "decimal", "dyadic", "huge", "tiny", "beyond_double"]
 MAGNITUDES: tuple[Magnitude, ...] = (
@@ -201,6 +204,28 @@ def _scales(magnitudes: Sequence[Magnitude]) -> st.SearchStrategy[Rational]:
     return coordinates(magnitudes).filter(lambda value: value != 0)
 
 
+class _MagnitudeStrategy(Protocol[_Drawn_co]):
+    """A strategy of configurations placed by rationals of ``magnitudes``."""
+
+    def __call__(self, magnitudes: Sequence[Magnitude] = ...) -> st.SearchStrategy[_Drawn_co]:
+        ...
+
+
+def _magnitudes_checked(
+    strategy: Callable[[Sequence[Magnitude]], st.SearchStrategy[_Drawn]],
+) -> _MagnitudeStrategy[_Drawn]:
+    """``strategy`` taking ``magnitudes`` (default: all of them), checked when it is
+    called (``InvalidArgument`` at once, as hypothesis's own strategies do)."""
+
+    def checked(magnitudes: Sequence[Magnitude] = MAGNITUDES) -> st.SearchStrategy[_Drawn]:
+        return strategy(_check_magnitudes(magnitudes))
+
+    # its name and contract; help shows its own signature, with the default
+    checked.__name__ = checked.__qualname__ = strategy.__name__
+    checked.__doc__, checked.__module__ = strategy.__doc__, strategy.__module__
+    return checked
+
+
 def _similarity(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude], dimension: int
 ) -> Callable[[Sequence[Rational]], list[Rational]]:
@@ -211,18 +236,13 @@ def _similarity(
     return lambda unit: [o + scale * x for o, x in zip(offset, unit, strict=True)]
 
 
-def collinear_triples(
-    magnitudes: Sequence[Magnitude] = MAGNITUDES,
-) -> st.SearchStrategy[tuple[Point2, Point2, Point2]]:
-    """Three exactly collinear points (in random order, possibly repeated), scaled and
-    translated by rationals of ``magnitudes``."""
-    return _collinear_triples(_check_magnitudes(magnitudes))
-
-
+@_magnitudes_checked
 @st.composite
-def _collinear_triples(
+def collinear_triples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point2, Point2, Point2]:
+    """Three exactly collinear points (in random order, possibly repeated), scaled and
+    translated by rationals of ``magnitudes``."""
     place = _similarity(draw, magnitudes, 2)
     ax, ay, bx, by = (draw(_UNIT) for _ in range(4))
     t = draw(_PARAMETER)
@@ -238,18 +258,13 @@ def _circle_point(s: Rational) -> tuple[Rational, Rational]:
     return (1 - s * s) / w, 2 * s / w
 
 
-def cocircular_quadruples(
-    magnitudes: Sequence[Magnitude] = MAGNITUDES,
-) -> st.SearchStrategy[tuple[Point2, Point2, Point2, Point2]]:
-    """Four distinct points on one circle with rational center and radius, scaled and
-    translated by rationals of ``magnitudes``."""
-    return _cocircular_quadruples(_check_magnitudes(magnitudes))
-
-
+@_magnitudes_checked
 @st.composite
-def _cocircular_quadruples(
+def cocircular_quadruples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point2, Point2, Point2, Point2]:
+    """Four distinct points on one circle with rational center and radius, scaled and
+    translated by rationals of ``magnitudes``."""
     place = _similarity(draw, magnitudes, 2)
     radius = draw(_UNIT.filter(lambda r: r != 0))
     cx, cy = draw(_UNIT), draw(_UNIT)
@@ -262,17 +277,12 @@ def _cocircular_quadruples(
     return a, b, c, d
 
 
-def coplanar_quadruples(
-    magnitudes: Sequence[Magnitude] = MAGNITUDES,
-) -> st.SearchStrategy[tuple[Point3, Point3, Point3, Point3]]:
-    """Four exactly coplanar space points, scaled and translated by ``magnitudes``."""
-    return _coplanar_quadruples(_check_magnitudes(magnitudes))
-
-
+@_magnitudes_checked
 @st.composite
-def _coplanar_quadruples(
+def coplanar_quadruples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point3, Point3, Point3, Point3]:
+    """Four exactly coplanar space points, scaled and translated by ``magnitudes``."""
     place = _similarity(draw, magnitudes, 3)
     base = [draw(_UNIT) for _ in range(3)]
     u = [draw(_UNIT) for _ in range(3)]
@@ -291,18 +301,13 @@ def _sphere_point(s: Rational, r: Rational) -> tuple[Rational, Rational, Rationa
     return 2 * s / w, 2 * r / w, (s * s + r * r - 1) / w
 
 
-def cospherical_quintuples(
-    magnitudes: Sequence[Magnitude] = MAGNITUDES,
-) -> st.SearchStrategy[tuple[Point3, Point3, Point3, Point3, Point3]]:
-    """Five distinct points on one sphere with rational center and radius, scaled and
-    translated by rationals of ``magnitudes``."""
-    return _cospherical_quintuples(_check_magnitudes(magnitudes))
-
-
+@_magnitudes_checked
 @st.composite
-def _cospherical_quintuples(
+def cospherical_quintuples(
     draw: st.DrawFn, magnitudes: Sequence[Magnitude]
 ) -> tuple[Point3, Point3, Point3, Point3, Point3]:
+    """Five distinct points on one sphere with rational center and radius, scaled and
+    translated by rationals of ``magnitudes``."""
     place = _similarity(draw, magnitudes, 3)
     radius = draw(_UNIT.filter(lambda r: r != 0))
     center = [draw(_UNIT) for _ in range(3)]
@@ -348,7 +353,7 @@ def near_degenerate_points2(
     nudged by +-2^-k relative, by one ulp, or to the next double."""
     _check_int("count", count, 3, 4)
     chosen = _check_magnitudes(magnitudes)
-    base = _collinear_triples(chosen) if count == 3 else _cocircular_quadruples(chosen)
+    base = collinear_triples(chosen) if count == 3 else cocircular_quadruples(chosen)
     return _nudge_one(base, point2)
 
 
@@ -360,7 +365,7 @@ def near_degenerate_points3(
     nudged as in :func:`near_degenerate_points2`."""
     _check_int("count", count, 4, 5)
     chosen = _check_magnitudes(magnitudes)
-    base = _coplanar_quadruples(chosen) if count == 4 else _cospherical_quintuples(chosen)
+    base = coplanar_quadruples(chosen) if count == 4 else cospherical_quintuples(chosen)
     return _nudge_one(base, point3)
 
 
