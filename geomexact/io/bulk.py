@@ -18,12 +18,13 @@ every error message (file, line, problem) stay exactly those of the line-by-line
 
 from __future__ import annotations
 
+import functools
 import itertools
 import re
 from array import array
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, ParamSpec, TypeVar
 
 import gmpy2
 import immutables
@@ -40,6 +41,8 @@ from geomexact.kernel.predicates2d import orient2d
 from geomexact.mesh2d.snapshot import Attributes, Mesh2, TableSource
 
 IntArray = npt.NDArray[np.int64]
+_Args = ParamSpec("_Args")
+_Read = TypeVar("_Read")
 Doubles = tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]
 """The doubles ``fx``, ``fy`` of a file's points, computed once per file."""
 
@@ -423,6 +426,24 @@ def oriented_rows(
     if bool(np.all(signs == -1)):
         return rows[:, [0, 2, 1]], len(rows)
     return None
+
+
+def plain_first(
+    plain: Callable[_Args, _Read | None],
+) -> Callable[[Callable[_Args, _Read]], Callable[_Args, _Read]]:
+    """A line reader that first tries ``plain``, the bulk reader of a plain file taking
+    the same arguments: ``plain``'s result when it gives one, else the line reader's
+    (which reads any file, and names the error in one it cannot)."""
+
+    def decorate(read: Callable[_Args, _Read]) -> Callable[_Args, _Read]:
+        @functools.wraps(read)
+        def reader(*args: _Args.args, **kwargs: _Args.kwargs) -> _Read:
+            found = plain(*args, **kwargs)
+            return read(*args, **kwargs) if found is None else found
+
+        return reader
+
+    return decorate
 
 
 class OrientedChunks:

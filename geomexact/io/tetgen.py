@@ -25,6 +25,7 @@ from geomexact.io.bulk import (
     number_column,
     numbered,
     numbered_corners,
+    plain_first,
     rows_text,
 )
 from geomexact.io.registry import (
@@ -107,47 +108,6 @@ def node_dimension(path: Path) -> int | None:
         return None
 
 
-def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
-    """The points of a 3D ``.node`` file and its numbering base; a plain file in bulk
-    (:func:`_bulk_nodes`)."""
-    name = str(path)
-    bulk = _bulk_nodes(path, notes)
-    if bulk is not None:
-        return bulk
-    lines, header = _NODE_HEADER.read(path)
-    count, attributes, markers = header.count, header.attributes, header.markers
-    fields = 4 + attributes + markers
-    shape = (
-        "a vertex line 'number x y z" + " attributes" * bool(attributes)
-        + " marker" * markers + "'"
-    )
-    points: list[Point3] = []
-    base = 0
-    dropped = 0
-    for index in range(count):
-        number, tokens = lines.next_item(
-            index, count, f"vertex {index + base} (of {count})", "vertices"
-        )
-        expect_exact_fields(name, number, tokens, fields, shape)
-        label = parse_int(name, number, tokens[0], "vertex number")
-        base = check_numbering(name, number, label, index, base, "vertex")
-        x, y, z = (
-            parse_number(name, number, token, f"{axis} of vertex {label}")
-            for token, axis in zip(tokens[1:4], "xyz", strict=True)
-        )
-        for token in tokens[4 : 4 + attributes]:
-            parse_number(name, number, token, f"attribute of vertex {label}")
-        if markers and parse_int(name, number, tokens[-1], f"marker of vertex {label}"):
-            dropped += 1
-        points.append(point3(x, y, z))
-    lines.expect_end(f"the {counted(count, 'vertex', 'vertices')}")
-    if attributes:
-        notes.append(f"dropped the {counted(attributes, 'attribute')} of each vertex")
-    if dropped:
-        notes.append(f"dropped {counted(dropped, 'nonzero vertex marker')}")
-    return points, base
-
-
 def _node_fields(header: list[str]) -> int | None:
     values = integer_column(header) if len(header) <= 4 else None
     if values is None or len(values) < 2 or values[1] != 3 or (values < 0).any():
@@ -196,6 +156,45 @@ def _bulk_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int] | None
                 return None
     except NotPlain:
         return None
+    if attributes:
+        notes.append(f"dropped the {counted(attributes, 'attribute')} of each vertex")
+    if dropped:
+        notes.append(f"dropped {counted(dropped, 'nonzero vertex marker')}")
+    return points, base
+
+
+@plain_first(_bulk_nodes)
+def _read_nodes(path: Path, notes: list[str]) -> tuple[list[Point3], int]:
+    """The points of a 3D ``.node`` file and its numbering base; a plain file in bulk
+    (:func:`_bulk_nodes`)."""
+    name = str(path)
+    lines, header = _NODE_HEADER.read(path)
+    count, attributes, markers = header.count, header.attributes, header.markers
+    fields = 4 + attributes + markers
+    shape = (
+        "a vertex line 'number x y z" + " attributes" * bool(attributes)
+        + " marker" * markers + "'"
+    )
+    points: list[Point3] = []
+    base = 0
+    dropped = 0
+    for index in range(count):
+        number, tokens = lines.next_item(
+            index, count, f"vertex {index + base} (of {count})", "vertices"
+        )
+        expect_exact_fields(name, number, tokens, fields, shape)
+        label = parse_int(name, number, tokens[0], "vertex number")
+        base = check_numbering(name, number, label, index, base, "vertex")
+        x, y, z = (
+            parse_number(name, number, token, f"{axis} of vertex {label}")
+            for token, axis in zip(tokens[1:4], "xyz", strict=True)
+        )
+        for token in tokens[4 : 4 + attributes]:
+            parse_number(name, number, token, f"attribute of vertex {label}")
+        if markers and parse_int(name, number, tokens[-1], f"marker of vertex {label}"):
+            dropped += 1
+        points.append(point3(x, y, z))
+    lines.expect_end(f"the {counted(count, 'vertex', 'vertices')}")
     if attributes:
         notes.append(f"dropped the {counted(attributes, 'attribute')} of each vertex")
     if dropped:
@@ -269,15 +268,13 @@ def _bulk_tetrahedra(
     return tetrahedra, numbers
 
 
+@plain_first(_bulk_tetrahedra)
 def _read_tetrahedra(
     path: Path, points: list[Point3], base: int, notes: list[str]
 ) -> tuple[list[tuple[int, int, int, int]], list[int]]:
     """The tetrahedra of an ``.ele`` file (0-based), all positive, and their lines; a
     plain file's tokens in bulk (:func:`_bulk_tetrahedra`)."""
     name = str(path)
-    bulk = _bulk_tetrahedra(path, points, base, notes)
-    if bulk is not None:
-        return bulk
     lines, header = _ELE_HEADER.read(path)
     count, attributes = header.count, header.attributes
     fields = 5 + attributes

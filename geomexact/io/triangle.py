@@ -32,6 +32,7 @@ from geomexact.io.bulk import (
     neighbour_array,
     number_column,
     numbered_corners,
+    plain_first,
     row_chunks,
     rows_text,
     triangle_array,
@@ -161,19 +162,6 @@ def _read_vertices(
     )
 
 
-def read_node_table(path: Path) -> VertexTable:
-    """The vertices of a ``.node`` file (nothing may follow them), streamed; a plain
-    file in bulk (:func:`_bulk_node_table`)."""
-    name = str(path)
-    bulk = _bulk_node_table(path)
-    if bulk is not None:
-        return bulk
-    lines, header = _VERTEX_HEADER.read(path)
-    table = _read_vertices(name, lines, header)
-    lines.expect_end(f"the {counted(header.count, 'vertex', 'vertices')}")
-    return table
-
-
 def _bulk_node_table(path: Path) -> VertexTable | None:
     """:func:`read_node_table` of a plain ``.node`` file (:mod:`geomexact.io.bulk`):
     regular lines, vertices numbered 0, 1, … or 1, 2, … as written by Triangle, plain
@@ -213,6 +201,17 @@ def _bulk_node_table(path: Path) -> VertexTable | None:
         name, points, point_lines, base, attribute_count, bool(has_markers), markers,
         attributes,
     )
+
+
+@plain_first(_bulk_node_table)
+def read_node_table(path: Path) -> VertexTable:
+    """The vertices of a ``.node`` file (nothing may follow them), streamed; a plain
+    file in bulk (:func:`_bulk_node_table`)."""
+    name = str(path)
+    lines, header = _VERTEX_HEADER.read(path)
+    table = _read_vertices(name, lines, header)
+    lines.expect_end(f"the {counted(header.count, 'vertex', 'vertices')}")
+    return table
 
 
 def _bulk_vertices(
@@ -552,14 +551,47 @@ _ELE_HEADER = CountHeader(
 """The header of an ``.ele``: only 3-node triangles are read."""
 
 
+def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
+    """:func:`_read_ele` of a plain file without attributes (:mod:`geomexact.io.bulk`):
+    regular lines of integers, triangles numbered 0, 1, … or 1, 2, …, indices in range,
+    one orientation; None for anything else (the line reader then reads it, or names the
+    error, having read no further than its line)."""
+    base = nodes.base
+    triangles = OrientedChunks(nodes.points)
+    first = 0
+
+    def numbered(rows: IntArray) -> IntArray | None:
+        nonlocal first
+        if triangles.empty:
+            first = int(rows[0, 0])
+        return numbered_corners(rows, first, len(triangles.lines), base, len(nodes.points))
+
+    try:
+        with PlainLines(path) as lines:
+            tokens, _ = lines.next_line()
+            if len(tokens) > 3 or tokens[1:] not in ([], ["3"], ["3", "0"]):
+                return None
+            header = integer_column(tokens[:1])
+            if header is None or header[0] < 0:
+                return None
+            if not triangles.read_last_section(lines, int(header[0]), numbered):
+                return None
+    except NotPlain:
+        return None
+    corners, rows = triangles.tables()
+    element_table = TriangleTable(
+        path=str(path), triangles=triangle_tuples(corners), lines=triangles.lines,
+        first_number=first, vertex_base=base,
+    )
+    return ElementTable(element_table, first, BulkOrientation(rows, triangles.reversed_count))
+
+
+@plain_first(_bulk_ele)
 def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
     """The triangles of an ``.ele`` file, streamed, each oriented as it is read (a
     degenerate or mixed triangle stops the reading at its line); a plain file in bulk
     (:func:`_bulk_ele`)."""
     name = str(path)
-    bulk = _bulk_ele(path, nodes)
-    if bulk is not None:
-        return bulk
     lines, header = _ELE_HEADER.read(path)
     count, attribute_count = header.count, header.attributes
     fields = 4 + attribute_count
@@ -619,41 +651,6 @@ def _read_ele(path: Path, nodes: VertexTable) -> ElementTable:
         vertex_base=base,
     )
     return ElementTable(table, first, orienter)
-
-
-def _bulk_ele(path: Path, nodes: VertexTable) -> ElementTable | None:
-    """:func:`_read_ele` of a plain file without attributes (:mod:`geomexact.io.bulk`):
-    regular lines of integers, triangles numbered 0, 1, … or 1, 2, …, indices in range,
-    one orientation; None for anything else (the line reader then reads it, or names the
-    error, having read no further than its line)."""
-    base = nodes.base
-    triangles = OrientedChunks(nodes.points)
-    first = 0
-
-    def numbered(rows: IntArray) -> IntArray | None:
-        nonlocal first
-        if triangles.empty:
-            first = int(rows[0, 0])
-        return numbered_corners(rows, first, len(triangles.lines), base, len(nodes.points))
-
-    try:
-        with PlainLines(path) as lines:
-            tokens, _ = lines.next_line()
-            if len(tokens) > 3 or tokens[1:] not in ([], ["3"], ["3", "0"]):
-                return None
-            header = integer_column(tokens[:1])
-            if header is None or header[0] < 0:
-                return None
-            if not triangles.read_last_section(lines, int(header[0]), numbered):
-                return None
-    except NotPlain:
-        return None
-    corners, rows = triangles.tables()
-    element_table = TriangleTable(
-        path=str(path), triangles=triangle_tuples(corners), lines=triangles.lines,
-        first_number=first, vertex_base=base,
-    )
-    return ElementTable(element_table, first, BulkOrientation(rows, triangles.reversed_count))
 
 
 def _check_neigh(path: Path, elements: ElementTable) -> None:
