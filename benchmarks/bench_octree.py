@@ -69,7 +69,9 @@ VARIANTS = ("surface", "ball")
 PEERS = ("gmsh-hxt", "gmsh-delaunay", "tetgen")
 MIN_TETRAHEDRA = 100_000
 MAX_COMMAND_SECONDS = 10.0
-MIN_THROUGHPUT_RATIO = 0.2
+# tets/s against Gmsh HXT's, library call and whole command: the level-6 ball at half
+# Gmsh's throughput (issue 25), the sphere surface at a fifth
+MIN_THROUGHPUT_RATIO = {"surface": 0.2, "ball": 0.5}
 PEER_TIMEOUT = 300.0
 
 # The size function of the peers (edge length): ``small`` within ``band`` of the sphere
@@ -349,8 +351,8 @@ def judge(runs: list[dict[str, Any]], variants: list[str]) -> list[dict[str, Any
                     check["cpu_value"] = round(rate(ours["tetrahedra"], ours["cpu_seconds"])
                                                / rate(other["tetrahedra"], theirs_cpu), 3)
                 if peer == "gmsh-hxt":
-                    check["target"] = f">= {MIN_THROUGHPUT_RATIO}"
-                    check["pass"] = ratio >= MIN_THROUGHPUT_RATIO
+                    check["target"] = f">= {MIN_THROUGHPUT_RATIO[variant]}"
+                    check["pass"] = ratio >= MIN_THROUGHPUT_RATIO[variant]
                 checks.append(check)
     return checks
 
