@@ -558,12 +558,12 @@ def test_conformity_kernel_pass_equals_numpy() -> None:
 
 
 def test_regions_answer_many_boxes_as_each_box() -> None:
-    """``meets_boxes`` (a region's ``meets_sides``: exact integer sums, int64 or Python
+    """``answers_on_boxes`` (a region's ``answers_on_sides``: exact integer sums, int64 or Python
     integers; or a call per box) gives each box's own answer, for every region kind."""
     from fractions import Fraction
     from itertools import pairwise
 
-    from geomexact.mesh3d.octree.regions import meets_boxes
+    from geomexact.mesh3d.octree.regions import answers_on_boxes
 
     def sides_of(lines: list[Fraction]) -> list[tuple[Fraction, Fraction]]:
         return list(pairwise(lines))
@@ -587,12 +587,12 @@ def test_regions_answer_many_boxes_as_each_box() -> None:
                      tuple(sides[a][row[a]][1] for a in range(3))) for row in rows.tolist()]
         for region in regions:
             expected = [region(box) for box in boxes]
-            assert meets_boxes(region, sides, rows).tolist() == expected, region
+            assert answers_on_boxes(region, sides, rows).tolist() == expected, region
             assert any(expected) or isinstance(region, PointRegion)
 
 
 def test_refinement_asks_a_plain_region_and_a_criterion_box_by_box() -> None:
-    """A region without ``meets_sides`` is called on each box; a criterion only where the
+    """A region without ``answers_on_sides`` is called on each box; a criterion only where the
     region meets: the same octree as the vectorised regions make."""
     ball = BallRegion(CENTRE, "0.3")
     asked: list[Box] = []

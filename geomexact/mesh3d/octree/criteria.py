@@ -20,6 +20,7 @@ import attrs
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational, to_rational
 from geomexact.mesh3d.cuboid.boxes import Box
+from geomexact.mesh3d.octree.regions import ConstantTest
 
 __all__ = [
     "AllOf",
@@ -48,12 +49,11 @@ def _positive(value: object) -> Rational:
 
 
 @attrs.frozen(slots=True)
-class RefineToMaxLevel:
+class RefineToMaxLevel(ConstantTest):
     """Never satisfied: the refinement goes to the maximum level wherever the region
     meets a leaf."""
 
-    def __call__(self, box: Box, /) -> bool:
-        return False
+    answer = False
 
 
 @attrs.frozen(slots=True)

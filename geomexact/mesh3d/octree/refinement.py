@@ -13,8 +13,7 @@ import numpy as np
 from geomexact.errors import PreconditionError
 from geomexact.kernel.numbers import Rational
 from geomexact.mesh3d.cuboid.boxes import Box
-from geomexact.mesh3d.octree.criteria import RefineToMaxLevel
-from geomexact.mesh3d.octree.regions import meets_boxes
+from geomexact.mesh3d.octree.regions import answers_on_boxes
 from geomexact.mesh3d.octree.tree import Cell, Octree, cell_children, cell_parent
 
 __all__ = ["MAX_LEVEL", "derefine_octree", "refine_octree"]
@@ -48,11 +47,10 @@ def refine_octree(octree: Octree, criterion: Callable[[Box], bool],
 def _splits(octree: Octree, cells: list[Cell], criterion: Callable[[Box], bool],
             region: Callable[[Box], bool]) -> list[bool]:
     """Whether each of ``cells`` is split: ``region`` meets its box and ``criterion`` does
-    not accept it.  The region is asked level by level about all the cells at once
-    (:func:`~geomexact.mesh3d.octree.regions.meets_boxes`: each distinct side of a box
-    made once); the criterion only where the region meets, and never when it is
-    :class:`~geomexact.mesh3d.octree.criteria.RefineToMaxLevel` (it accepts nothing)."""
-    met = [False] * len(cells)
+    not accept it.  Both are asked level by level about all the cells at once
+    (:func:`~geomexact.mesh3d.octree.regions.answers_on_boxes`: each distinct side of a box
+    made once), the criterion only about the boxes the region meets."""
+    split = [False] * len(cells)
     by_level: dict[int, list[int]] = {}
     for n, cell in enumerate(cells):
         by_level.setdefault(cell[0], []).append(n)
@@ -64,12 +62,11 @@ def _splits(octree: Octree, cells: list[Cell], criterion: Callable[[Box], bool],
             columns.append([index.setdefault(cells[n][axis + 1], len(index)) for n in at])
             sides.append([octree.cell_interval(level, axis, p) for p in index])
         rows = np.array(columns, dtype=np.int64).T.reshape(-1, 3)
-        for n, value in zip(at, meets_boxes(region, sides, rows).tolist(), strict=True):
-            met[n] = value
-    if type(criterion) is RefineToMaxLevel:
-        return met
-    return [value and not criterion(octree.cell_box(cell))
-            for value, cell in zip(met, cells, strict=True)]
+        met = np.flatnonzero(answers_on_boxes(region, sides, rows))
+        accepted = answers_on_boxes(criterion, sides, rows[met])
+        for n in met[~accepted].tolist():
+            split[at[n]] = True
+    return split
 
 
 def derefine_octree(octree: Octree, accepts: Callable[[Box], bool],

@@ -3,19 +3,20 @@ it meets the closed box (exact rational arithmetic, no tolerance).  The classes 
 the source's regions: box, solid ball, sphere surface, point, segment, the whole domain,
 and a union of regions.
 
-Many boxes at once: :func:`meets_boxes` answers for the boxes of a grid of *sides* (each
-box one side per axis, given by its rows into per-axis lists of sides).  A region whose
-test is a sum or a conjunction over the axes (ball, sphere, box, point, whole domain, a
-union of those) answers there by ``meets_sides``: its per-axis terms made once per side,
-brought exactly to integers over one common denominator and added by numpy (int64 where
-the sums fit, else Python integers), the same answers as its call on each box; any other
-region is called on each box."""
+Many boxes at once: :func:`answers_on_boxes` gives a box test's answers (a region's, or a
+refinement criterion's) for the boxes of a grid of *sides* (each box one side per axis,
+given by its rows into per-axis lists of sides).  A test that is a sum or a conjunction
+over the axes (ball, sphere, box, point, whole domain, a union of those) answers there by
+``answers_on_sides``: its per-axis terms made once per side, brought exactly to integers
+over one common denominator and added by numpy (int64 where the sums fit, else Python
+integers), the same answers as its call on each box; any other test is called on each
+box."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import Any, Protocol, TypeAlias
+from typing import Any, ClassVar, Protocol, TypeAlias
 
 import attrs
 import numpy as np
@@ -28,13 +29,14 @@ __all__ = [
     "AxisSides",
     "BallRegion",
     "BoxRegion",
+    "ConstantTest",
     "PointRegion",
     "Region",
     "SegmentRegion",
     "SphereSurfaceRegion",
     "UnionRegion",
     "WholeDomain",
-    "meets_boxes",
+    "answers_on_boxes",
 ]
 
 Triple: TypeAlias = tuple[Rational, Rational, Rational]
@@ -103,28 +105,37 @@ def _all_axes(meets: Sequence[Sequence[bool]], rows: Any) -> Any:
     return flags[0][rows[:, 0]] & flags[1][rows[:, 1]] & flags[2][rows[:, 2]]
 
 
-def meets_boxes(region: Callable[[Box], bool], sides: AxisSides, rows: Any) -> Any:
-    """Whether ``region`` meets each box ``sides[0][rows[n, 0]] x sides[1][rows[n, 1]] x
-    sides[2][rows[n, 2]]`` (a bool array): by the region's ``meets_sides`` when it has
-    one, else by calling it on each box."""
+def answers_on_boxes(test: Callable[[Box], bool], sides: AxisSides, rows: Any) -> Any:
+    """``test`` (a region, or a criterion) on each box ``sides[0][rows[n, 0]] x
+    sides[1][rows[n, 1]] x sides[2][rows[n, 2]]`` (a bool array): by the test's
+    ``answers_on_sides`` when it has one, else by calling it on each box."""
     rows = np.asarray(rows, dtype=np.int64).reshape(-1, 3)
-    vectorised = getattr(region, "meets_sides", None)
+    vectorised = getattr(test, "answers_on_sides", None)
     if vectorised is not None:
         return np.asarray(vectorised(sides, rows), dtype=bool)
-    return np.array([bool(region(Box(tuple(sides[a][row[a]][0] for a in range(3)),
+    return np.array([bool(test(Box(tuple(sides[a][row[a]][0] for a in range(3)),
                                          tuple(sides[a][row[a]][1] for a in range(3)))))
                      for row in rows.tolist()], dtype=bool)
 
 
-@attrs.frozen(slots=True)
-class WholeDomain:
-    """Every box."""
+class ConstantTest:
+    """A box test with the same ``answer`` for every box (a region or a criterion)."""
+
+    __slots__ = ()
+    answer: ClassVar[bool]
 
     def __call__(self, box: Box, /) -> bool:
-        return True
+        return self.answer
 
-    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
-        return np.ones(len(rows), dtype=bool)
+    def answers_on_sides(self, sides: AxisSides, rows: Any) -> Any:
+        return np.full(len(rows), self.answer, dtype=bool)
+
+
+@attrs.frozen(slots=True)
+class WholeDomain(ConstantTest):
+    """Every box."""
+
+    answer = True
 
 
 @attrs.frozen(slots=True)
@@ -143,7 +154,7 @@ class BoxRegion:
         return all(lo <= b_hi and b_lo <= hi for lo, hi, b_lo, b_hi
                    in zip(self.low, self.high, box.low, box.high, strict=True))
 
-    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+    def answers_on_sides(self, sides: AxisSides, rows: Any) -> Any:
         return _all_axes([[lo <= b_hi and b_lo <= hi for b_lo, b_hi in axis]
                           for lo, hi, axis in zip(self.low, self.high, sides, strict=True)],
                          rows)
@@ -160,7 +171,7 @@ class BallRegion:
         near, _ = _distance2_range(self.centre, box)
         return bool(near <= self.radius * self.radius)
 
-    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+    def answers_on_sides(self, sides: AxisSides, rows: Any) -> Any:
         gaps = [[_gap_reach(c, lo, hi)[0] ** 2 for lo, hi in axis]
                 for c, axis in zip(self.centre, sides, strict=True)]
         (near,), (r2,) = _sums([gaps], rows, [self.radius * self.radius])
@@ -180,7 +191,7 @@ class SphereSurfaceRegion:
         r2 = self.radius * self.radius
         return bool(near <= r2 <= far)
 
-    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+    def answers_on_sides(self, sides: AxisSides, rows: Any) -> Any:
         ranges = [[_gap_reach(c, lo, hi) for lo, hi in axis]
                   for c, axis in zip(self.centre, sides, strict=True)]
         gaps = [[gap * gap for gap, _ in axis] for axis in ranges]
@@ -199,7 +210,7 @@ class PointRegion:
         return all(lo <= p <= hi for p, lo, hi in zip(self.point, box.low, box.high,
                                                       strict=True))
 
-    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+    def answers_on_sides(self, sides: AxisSides, rows: Any) -> Any:
         return _all_axes([[lo <= p <= hi for lo, hi in axis]
                           for p, axis in zip(self.point, sides, strict=True)], rows)
 
@@ -237,11 +248,11 @@ class UnionRegion:
     def __call__(self, box: Box, /) -> bool:
         return any(region(box) for region in self.regions)
 
-    def meets_sides(self, sides: AxisSides, rows: Any) -> Any:
+    def answers_on_sides(self, sides: AxisSides, rows: Any) -> Any:
         met = np.zeros(len(rows), dtype=bool)
         for region in self.regions:  # each asked only about the boxes not yet met
             open_rows = np.flatnonzero(~met)
             if not len(open_rows):
                 break
-            met[open_rows] = meets_boxes(region, sides, rows[open_rows])
+            met[open_rows] = answers_on_boxes(region, sides, rows[open_rows])
         return met
